@@ -1,0 +1,170 @@
+"""The ``certkin`` command line.
+
+Every command prints a human summary, or one JSON document with ``--json``;
+``--certificate FILE`` writes the certificate; exit code 0 for an answer
+(whatever the verdict), 1 for a certificate that fails to check, 2 for bad
+input with one line naming the file or option and the field.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from .errors import InputError
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, exit 2 (argparse prints usage otherwise)
+        sys.stderr.write(f"certkin: error: {message}\n")
+        raise SystemExit(2)
+
+
+def _progress(enabled):
+    if not enabled:
+        return None
+    from tqdm import tqdm
+    bar = tqdm(desc="boxes", unit="box", file=sys.stderr, leave=False)
+
+    def update(processed, frontier):
+        bar.n = processed
+        bar.set_postfix(frontier=frontier, refresh=False)
+        bar.refresh()
+    return update
+
+
+def _budget(args):
+    from .engine import Budget
+    return Budget(max_boxes=args.max_boxes, max_seconds=args.max_seconds, min_width=args.min_width)
+
+
+def _add_budget(p, boxes, seconds, width):
+    p.add_argument("--max-boxes", type=int, default=boxes, help=f"box budget (default {boxes})")
+    p.add_argument("--max-seconds", type=float, default=seconds, help=f"time budget (default {seconds})")
+    p.add_argument("--min-width", type=float, default=width,
+                   help=f"smallest scaled box width that is still split (default {width})")
+
+
+def _add_outputs(p):
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.add_argument("--certificate", metavar="FILE", help="write the certificate to FILE")
+    p.add_argument("--report", metavar="FILE.html", help="write a self-contained HTML report")
+    p.add_argument("--progress", action="store_true", help="show progress on stderr")
+
+
+def cmd_singular(args):
+    from . import load_robot
+    from .certificates import singularity_certificate, write_json
+    from .poses import parse_box
+    from .singularity import certify_singularity_free, classify_cells, largest_free_box
+    robot = load_robot(args.robot)
+    if args.around:
+        result = largest_free_box(robot, args.around, scale=args.scale, budget=_budget(args))
+        results = [result]
+    else:
+        if not args.box:
+            raise InputError("--box", "", "give --box \"name=lo:hi,...\" or --around POSE")
+        box = parse_box(args.box, robot)
+        if args.cells is not None and args.cells < 1:
+            raise InputError("--cells", "", "expected a positive number of cells per side")
+        results = classify_cells(robot, box, args.cells or 1, _budget(args), _progress(args.progress))
+    if args.certificate:
+        write_json(args.certificate, singularity_certificate(results))
+    if args.plot:
+        from .plots import plot_cells
+        plot_cells(robot, results, args.plot)
+    if args.report:
+        from .report import singularity_report
+        singularity_report(robot, results, args.report)
+    if args.cells:
+        doc = {"problem": "singularity", "robot": robot.name, "kind": robot.kind, "cells": args.cells,
+               "counts": _counts(results), "results": [r.to_json() for r in results]}
+    else:
+        doc = results[0].to_json()
+    if args.json:
+        print(json.dumps(doc))
+    elif args.cells:
+        c = doc["counts"]
+        print(f"{robot.name}: {len(results)} cells: {c['singularity-free']} singularity-free, "
+              f"{c['singular']} singular, {c['undecided']} undecided")
+    else:
+        print(_describe_singular(robot, results[0]))
+    return 0
+
+
+def _counts(results):
+    counts = {"singularity-free": 0, "singular": 0, "undecided": 0}
+    for r in results:
+        counts[r.status] += 1
+    return counts
+
+
+def _describe_singular(robot, r):
+    box = ", ".join(f"{n}=[{a:.10g}, {b:.10g}]" for n, a, b in zip(robot.pose_names, r.lo, r.hi))
+    line = f"{robot.name}: {box}: {r.status}"
+    if r.status == "singularity-free":
+        line += f" (det(A) {'>' if r.sign > 0 else '<'} 0 on the whole box)"
+    elif r.status == "singular":
+        p = ", ".join(f"{v:.10g}" for v in r.witnesses["positive"])
+        q = ", ".join(f"{v:.10g}" for v in r.witnesses["negative"])
+        line += f" (det(A) > 0 at ({p}), < 0 at ({q}))"
+    elif r.status == "undecided":
+        line += f" ({len(r.undecided)} boxes left undecided)"
+    return line + f" [{r.boxes} boxes, {r.seconds:.3f} s]"
+
+
+def cmd_check(args):
+    import proofs
+    try:
+        report = proofs.check_file(args.certificate)
+    except (OSError, ValueError) as exc:
+        raise InputError(args.certificate, "", f"cannot read the certificate ({exc})") from None
+    print(("OK: " if report.ok else "REJECTED: ") + report.summary())
+    return 0 if report.ok else 1
+
+
+def cmd_demo(args):
+    from .demo import run_demo
+    return run_demo(args.robots)
+
+
+def build_parser():
+    p = _Parser(prog="certkin", description="Certified answers about parallel robots.")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    s = sub.add_parser("singular", help="prove a box of poses singularity-free, or find a singularity in it")
+    s.add_argument("robot", help="robot file (TOML)")
+    s.add_argument("--box", help='box of poses, e.g. "x=-20:20,y=-20:20,phi=0:0.7853981634"')
+    s.add_argument("--cells", type=int, help="split the box into n^d cells and classify each")
+    s.add_argument("--plot", metavar="FILE.png", help="picture of the cells (needs matplotlib)")
+    s.add_argument("--around", metavar="POSE", help="largest singularity-free box centred at POSE")
+    s.add_argument("--scale", metavar="S1,S2,...", help="half-widths of the unit box for --around")
+    _add_outputs(s)
+    _add_budget(s, 200_000, 60.0, 1e-7)
+    s.set_defaults(func=cmd_singular)
+
+    c = sub.add_parser("check", help="re-verify a certificate with the independent checker")
+    c.add_argument("certificate")
+    c.set_defaults(func=cmd_check)
+
+    d = sub.add_parser("demo", help="run the seed examples on the bundled robots")
+    d.add_argument("--robots", help="directory of robot files (default: the bundled examples)")
+    d.set_defaults(func=cmd_demo)
+    return p
+
+
+def main(argv=None):
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except InputError as exc:
+        sys.stderr.write(f"certkin: error: {exc}\n")
+        return 2
+    except KeyboardInterrupt:
+        sys.stderr.write("certkin: interrupted\n")
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,242 @@
+"""What every robot model shares: exact geometry, symbolic model, compiled evaluators.
+
+A model is written once with sympy (leg vectors, Jacobians A and B in the
+seed 003 form A ṫ + B ρ̇ = 0, det(A)) with the geometry as *symbols*; the
+expressions are compiled once per kind by ``intervals.compiler`` and then
+evaluated on batches of boxes with the robot's exact geometry enclosed as
+parameter intervals.
+"""
+from __future__ import annotations
+
+from decimal import Decimal
+from fractions import Fraction
+from functools import cached_property
+import math
+
+import numpy as np
+import sympy as sp
+
+from intervals import Interval
+from intervals.compiler import compile_exprs
+from intervals.elementary import pi as PI
+
+
+from ..errors import RobotFileError
+
+_COMPILED: dict = {}  # (kind, n_legs, what) -> CompiledExprs, shared by robots of one kind
+
+
+def exact_text(value) -> str:
+    """The exact decimal text of a file value (Decimal, int or str)."""
+    if isinstance(value, Decimal):
+        return str(value)
+    return str(value)
+
+
+def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[Interval, str]:
+    """Enclose a number from a robot file or the command line.
+
+    Accepts ints, exact decimals, decimal strings and, when ``angle`` is set,
+    strings with a ``deg`` suffix (``"85deg"``, converted with a rigorous π).
+    Returns the enclosure and the exact text.  Raises ``RobotFileError``.
+    """
+    if isinstance(value, bool) or value is None:
+        raise RobotFileError(source, field, f"expected a number, got {value!r}")
+    text = value.strip() if isinstance(value, str) else value
+    if isinstance(text, str) and text.lower().endswith("deg"):
+        if not angle:
+            raise RobotFileError(source, field, f"'deg' is only allowed for angles, got {value!r}")
+        try:
+            deg = Interval(text[:-3].strip())
+        except ValueError:
+            raise RobotFileError(source, field, f"not a number of degrees: {value!r}") from None
+        return deg * PI / Interval(180), text
+    if isinstance(text, float):
+        # tomllib with parse_float=Decimal never gives floats; Python callers may
+        if not math.isfinite(text):
+            raise RobotFileError(source, field, f"not a finite number: {value!r}")
+        return Interval(text), repr(text)
+    try:
+        iv = Interval(text)
+    except (ValueError, TypeError):
+        raise RobotFileError(source, field, f"not a finite number: {value!r}") from None
+    if not (np.isfinite(iv.lo) and np.isfinite(iv.hi)):
+        raise RobotFileError(source, field, f"not a finite number: {value!r}")
+    return iv, exact_text(text)
+
+
+def parse_points(data, key: str, count: int, dim: int, source: str):
+    """A list of ``count`` points of ``dim`` exact coordinates."""
+    if key not in data:
+        raise RobotFileError(source, key, "missing field")
+    pts = data[key]
+    if not isinstance(pts, list) or len(pts) != count:
+        n = len(pts) if isinstance(pts, list) else "no list"
+        raise RobotFileError(source, key, f"expected {count} points, got {n}")
+    out = []
+    for i, p in enumerate(pts):
+        if not isinstance(p, list) or len(p) != dim:
+            raise RobotFileError(source, f"{key}[{i}]", f"expected {dim} coordinates, got {p!r}")
+        row = []
+        for j, c in enumerate(p):
+            iv, text = parse_number(c, source, f"{key}[{i}][{j}]")
+            row.append(text)
+        out.append(tuple(row))
+    return out
+
+
+class Robot:
+    """A parallel robot with exact geometry.  Subclasses define the symbolic model.
+
+    Attributes: ``kind``, ``name``, ``base``/``platform`` (exact decimal
+    strings), ``limits`` (dict), ``home`` (exact texts of a reference pose),
+    ``pose_names`` (the pose variables, in order), ``angle_names``.
+    """
+
+    kind = ""
+    n_legs = 0
+    dim = 0
+    pose_names: tuple[str, ...] = ()
+    angle_names: frozenset = frozenset()
+
+    def __init__(self, name, base, platform, limits=None, home=None, source=""):
+        self.name = name
+        self.base = [tuple(p) for p in base]
+        self.platform = [tuple(p) for p in platform]
+        self.limits = limits or {}
+        self.home = list(home) if home is not None else None
+        self.source = source
+
+    # ----- symbolic model (written by each kind) -----------------------------
+    @classmethod
+    def symbols(cls):
+        """(pose symbols, geometry symbols) of the symbolic model of this kind."""
+        raise NotImplementedError
+
+    @classmethod
+    def symbolic_model(cls) -> dict:
+        """Sympy expressions: ``legs`` (leg vectors), ``A``, ``B`` (matrices), ``points`` (world B_i)."""
+        raise NotImplementedError
+
+    # ----- exact data ------------------------------------------------------
+    def geometry_texts(self) -> list[str]:
+        """The geometry parameters, as exact texts, in ``symbols()[1]`` order."""
+        return [c for p in self.base for c in p] + [c for p in self.platform for c in p]
+
+    @cached_property
+    def parameters(self) -> list[Interval]:
+        return [Interval(t) for t in self.geometry_texts()]
+
+    def to_dict(self) -> dict:
+        """The exact robot data (for certificates and reports)."""
+        d = {"name": self.name, "kind": self.kind,
+             "base": [list(p) for p in self.base], "platform": [list(p) for p in self.platform]}
+        if self.limits:
+            d["limits"] = self.limits
+        return d
+
+    # ----- compiled evaluators ---------------------------------------------
+    @classmethod
+    def _compiled(cls, what: str):
+        key = (cls.kind, what)
+        if key not in _COMPILED:
+            pose, geom = cls.symbols()
+            model = cls.symbolic_model()
+            if what == "det":
+                exprs = [model["det"]]
+            elif what == "A":
+                exprs = list(model["A"])
+            elif what == "legs_sq":
+                exprs = [sum(c ** 2 for c in leg) for leg in model["legs"]]
+            elif what == "points":
+                exprs = [c for p in model["points"] for c in p]
+            else:
+                raise KeyError(what)
+            _COMPILED[key] = compile_exprs(exprs, pose, geom)
+        return _COMPILED[key]
+
+    def _box(self, boxes) -> Interval:
+        b = boxes if isinstance(boxes, Interval) else Interval(np.asarray(boxes, dtype=np.float64))
+        if b.shape[-1] != len(self.pose_names):
+            raise ValueError(f"{self.kind} poses have {len(self.pose_names)} coordinates {self.pose_names}")
+        return b
+
+    def det_enclosure(self, boxes) -> Interval:
+        """Enclosure of det(A) over each box of a batch (..., d) -> (...)."""
+        b = self._box(boxes)
+        if "det" in self.symbolic_model():
+            return self._compiled("det")(b, self.parameters)[..., 0]
+        from intervals import linalg
+        A = self._compiled("A")(b, self.parameters)
+        n = self.n_legs
+        return linalg.det(A.reshape(*A.shape[:-1], n, n))
+
+    def det_gradient(self, boxes):
+        """(det enclosure (...), gradient enclosure (..., d)) over each box."""
+        b = self._box(boxes)
+        if "det" not in self.symbolic_model():
+            raise NotImplementedError(f"no symbolic det(A) for {self.kind}")
+        v, j = self._compiled("det").jacobian(b, self.parameters)
+        return v[..., 0], j[..., 0, :]
+
+    def leg_lengths_squared(self, boxes) -> Interval:
+        """Enclosures of rho_i^2 over each box (..., n_legs)."""
+        return self._compiled("legs_sq")(self._box(boxes), self.parameters)
+
+    def leg_lengths(self, boxes) -> Interval:
+        """Enclosures of rho_i over each box (..., n_legs)."""
+        from intervals import sqrt
+        return sqrt(self.leg_lengths_squared(boxes))
+
+    def platform_points(self, boxes) -> Interval:
+        """World coordinates of the B_i over each box (..., n_legs, dim)."""
+        p = self._compiled("points")(self._box(boxes), self.parameters)
+        return p.reshape(*p.shape[:-1], self.n_legs, self.dim)
+
+    def jacobian_A(self, boxes) -> Interval:
+        a = self._compiled("A")(self._box(boxes), self.parameters)
+        return a.reshape(*a.shape[:-1], self.n_legs, len(self.pose_names))
+
+    # ----- float helpers (not rigorous: for sampling and display) ------------
+    @cached_property
+    def _float_funcs(self):
+        pose, geom = self.symbols()
+        model = self.symbolic_model()
+        legs = sp.lambdify(list(pose) + list(geom), [sum(c ** 2 for c in l) for l in model["legs"]], "numpy")
+        A = sp.lambdify(list(pose) + list(geom), model["A"], "numpy")
+        return legs, A
+
+    def leg_lengths_float(self, pose) -> np.ndarray:
+        """Leg lengths at float poses (..., d) -> (..., n) by plain float arithmetic (not certified)."""
+        pose = np.asarray(pose, dtype=np.float64)
+        g = [float(Fraction(t)) for t in self.geometry_texts()]
+        legs, _ = self._float_funcs
+        vals = legs(*np.moveaxis(pose, -1, 0), *g)
+        return np.sqrt(np.stack(np.broadcast_arrays(*vals), axis=-1))
+
+    def det_float(self, pose) -> np.ndarray:
+        """det(A) at float poses (not certified)."""
+        pose = np.asarray(pose, dtype=np.float64)
+        g = [float(Fraction(t)) for t in self.geometry_texts()]
+        _, A = self._float_funcs
+        n, d = self.n_legs, len(self.pose_names)
+        entries = A(*np.moveaxis(pose, -1, 0), *g)
+        M = np.array([[np.broadcast_to(e, pose.shape[:-1]) for e in row] for row in np.asarray(entries, dtype=object).reshape(n, d)],
+                     dtype=np.float64)
+        return np.linalg.det(np.moveaxis(M, (0, 1), (-2, -1)))
+
+    def pose_box(self, pose) -> Interval:
+        """An (d,) Interval from a pose given as numbers, exact texts or intervals."""
+        items = []
+        for name, v in zip(self.pose_names, pose):
+            if isinstance(v, Interval):
+                items.append(v)
+            else:
+                items.append(parse_number(v, "pose", name, angle=name in self.angle_names)[0])
+        return Interval._raw(np.array([float(i.lo) for i in items]), np.array([float(i.hi) for i in items]))
+
+    def home_box(self) -> Interval | None:
+        return None if self.home is None else self.pose_box(self.home)
+
+    def __repr__(self):
+        return f"<{type(self).__name__} {self.name!r} ({self.kind}, {self.n_legs} legs)>"

@@ -1,0 +1,66 @@
+"""Spherical 3-DOF robot with prismatic legs (seed 003 §4).
+
+A passive spherical joint at O carries the platform; leg i runs from A_i
+(base, a_i = OA_i = [w_i, u_i, −h] in the seed's frame) to B_i
+(b_i = Q b'_i).  Pose: ZYZ Euler angles (phi1, phi2, phi3),
+Q = Rz(phi1) Ry(phi2) Rz(phi3) (seed 003 eq. 4.12–4.13).  With
+ρ_i ρ̇_i = (a_i × b_i)·ω (eq. 4.7), A ω + B ρ̇ = 0 gives
+
+    row i of A = (a_i × b_i)ᵀ,   B = −diag(ρ_i).
+
+Tilt-and-torsion angles (phi1, phi2, sigma) are Euler (phi1, phi2, sigma − phi1).
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+
+import sympy as sp
+
+from .base import Robot
+
+
+def rot_z(a):
+    c, s = sp.cos(a), sp.sin(a)
+    return sp.Matrix([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+
+
+def rot_y(a):
+    c, s = sp.cos(a), sp.sin(a)
+    return sp.Matrix([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+def rot_x(a):
+    c, s = sp.cos(a), sp.sin(a)
+    return sp.Matrix([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+class Spherical3DOF(Robot):
+    kind = "spherical-3dof"
+    n_legs = 3
+    dim = 3
+    pose_names = ("phi1", "phi2", "phi3")
+    angle_names = frozenset(pose_names)
+
+    @classmethod
+    @lru_cache(maxsize=None)
+    def symbols(cls):
+        pose = sp.symbols("phi1 phi2 phi3", real=True)
+        geom = sp.symbols(" ".join(f"a{i}{c}" for i in (1, 2, 3) for c in "xyz") + " "
+                          + " ".join(f"b{i}{c}" for i in (1, 2, 3) for c in "xyz"), real=True)
+        return pose, geom
+
+    @classmethod
+    @lru_cache(maxsize=None)
+    def symbolic_model(cls):
+        (p1, p2, p3), g = cls.symbols()
+        Q = rot_z(p1) * rot_y(p2) * rot_z(p3)
+        rows, legs, points = [], [], []
+        for i in range(3):
+            a = sp.Matrix(g[3 * i:3 * i + 3])
+            b = Q * sp.Matrix(g[9 + 3 * i:9 + 3 * i + 3])
+            legs.append(tuple(b - a))
+            points.append(tuple(b))
+            rows.append(list(a.cross(b)))
+        A = sp.Matrix(rows)
+        rho = [sp.sqrt(sum(c ** 2 for c in leg)) for leg in legs]
+        return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho), "det": A.det(method="berkowitz")}

@@ -1,0 +1,183 @@
+"""Containment and tightness of the interval core (+ - * / sqr pown, decimals)."""
+from decimal import Decimal
+from fractions import Fraction
+
+import mpmath
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from intervals import Interval, div, mul, pown, sqr
+from intervals.rounding import down, down_sum, enclose, up, up_sum
+
+SETTINGS = settings(max_examples=300, deadline=None)
+
+
+def floats_any():
+    """Finite floats over the whole range, with many tiny, huge and exact values."""
+    return st.one_of(
+        st.floats(allow_nan=False, allow_infinity=False),
+        st.floats(min_value=-1e3, max_value=1e3),
+        st.floats(min_value=-1e-300, max_value=1e-300),
+        st.sampled_from([0.0, -0.0, 1.0, -1.0, 0.5, 2.0 ** -1074, -(2.0 ** -1074), 1.7976931348623157e308]),
+    )
+
+
+@st.composite
+def interval_and_point(draw):
+    a, b = sorted([draw(floats_any()), draw(floats_any())])
+    t = draw(st.floats(min_value=0, max_value=1))
+    x = Fraction(a) + (Fraction(b) - Fraction(a)) * Fraction(t)
+    return Interval(a, b), x
+
+
+def inside(q: Fraction, iv: Interval) -> bool:
+    lo, hi = float(iv.lo), float(iv.hi)
+    return (lo == -np.inf or Fraction(lo) <= q) and (hi == np.inf or q <= Fraction(hi))
+
+
+@SETTINGS
+@given(interval_and_point(), interval_and_point())
+def test_add_sub_mul_contain_exact(xp, yp):
+    (x, p), (y, q) = xp, yp
+    assert inside(p + q, x + y)
+    assert inside(p - q, x - y)
+    assert inside(p * q, x * y)
+
+
+@SETTINGS
+@given(interval_and_point(), interval_and_point())
+def test_div_contains_exact(xp, yp):
+    (x, p), (y, q) = xp, yp
+    if q == 0:
+        return
+    assert inside(p / q, x / y)
+
+
+@SETTINGS
+@given(interval_and_point(), st.integers(min_value=-6, max_value=9))
+def test_sqr_and_pown_contain_exact(xp, n):
+    x, p = xp
+    assert inside(p * p, sqr(x))
+    if p == 0 and n < 0:
+        return
+    assert inside(p ** n, pown(x, n))
+
+
+@SETTINGS
+@given(floats_any())
+def test_rounding_helpers_step_at_least_one_float(c):
+    c = np.float64(c)
+    assert up(c) >= np.nextafter(c, np.inf) or c == np.finfo(float).max and up(c) == np.inf
+    assert down(c) <= np.nextafter(c, -np.inf) or c == -np.finfo(float).max and down(c) == -np.inf
+    if abs(c) >= 2.0 ** -1022:  # sums in the subnormal range are exact: no step needed there
+        assert up_sum(c) >= np.nextafter(c, np.inf)
+        assert down_sum(c) <= np.nextafter(c, -np.inf)
+
+
+@SETTINGS
+@given(st.decimals(allow_nan=False, allow_infinity=False, places=None))
+def test_decimal_enclosure_is_tight_and_exact(d):
+    lo, hi = enclose(d)
+    q = Fraction(d)
+    assert Fraction(lo) <= q <= Fraction(hi) or (abs(q) > Fraction(np.finfo(float).max))
+    if lo != hi and np.isfinite(lo) and np.isfinite(hi):
+        assert np.nextafter(lo, np.inf) == hi
+
+
+def test_one_tenth_strictly_enclosed():
+    x = Interval("0.1")
+    assert Fraction(float(x.lo)) < Fraction(1, 10) < Fraction(float(x.hi))
+    assert np.nextafter(x.lo, 1) == x.hi
+    assert Interval(Decimal("0.1")).lo == x.lo
+    assert Interval(Fraction(1, 10)).hi == x.hi
+    assert Interval(0.1).lo == Interval(0.1).hi == 0.1  # a float is its exact binary value
+
+
+def test_bad_inputs_rejected():
+    for bad in ["abc", "nan", "inf", float("nan"), True]:
+        with pytest.raises(ValueError):
+            Interval(bad)
+    with pytest.raises(ValueError):
+        Interval(2, 1)
+
+
+def test_tight_even_powers_and_sqr():
+    x = Interval(-1, 2)
+    assert float(sqr(x).lo) == 0.0 and 4 <= float(sqr(x).hi) <= 4 * (1 + 1e-15)
+    assert float((x ** 2).lo) == 0.0
+    assert float((x * x).lo) < -1.9  # the naive product is not tight: sqr must be used
+    y = pown(Interval(-2, -1), 3)
+    assert -8 * (1 + 1e-15) <= float(y.lo) <= -8 and -1 <= float(y.hi) <= -1 * (1 - 1e-15)
+
+
+def test_division_by_intervals_containing_zero():
+    inf = np.inf
+    cases = [((1, 2), (0, 1), (1, inf)), ((1, 2), (-1, 0), (-inf, -1)), ((-2, -1), (0, 1), (-inf, -1)),
+             ((1, 2), (-1, 1), (-inf, inf)), ((-1, 1), (0, 1), (-inf, inf)), ((0, 0), (-1, 1), (0, 0))]
+    for (a, b), (c, d), (lo, hi) in cases:
+        r = Interval(a, b) / Interval(c, d)
+        assert r.lo <= lo and r.hi >= hi
+        if np.isfinite(lo):
+            assert abs(r.lo - lo) <= 1e-14 * max(1.0, abs(lo))
+        if np.isfinite(hi):
+            assert abs(r.hi - hi) <= 1e-14 * max(1.0, abs(hi))
+    empty = Interval(1, 2) / Interval(0, 0)
+    assert bool(empty.is_empty())
+
+
+def test_infinite_endpoints():
+    inf = np.inf
+    r = Interval(0, 1) * Interval(1, inf)
+    assert r.hi == inf and r.lo <= 0
+    r = Interval(0, 0) * Interval(-inf, inf)
+    assert r.lo <= 0 <= r.hi and np.isfinite(r.lo) and np.isfinite(r.hi)
+    r = Interval(-inf, 1) + Interval(1, 2)
+    assert r.lo == -inf and r.hi >= 3
+    big = Interval(1e308, 1e308) * Interval(10, 10)
+    assert big.hi == inf and big.lo >= 1e308  # overflow: lower bound stays finite and below the truth
+
+
+def test_set_operations():
+    a, b = Interval(0, 2), Interval(1, 3)
+    assert float(a.hull(b).lo) == 0 and float(a.hull(b).hi) == 3
+    c = a.intersect(b)
+    assert float(c.lo) == 1 and float(c.hi) == 2
+    assert bool(Interval(0, 1).intersect(Interval(2, 3)).is_empty())
+    assert bool(Interval(1, 2).subset(a)) and bool(Interval(0.5, 1).interior(a)) and not bool(a.interior(a))
+    assert bool(Interval(5, 6).disjoint(a)) and not bool(b.disjoint(a))
+    assert bool(a.contains(1.5)) and not bool(a.contains(2.5))
+    lo, hi = a.bisect()
+    assert float(lo.hi) == float(hi.lo) == 1.0
+    assert float(Interval(-3, 2).mag()) == 3 and float(Interval(-3, 2).mig()) == 0 and float(Interval(2, 3).mig()) == 2
+    assert float(a.mid()) == 1.0 and float(a.width()) >= 2.0
+
+
+def test_batched_shapes_match_scalar_results():
+    rng = np.random.default_rng(1)
+    lo = rng.normal(size=(50, 4))
+    hi = lo + rng.uniform(0, 1, size=(50, 4))
+    X = Interval(lo, hi)
+    Y = Interval(lo + 1, hi + 2)
+    Z = X * Y - X / Y + sqr(X)
+    assert Z.shape == (50, 4)
+    for i in (0, 17, 49):
+        for j in range(4):
+            x, y = Interval(lo[i, j], hi[i, j]), Interval(lo[i, j] + 1, hi[i, j] + 2)
+            z = x * y - x / y + sqr(x)
+            assert z.lo == Z.lo[i, j] and z.hi == Z.hi[i, j]
+
+
+def test_nan_means_unknown_in_predicates():
+    u = Interval._raw(np.array(np.nan), np.array(np.nan))
+    assert bool(u.contains_zero())          # cannot exclude
+    assert not bool(u.subset(Interval(-1, 1)))
+    assert not bool(u.disjoint(Interval(5, 6)))
+    assert not bool(u.is_empty())
+
+
+def test_mpmath_agreement_on_products_of_decimals():
+    x = Interval("1.1") * Interval("2.3") - Interval("0.7")
+    with mpmath.workdps(50):
+        exact = mpmath.mpf("1.1") * mpmath.mpf("2.3") - mpmath.mpf("0.7")
+        assert mpmath.mpf(float(x.lo)) <= exact <= mpmath.mpf(float(x.hi))
