@@ -6,7 +6,9 @@ bound over boxes) -> the solvers (``singularity``, ``fk``, ``trajectory``)
 """
 from .errors import InputError, RobotFileError
 from .robots import load_robot, robot_from_dict
+from .singularity import certify_singularity_free
 
 __version__ = "0.1.0"
 
-__all__ = ["InputError", "RobotFileError", "load_robot", "robot_from_dict", "__version__"]
+__all__ = ["InputError", "RobotFileError", "load_robot", "robot_from_dict", "certify_singularity_free",
+           "__version__"]

@@ -36,7 +36,7 @@ def tree_to_json(node) -> dict:
 
 def header(robot, problem: str) -> dict:
     return {"format": FORMAT, "version": VERSION, "problem": problem,
-            "robot": robot.to_dict(), "model": f"{robot.kind}/1", "pose": list(robot.pose_names)}
+            "robot": robot.to_dict(), "model": f"{robot.model_name}/1", "pose": list(robot.pose_names)}
 
 
 def singularity_claim(result) -> dict:
@@ -62,13 +62,17 @@ def singularity_certificate(results) -> dict:
 
 def write_json(path, document) -> None:
     """Write a JSON file atomically: nothing half-written is left on failure."""
+    write_text(path, json.dumps(document, separators=(",", ":")) + "\n")
+
+
+def write_text(path, text: str) -> None:
+    """Write a text file atomically (a temporary file renamed into place)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "w") as fh:
-            json.dump(document, fh, indent=None, separators=(",", ":"))
-            fh.write("\n")
+            fh.write(text)
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

@@ -57,7 +57,7 @@ def cmd_singular(args):
     from .certificates import singularity_certificate, write_json
     from .poses import parse_box
     from .singularity import certify_singularity_free, classify_cells, largest_free_box
-    robot = load_robot(args.robot)
+    robot = _with_angles(load_robot(args.robot), args.angles)
     if args.around:
         result = largest_free_box(robot, args.around, scale=args.scale, budget=_budget(args))
         results = [result]
@@ -90,6 +90,14 @@ def cmd_singular(args):
     else:
         print(_describe_singular(robot, results[0]))
     return 0
+
+
+def _with_angles(robot, angles):
+    if angles is None:
+        return robot
+    if robot.kind != "spherical-3dof":
+        raise InputError("--angles", "", f"only spherical-3dof robots take --angles (this one is {robot.kind})")
+    return robot.with_angles(angles)
 
 
 def _counts(results):
@@ -139,6 +147,8 @@ def build_parser():
     s.add_argument("--plot", metavar="FILE.png", help="picture of the cells (needs matplotlib)")
     s.add_argument("--around", metavar="POSE", help="largest singularity-free box centred at POSE")
     s.add_argument("--scale", metavar="S1,S2,...", help="half-widths of the unit box for --around")
+    s.add_argument("--angles", choices=["zyz", "tilt-torsion"],
+                   help="spherical robots: ZYZ Euler angles phi1,phi2,phi3 (default) or tilt-and-torsion phi1,phi2,sigma")
     _add_outputs(s)
     _add_budget(s, 200_000, 60.0, 1e-7)
     s.set_defaults(func=cmd_singular)

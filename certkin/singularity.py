@@ -13,6 +13,10 @@ every face numerically, each box of the branch and bound is decided by
    rules 1–2;
 4. otherwise the box is bisected.
 
+For Gough-Stewart robots (no symbolic det of the 6x6 A) the natural
+enclosure comes from ``linalg.det`` and the gradient from a Laplace
+expansion of the compiled entries of A on dual numbers.
+
 A box is ``singular`` as soon as two poses in it have certified det(A) of
 opposite signs (the intermediate value theorem on the segment joining them,
 which lies in the convex box); the witnesses come from box midpoints,
@@ -23,6 +27,7 @@ requires every leaf proved with the same sign; a budget running out gives
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from decimal import Decimal
 import json
 import time
 
@@ -39,7 +44,6 @@ class SingularityProblem:
 
     def __init__(self, robot, n_roots: int):
         self.robot = robot
-        self.has_gradient = "det" in robot.symbolic_model()
         self.positive = [None] * n_roots   # per root: a pose with certified det > 0
         self.negative = [None] * n_roots
 
@@ -77,8 +81,7 @@ class SingularityProblem:
             m = mids[rest]
             Dm = self.robot.det_enclosure(Interval._raw(m, m.copy()))
             finished += self._witness(roots[rest], m, Dm)
-            if self.has_gradient:
-                self._refine(sub, m, Dm, rest, status, reason, evidence, roots, finished)
+            self._refine(sub, m, Dm, rest, status, reason, evidence, roots, finished)
         # proved boxes witness their sign at their midpoint
         proved = np.nonzero(status == PROVED)[0]
         if len(proved):
@@ -238,7 +241,8 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
 
 
 def _cell_texts(robot, lo, hi):
-    return {n: [repr(float(a)), repr(float(b))] for n, a, b in zip(robot.pose_names, lo, hi)}
+    """The exact decimal values of a cell's float bounds (``Decimal(float)`` is exact)."""
+    return {n: [str(Decimal(float(a))), str(Decimal(float(b)))] for n, a, b in zip(robot.pose_names, lo, hi)}
 
 
 def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, steps: int = 24) -> SingularityResult:
@@ -268,7 +272,7 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     def attempt(s):
         lo, hi = center.lo - s * sc, center.hi + s * sc
         iv = Interval._raw(lo, hi)
-        texts_s = {n: [repr(float(a)), repr(float(b))] for n, a, b in zip(robot.pose_names, lo, hi)}
+        texts_s = _cell_texts(robot, lo, hi)
         r = classify_cells(robot, (iv, texts_s), 1, budget)[0]
         r.scale_factor = s
         return r

@@ -67,8 +67,20 @@ class _Printer:
         if e.is_Symbol:
             raise KeyError(f"unbound symbol {e} (declare it as a variable or parameter)")
         if e.is_Add:
-            terms = [self(a) for a in e.args]
-            return "(" + " + ".join(terms) + ")"
+            plus, minus = [], []
+            for a in e.args:
+                coeff, rest = a.as_coeff_Mul()
+                if coeff.is_Number and coeff < 0:
+                    minus.append(self(-a))
+                else:
+                    plus.append(self(a))
+            if not plus:
+                out = "(-" + minus.pop(0)
+            else:
+                out = "(" + " + ".join(plus)
+            for m in minus:
+                out += " - " + m
+            return out + ")"
         if e.is_Mul:
             coeff, rest = e.as_coeff_Mul()
             factors = [self(a) for a in sp.Mul.make_args(rest)]

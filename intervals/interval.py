@@ -263,7 +263,9 @@ def mul(x: Interval, y: Interval) -> Interval:
     """Product enclosure: hull of the four endpoint products, rounded outward.
 
     ``fmin``/``fmax`` skip the NaN of ``0 * inf``, which is right because an
-    infinite endpoint bounds the set and is not one of its values.
+    infinite endpoint bounds the set and is not one of its values.  (Only
+    ``[0, 0] * [-inf, inf]`` has all four corners NaN; its NaN result means
+    "unknown", which every predicate treats conservatively.)
     """
     with np.errstate(invalid="ignore"):
         p1 = x.lo * y.lo
@@ -272,11 +274,7 @@ def mul(x: Interval, y: Interval) -> Interval:
         p4 = x.hi * y.hi
     lo = np.fmin(np.fmin(p1, p2), np.fmin(p3, p4))
     hi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
-    both_zero_inf = np.isnan(lo)
-    if np.any(both_zero_inf):  # e.g. [0,0] * [-inf, inf] = [0, 0]
-        zero = both_zero_inf & (((x.lo == 0) & (x.hi == 0)) | ((y.lo == 0) & (y.hi == 0)))
-        lo = np.where(zero, 0.0, lo)
-        hi = np.where(zero, 0.0, hi)
+    # only [0,0] * [-inf, inf] leaves NaN here: it then means "unknown", which is sound
     return Interval._raw(down(lo), up(hi))
 
 

@@ -19,11 +19,11 @@ from ..errors import RobotFileError
 from .base import Robot, parse_number, parse_points
 from .gough import GoughStewart
 from .planar import Planar3RPR
-from .spherical import Spherical3DOF
+from .spherical import Spherical3DOF, Spherical3DOFTiltTorsion
 
 KINDS = {cls.kind: cls for cls in (Planar3RPR, Spherical3DOF, GoughStewart)}
 
-__all__ = ["Robot", "Planar3RPR", "Spherical3DOF", "GoughStewart", "KINDS", "load_robot", "robot_from_dict"]
+__all__ = ["Robot", "Planar3RPR", "Spherical3DOF", "Spherical3DOFTiltTorsion", "GoughStewart", "KINDS", "load_robot", "robot_from_dict"]
 
 
 def load_robot(path) -> Robot:
@@ -183,6 +183,7 @@ def _check_degenerate(robot: Robot, source: str) -> None:
             poses[:, k] *= scale
     if robot.kind == "gough-stewart":
         poses[:, 2] = np.abs(poses[:, 2]) + scale
-    dets = np.abs(robot.det_float(poses))
-    if np.all(dets <= 1e-9 * scale ** (2 * robot.n_legs)):
+    A = robot.jacobian_float(poses)
+    hadamard = np.prod(np.linalg.norm(A, axis=-2), axis=-1)  # |det A| <= product of the column norms
+    if np.all(np.abs(np.linalg.det(A)) <= 1e-9 * hadamard):
         raise RobotFileError(source, "platform", "det(A) vanishes at every pose tried: degenerate geometry (collinear or coincident joints)")

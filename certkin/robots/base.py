@@ -85,6 +85,17 @@ def parse_points(data, key: str, count: int, dim: int, source: str):
     return out
 
 
+def det3(M):
+    """Cofactor expansion of a 3x3 sympy matrix, left unexpanded.
+
+    Keeping the products of the (short) entries instead of the expanded
+    polynomial makes far fewer interval operations and tighter enclosures.
+    """
+    return (M[0, 0] * (M[1, 1] * M[2, 2] - M[1, 2] * M[2, 1])
+            - M[0, 1] * (M[1, 0] * M[2, 2] - M[1, 2] * M[2, 0])
+            + M[0, 2] * (M[1, 0] * M[2, 1] - M[1, 1] * M[2, 0]))
+
+
 class Robot:
     """A parallel robot with exact geometry.  Subclasses define the symbolic model.
 
@@ -136,9 +147,14 @@ class Robot:
         return d
 
     # ----- compiled evaluators ---------------------------------------------
+    @property
+    def model_name(self) -> str:
+        """The name of the equations in certificates (``docs/certificates.md``)."""
+        return self.kind
+
     @classmethod
     def _compiled(cls, what: str):
-        key = (cls.kind, what)
+        key = (cls.__name__, what)
         if key not in _COMPILED:
             pose, geom = cls.symbols()
             model = cls.symbolic_model()
@@ -172,12 +188,23 @@ class Robot:
         return linalg.det(A.reshape(*A.shape[:-1], n, n))
 
     def det_gradient(self, boxes):
-        """(det enclosure (...), gradient enclosure (..., d)) over each box."""
+        """(det enclosure (...), gradient enclosure (..., d)) over each box.
+
+        Without a symbolic det(A) (Gough-Stewart), the compiled entries of A
+        and their gradients feed a Laplace expansion on ``autodiff.Dual``
+        numbers (``linalg.laplace_det``).
+        """
         b = self._box(boxes)
-        if "det" not in self.symbolic_model():
-            raise NotImplementedError(f"no symbolic det(A) for {self.kind}")
-        v, j = self._compiled("det").jacobian(b, self.parameters)
-        return v[..., 0], j[..., 0, :]
+        if "det" in self.symbolic_model():
+            v, j = self._compiled("det").jacobian(b, self.parameters)
+            return v[..., 0], j[..., 0, :]
+        from intervals import linalg
+        from intervals.autodiff import Dual
+        vals, jac = self._compiled("A").jacobian(b, self.parameters)
+        n, d = self.n_legs, len(self.pose_names)
+        M = [[Dual(vals[..., i * d + j], jac[..., i * d + j, :]) for j in range(d)] for i in range(n)]
+        D = linalg.laplace_det(M)
+        return D.value, D.grad
 
     def leg_lengths_squared(self, boxes) -> Interval:
         """Enclosures of rho_i^2 over each box (..., n_legs)."""
@@ -194,6 +221,7 @@ class Robot:
         return p.reshape(*p.shape[:-1], self.n_legs, self.dim)
 
     def jacobian_A(self, boxes) -> Interval:
+        """Enclosure of the matrix A over each box (..., n_legs, d)."""
         a = self._compiled("A")(self._box(boxes), self.parameters)
         return a.reshape(*a.shape[:-1], self.n_legs, len(self.pose_names))
 
@@ -203,7 +231,7 @@ class Robot:
         pose, geom = self.symbols()
         model = self.symbolic_model()
         legs = sp.lambdify(list(pose) + list(geom), [sum(c ** 2 for c in l) for l in model["legs"]], "numpy")
-        A = sp.lambdify(list(pose) + list(geom), model["A"], "numpy")
+        A = sp.lambdify(list(pose) + list(geom), model["A"].tolist(), "numpy")
         return legs, A
 
     def leg_lengths_float(self, pose) -> np.ndarray:
@@ -214,16 +242,18 @@ class Robot:
         vals = legs(*np.moveaxis(pose, -1, 0), *g)
         return np.sqrt(np.stack(np.broadcast_arrays(*vals), axis=-1))
 
-    def det_float(self, pose) -> np.ndarray:
-        """det(A) at float poses (not certified)."""
+    def jacobian_float(self, pose) -> np.ndarray:
+        """The matrix A at float poses (..., d) -> (..., n, d) (not certified)."""
         pose = np.asarray(pose, dtype=np.float64)
         g = [float(Fraction(t)) for t in self.geometry_texts()]
         _, A = self._float_funcs
-        n, d = self.n_legs, len(self.pose_names)
         entries = A(*np.moveaxis(pose, -1, 0), *g)
-        M = np.array([[np.broadcast_to(e, pose.shape[:-1]) for e in row] for row in np.asarray(entries, dtype=object).reshape(n, d)],
-                     dtype=np.float64)
-        return np.linalg.det(np.moveaxis(M, (0, 1), (-2, -1)))
+        M = np.array([[np.broadcast_to(np.asarray(e, dtype=np.float64), pose.shape[:-1]) for e in row] for row in entries])
+        return np.moveaxis(M, (0, 1), (-2, -1))
+
+    def det_float(self, pose) -> np.ndarray:
+        """det(A) at float poses (not certified)."""
+        return np.linalg.det(self.jacobian_float(pose))
 
     def pose_box(self, pose) -> Interval:
         """An (d,) Interval from a pose given as numbers, exact texts or intervals."""

@@ -17,7 +17,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from .base import Robot
+from .base import Robot, det3
 
 
 class Planar3RPR(Robot):
@@ -50,4 +50,4 @@ class Planar3RPR(Robot):
             rows.append([(y - by) * qx - (x - bx) * qy, ux, uy])
         A = sp.Matrix(rows)
         rho = [sp.sqrt(ux ** 2 + uy ** 2) for ux, uy in legs]
-        return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho), "det": A.det(method="berkowitz")}
+        return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho), "det": det3(A)}

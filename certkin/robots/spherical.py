@@ -16,7 +16,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from .base import Robot
+from .base import Robot, det3
 
 
 def rot_z(a):
@@ -53,14 +53,47 @@ class Spherical3DOF(Robot):
     @lru_cache(maxsize=None)
     def symbolic_model(cls):
         (p1, p2, p3), g = cls.symbols()
-        Q = rot_z(p1) * rot_y(p2) * rot_z(p3)
-        rows, legs, points = [], [], []
-        for i in range(3):
-            a = sp.Matrix(g[3 * i:3 * i + 3])
-            b = Q * sp.Matrix(g[9 + 3 * i:9 + 3 * i + 3])
-            legs.append(tuple(b - a))
-            points.append(tuple(b))
-            rows.append(list(a.cross(b)))
-        A = sp.Matrix(rows)
-        rho = [sp.sqrt(sum(c ** 2 for c in leg)) for leg in legs]
-        return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho), "det": A.det(method="berkowitz")}
+        return _model(rot_z(p1) * rot_y(p2) * rot_z(p3), g)
+
+    def with_angles(self, angles: str):
+        """The same robot with pose angles ``zyz`` (Euler) or ``tilt-torsion``."""
+        cls = {"zyz": Spherical3DOF, "tilt-torsion": Spherical3DOFTiltTorsion}.get(angles)
+        if cls is None:
+            raise ValueError(f"unknown angles {angles!r} (zyz or tilt-torsion)")
+        return cls(self.name, self.base, self.platform, self.limits, self.home if cls is type(self) else None, self.source)
+
+
+def _model(Q, g):
+    rows, legs, points = [], [], []
+    for i in range(3):
+        a = sp.Matrix(g[3 * i:3 * i + 3])
+        b = Q * sp.Matrix(g[9 + 3 * i:9 + 3 * i + 3])
+        legs.append(tuple(b - a))
+        points.append(tuple(b))
+        rows.append(list(a.cross(b)))
+    A = sp.Matrix(rows)
+    rho = [sp.sqrt(sum(c ** 2 for c in leg)) for leg in legs]
+    return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho), "det": det3(A)}
+
+
+class Spherical3DOFTiltTorsion(Spherical3DOF):
+    """The same robot with tilt-and-torsion angles (phi1, phi2, sigma) (Bonev & Ryu; seed 003 §4.3.2).
+
+    Q = Rz(phi1) Ry(phi2) Rz(sigma − phi1): azimuth phi1, tilt phi2, torsion sigma.
+    """
+
+    pose_names = ("phi1", "phi2", "sigma")
+    angle_names = frozenset(pose_names)
+    model_name = "spherical-3dof-tt"
+
+    @classmethod
+    @lru_cache(maxsize=None)
+    def symbols(cls):
+        pose = sp.symbols("phi1 phi2 sigma", real=True)
+        return pose, Spherical3DOF.symbols()[1]
+
+    @classmethod
+    @lru_cache(maxsize=None)
+    def symbolic_model(cls):
+        (p1, p2, sg), g = cls.symbols()
+        return _model(rot_z(p1) * rot_y(p2) * rot_z(sg - p1), g)

@@ -1,0 +1,153 @@
+"""Kernel benchmark: enclose det(A) of the planar 3-RPR over many boxes.
+
+Side by side in one run, on the same boxes (seed 003 planar example 2,
+random boxes of width ~1 in x, y and 0.05 in phi):
+
+- certkin: the compiled batch evaluator (``robot.det_enclosure``) on all
+  boxes at once;
+- mpmath ``iv``: the same sympy expression evaluated one box at a time
+  (the naive rigorous alternative), on a subsample, extrapolated;
+- codac: ``AnalyticFunction.eval`` on an ``IntervalVector``, one box at a
+  time from Python (codac is a C++ core), on a subsample, extrapolated;
+- numpy float evaluation at the box midpoints (fast, not an enclosure).
+
+Usage: ``python benchmarks/kernel.py [--boxes 100000] [--repeat 5]``.
+Prints a table of median times and throughput; run it pinned to one core
+(``taskset -c 0``) to measure single-core throughput.
+"""
+from __future__ import annotations
+
+import argparse
+import platform
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+
+from certkin import load_robot
+from certkin.robots import Planar3RPR
+from intervals import Interval
+
+ROBOT = Path(__file__).resolve().parent.parent / "examples" / "robots" / "seed003-planar-example-2.toml"
+
+
+def make_boxes(n, seed=0):
+    rng = np.random.default_rng(seed)
+    lo = np.column_stack([rng.uniform(-50, 49, n), rng.uniform(-50, 49, n), rng.uniform(0, 0.73, n)])
+    hi = lo + np.array([1.0, 1.0, 0.05])
+    return lo, hi
+
+
+def median_time(fn, repeat):
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
+
+
+def det_expression(robot):
+    (x, y, phi), g = Planar3RPR.symbols()
+    det = Planar3RPR.symbolic_model()["det"]
+    values = [sp.Rational(t) for t in robot.geometry_texts()]
+    return (x, y, phi), det.subs(dict(zip(g, values)))
+
+
+def bench_mpmath(robot, lo, hi, n):
+    import mpmath
+    from mpmath import iv
+    (x, y, phi), expr = det_expression(robot)
+    f = sp.lambdify((x, y, phi), expr, modules=[{"sin": iv.sin, "cos": iv.cos}, "mpmath"])
+
+    def run():
+        for i in range(n):
+            f(iv.mpf([lo[i, 0], hi[i, 0]]), iv.mpf([lo[i, 1], hi[i, 1]]), iv.mpf([lo[i, 2], hi[i, 2]]))
+    return run
+
+
+def to_codac(expr, syms, xvar):
+    import codac
+    table = {s: xvar[i] for i, s in enumerate(syms)}
+
+    def rec(e):
+        if e in table:
+            return table[e]
+        if e.is_Number:
+            q = sp.Rational(e)
+            return codac.Interval(float(q))  # exact for the benchmark's timing purpose only
+        if e.is_Add:
+            out = rec(e.args[0])
+            for a in e.args[1:]:
+                out = out + rec(a)
+            return out
+        if e.is_Mul:
+            out = rec(e.args[0])
+            for a in e.args[1:]:
+                out = out * rec(a)
+            return out
+        if e.is_Pow and e.args[1] == 2:
+            return codac.sqr(rec(e.args[0]))
+        if e.is_Pow and e.args[1].is_Integer and e.args[1] > 0:
+            out = rec(e.args[0])
+            for _ in range(int(e.args[1]) - 1):
+                out = out * rec(e.args[0])
+            return out
+        if isinstance(e, sp.sin):
+            return codac.sin(rec(e.args[0]))
+        if isinstance(e, sp.cos):
+            return codac.cos(rec(e.args[0]))
+        raise NotImplementedError(e)
+    return rec(expr)
+
+
+def bench_codac(robot, lo, hi, n):
+    import codac
+    (x, y, phi), expr = det_expression(robot)
+    X = codac.VectorVar(3)
+    f = codac.AnalyticFunction([X], to_codac(expr, (x, y, phi), X))
+    boxes = [codac.IntervalVector([[lo[i, 0], hi[i, 0]], [lo[i, 1], hi[i, 1]], [lo[i, 2], hi[i, 2]]]) for i in range(n)]
+
+    def run():
+        for b in boxes:
+            f.eval(b)
+    return run
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--boxes", type=int, default=100_000)
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--sample", type=int, default=2000, help="boxes for the one-at-a-time peers")
+    args = ap.parse_args()
+    robot = load_robot(ROBOT)
+    lo, hi = make_boxes(args.boxes)
+    box = Interval(lo, hi)
+    robot.det_enclosure(box[:10])  # compile once (excluded from timing)
+    rows = []
+    t = median_time(lambda: robot.det_enclosure(box), args.repeat)
+    rows.append(("certkin batch (compiled, outward rounded)", args.boxes, t))
+    mid = 0.5 * (lo + hi)
+    t = median_time(lambda: robot.det_float(mid), args.repeat)
+    rows.append(("numpy floats at midpoints (not an enclosure)", args.boxes, t))
+    n = min(args.sample, args.boxes)
+    t = median_time(bench_mpmath(robot, lo, hi, n // 4), max(1, args.repeat // 2))
+    rows.append(("mpmath iv, one box at a time", n // 4, t))
+    try:
+        t = median_time(bench_codac(robot, lo, hi, n), args.repeat)
+        rows.append(("codac AnalyticFunction.eval, one box at a time", n, t))
+    except ImportError:
+        rows.append(("codac (not installed: pip install 'certkin[bench]')", 0, float("nan")))
+    print(f"# det(A) enclosure, planar 3-RPR (seed 003 ex. 2); {platform.processor() or platform.machine()}, "
+          f"Python {platform.python_version()}, numpy {np.__version__}")
+    print(f"{'method':52s} {'boxes':>8s} {'median s':>10s} {'boxes/s':>12s} {'vs certkin':>10s}")
+    base = rows[0][1] / rows[0][2]
+    for name, count, secs in rows:
+        rate = count / secs if count else float("nan")
+        print(f"{name:52s} {count:8d} {secs:10.4f} {rate:12.0f} {base / rate if count else float('nan'):9.1f}x")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,348 @@
+"""The independent checker ``proofs`` on certificates written by hand (not by certkin).
+
+The sign of det(A) at the centre of every box is computed here independently
+with sympy (exact rationals, 30-digit evaluation) from the formulas of
+docs/certificates.md, and the checker must accept the honest certificates
+and reject every tampered variant with the step named.
+"""
+import copy
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from mpmath import iv, mp
+
+import proofs
+
+ROOT = Path(__file__).resolve().parents[1]
+
+PLANAR = {"name": "toy", "kind": "planar-3rpr",
+          "base": [["0", "0"], ["10", "0"], ["3", "10"]], "platform": [["0", "0"], ["4", "0"], ["2", "2"]]}
+# seed 003 spherical Example 1 (Tab. 4.13): a_i = [w_i, u_i, -h], b_i = [x_i, y_i, 0]
+SPHERICAL = {"name": "seed003-ex1", "kind": "spherical-3dof",
+             "base": [["1.6", "0", "-1.2"], ["-1.1", "1.2", "-1.2"], ["-0.9", "-1", "-1.2"]],
+             "platform": [["1", "0", "0"], ["-0.6", "1", "0"], ["-0.2", "-0.5", "0"]]}
+# seed 000 Annex Table 3.1 (MEL Tsukuba prototype)
+_XA, _YA = ["112.5", "-225", "-112.5", "67.5", "-135", "67.5"], ["-194.856", "0", "194.856", "-116.913", "0", "116.913"]
+_XB, _YB = ["95.263", "0", "-95.263", "-69.282", "0", "69.282"], ["55", "-110", "55", "-40", "80", "-40"]
+GOUGH = {"name": "mel", "kind": "gough-stewart",
+         "base": [[_XA[i], _YA[i], "-25"] for i in range(6)],
+         "platform": [[_XB[i], _YB[i], "-20"] for i in range(6)]}
+
+
+# ----- independent reference: mpmath at 40 digits, exact geometry -------------
+def _rz(a):
+    return mp.matrix([[mp.cos(a), -mp.sin(a), 0], [mp.sin(a), mp.cos(a), 0], [0, 0, 1]])
+
+
+def _ry(a):
+    return mp.matrix([[mp.cos(a), 0, mp.sin(a)], [0, 1, 0], [-mp.sin(a), 0, mp.cos(a)]])
+
+
+def _rx(a):
+    return mp.matrix([[1, 0, 0], [0, mp.cos(a), -mp.sin(a)], [0, mp.sin(a), mp.cos(a)]])
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def reference_det(model, robot, pose):
+    """det(A) at a float pose, from the formulas of docs/certificates.md, at 40 digits."""
+    with mp.workdps(40):
+        P = [mp.mpf(v) for v in pose]  # the exact binary values of the floats
+        base = [mp.matrix([mp.mpf(c) for c in p]) for p in robot["base"]]
+        plat = [mp.matrix([mp.mpf(c) for c in p]) for p in robot["platform"]]
+        rows = []
+        if model == "planar-3rpr/1":
+            x, y, phi = P
+            R = mp.matrix([[mp.cos(phi), -mp.sin(phi)], [mp.sin(phi), mp.cos(phi)]])
+            for b, p in zip(base, plat):
+                q = R * p
+                rows.append([(y - b[1]) * q[0] - (x - b[0]) * q[1], x + q[0] - b[0], y + q[1] - b[1]])
+        elif model.startswith("spherical"):
+            third = P[2] - P[0] if model == "spherical-3dof-tt/1" else P[2]
+            Q = _rz(P[0]) * _ry(P[1]) * _rz(third)
+            rows = [_cross(a, Q * b) for a, b in zip(base, plat)]
+        else:
+            R = _rz(P[3]) * _rx(P[4]) * _rz(P[5])
+            C = mp.matrix(P[:3])
+            for a, b in zip(base, plat):
+                rb = R * b
+                l = C + rb - a
+                rows.append(list(l) + _cross(rb, l))
+        return float(mp.det(mp.matrix(rows)))
+
+
+def cert(model, robot, pose, claims):
+    return {"format": "certkin-certificate", "version": 1, "problem": "singularity",
+            "robot": copy.deepcopy(robot), "model": model, "pose": pose, "claims": claims}
+
+
+def leaf(box, sign, rule="natural", **extra):
+    return {"leaf": rule, "box": copy.deepcopy(box), "sign": sign, **extra}
+
+
+# float bounds enclosing the requested decimals (the float 4.9 is above 4.9, 5.1 below 5.1)
+BOX = [[4.89, 5.11], [4.89, 5.11], [0.289, 0.32]]
+LOWER = [[4.89, 5.0], [4.89, 5.11], [0.289, 0.32]]
+UPPER = [[5.0, 5.11], [4.89, 5.11], [0.289, 0.32]]
+
+
+@pytest.fixture
+def planar():
+    assert reference_det("planar-3rpr/1", PLANAR, [5.0, 5.0, 0.3]) > 100
+    tree = {"split": [0, 5.0], "children": [leaf(LOWER, 1), leaf(UPPER, 1)]}
+    claim = {"requested": {"x": ["4.9", "5.1"], "y": ["4.9", "5.1"], "phi": ["0.29", "0.31"]},
+             "box": copy.deepcopy(BOX), "status": "singularity-free", "sign": 1, "tree": tree}
+    return cert("planar-3rpr/1", PLANAR, ["x", "y", "phi"], [claim])
+
+
+def rejected(c, *fragments):
+    report = proofs.check(c)
+    assert not report.ok
+    for f in fragments:
+        assert f in report.step, report.step
+    return report.step
+
+
+# ----- acceptance ---------------------------------------------------------------
+def test_planar_certificate_accepted(planar):
+    report = proofs.check(planar)
+    assert report.ok, report.step
+    assert report.checked["leaves"] == 2 and report.checked["claims"] == 1
+    assert str(report) == "OK: 1 claims, 2 leaves re-verified"
+
+
+def test_precision_is_restored_and_validated(planar):
+    before = iv.prec
+    assert proofs.check(planar, prec=120).ok
+    assert iv.prec == before
+    with pytest.raises(ValueError):
+        proofs.check(planar, prec=10)
+
+
+def test_models_match_seed_reference_values():
+    """Seed 003 digest values (planar Example 2 spot values, spherical Example 1 vertices)."""
+    from proofs.models import MODELS, Robot
+    ex2 = {"kind": "planar-3rpr", "base": [["3.78", "4.34"], ["34.47", "-3.78"], ["16.233", "34.76"]],
+           "platform": [["-4.83", "-3.19"], ["12.04", "-3.19"], ["8.23", "12.09"]]}
+    point = lambda p: [(v, v) for v in p]
+    saved, iv.prec = iv.prec, 80
+    try:
+        r = Robot(MODELS["planar-3rpr/1"], ex2)
+        assert r.det(point([0.0, 0.0, 0.0])).mid == pytest.approx(28891.66058, abs=1e-5)
+        assert r.det(point([10.0, 10.0, math.pi / 8])).mid == pytest.approx(8868.48667784, abs=1e-7)
+        tt = Robot(MODELS["spherical-3dof-tt/1"], SPHERICAL)
+        zyz = Robot(MODELS["spherical-3dof/1"], SPHERICAL)
+        assert tt.det(point([0.0, math.pi / 4, 0.0])).mid == pytest.approx(-0.025258874503, abs=1e-11)
+        h = math.pi / 2
+        got = [float(zyz.det(point([a, b, c])).mid) for a in (-h, h) for b in (0.0, h) for c in (-h, h)]
+        assert got == pytest.approx([-0.0864, 0.0864, 0.72, -0.72, 0.0864, -0.0864, 0.72, -0.72], abs=1e-12)
+        D, grad = r.det_gradient([(1.0, 1.0), (2.0, 2.0), (0.3, 0.3)])
+        eps = 1e-6
+        fd = (r.det(point([1.0 + eps, 2.0, 0.3])).mid - r.det(point([1.0 - eps, 2.0, 0.3])).mid) / (2 * eps)
+        assert float(grad[0].mid) == pytest.approx(float(fd.mid), rel=1e-6)
+    finally:
+        iv.prec = saved
+
+
+def test_spherical_and_gough_certificates_accepted():
+    for model, pose_names, centre in (("spherical-3dof-tt/1", ["phi1", "phi2", "sigma"], [0.52, 1.05, 1.05]),
+                                      ("spherical-3dof/1", ["phi1", "phi2", "phi3"], [0.3, 0.6, -0.4])):
+        s = 1 if reference_det(model, SPHERICAL, centre) > 0 else -1
+        assert abs(reference_det(model, SPHERICAL, centre)) > 0.05
+        box = [[c - 0.01, c + 0.01] for c in centre]
+        c = cert(model, SPHERICAL, pose_names, [{"box": box, "status": "singularity-free", "sign": s,
+                                                   "tree": leaf(box, s)}])
+        assert proofs.check(c).ok, proofs.check(c).step
+        c["claims"][0]["sign"] = c["claims"][0]["tree"]["sign"] = -s
+        rejected(c, "claims[0].tree: leaf at path root: natural rule: det(A) has sign")
+
+    centre = [10.0, -5.0, 600.0, 0.1, 0.2, 0.3]
+    s = 1 if reference_det("gough-stewart/1", GOUGH, centre) > 0 else -1
+    box = [[c - 0.01, c + 0.01] if i < 3 else [c - 1e-4, c + 1e-4] for i, c in enumerate(centre)]
+    c = cert("gough-stewart/1", GOUGH, ["x", "y", "z", "psi", "theta", "phi"],
+             [{"box": box, "status": "singularity-free", "sign": s, "tree": leaf(box, s)}])
+    assert proofs.check(c).ok, proofs.check(c).step
+    flipped = copy.deepcopy(c)
+    flipped["claims"][0]["sign"] = flipped["claims"][0]["tree"]["sign"] = -s
+    rejected(flipped, "det(A) has sign")
+
+
+# ----- tampering ---------------------------------------------------------------
+def test_widened_leaf_box_rejected(planar):
+    planar["claims"][0]["tree"]["children"][1]["box"][0][1] = 5.2
+    assert rejected(planar) == "claims[0].tree: leaf at path 1: box does not match the derived box"
+
+
+def test_widened_claim_box_rejected(planar):
+    planar["claims"][0]["box"][1][1] = 6.0
+    rejected(planar, "box does not match the derived box")
+
+
+def test_flipped_sign_rejected(planar):
+    only_claim = copy.deepcopy(planar)
+    only_claim["claims"][0]["sign"] = -1
+    rejected(only_claim, "leaf at path 0: sign 1 differs from the claim's sign -1")
+    everywhere = copy.deepcopy(planar)
+    everywhere["claims"][0]["sign"] = -1
+    for child in everywhere["claims"][0]["tree"]["children"]:
+        child["sign"] = -1
+    rejected(everywhere, "claims[0].tree: leaf at path 0: natural rule: det(A) has sign 1")
+
+
+def test_removed_leaf_rejected(planar):
+    planar["claims"][0]["tree"] = planar["claims"][0]["tree"]["children"][0]
+    assert rejected(planar) == "claims[0].tree: leaf at path root: box does not match the derived box"
+
+
+def test_changed_geometry_rejected(planar):
+    assert reference_det("planar-3rpr/1", {**PLANAR, "base": [["0", "7"], ["10", "0"], ["3", "10"]]},
+                         [5.0, 5.0, 0.3]) < 0
+    planar["robot"]["base"][0][1] = "7"
+    rejected(planar, "leaf at path 0: natural rule: det(A) has sign -1")
+
+
+def test_split_outside_box_rejected(planar):
+    planar["claims"][0]["tree"]["split"] = [0, 5.3]
+    rejected(planar, "node at path root: split point 5.3 not strictly inside")
+    planar["claims"][0]["tree"]["split"] = [0, 4.89]   # lo < at is strict
+    rejected(planar, "not strictly inside")
+    planar["claims"][0]["tree"]["split"] = [3, 5.0]
+    rejected(planar, "'split' must be [dim, at]")
+
+
+def test_requested_must_lie_in_box(planar):
+    planar["claims"][0]["requested"]["x"] = ["4.9", "5.1100000000000004"]  # > the float 5.11 = 5.1100000000000003...
+    rejected(planar, "claims[0].requested.x: '5.1100000000000004' is not inside the box")
+    planar["claims"][0]["requested"]["x"] = ["4.9", "5.11000000000000031974423109204508364200592041015625"]
+    assert proofs.check(planar).ok
+    planar["claims"][0]["requested"]["phi"] = ["17deg", "17.5deg"]  # 0.2967..., 0.3054...
+    assert proofs.check(planar).ok
+    planar["claims"][0]["requested"]["phi"] = ["16deg", "17.5deg"]
+    rejected(planar, "requested.phi: '16deg' is not inside")
+    planar["claims"][0]["requested"] = {"z": ["0", "1"]}
+    rejected(planar, "unknown pose variable 'z'")
+
+
+def test_unknown_header_fields_rejected(planar):
+    for key, value, step in (("format", "other", "format:"), ("version", 2, "version:"),
+                             ("model", "planar-3rpr/2", "model:"), ("problem", "fk", "problem:"),
+                             ("pose", ["x", "phi", "y"], "pose:")):
+        c = copy.deepcopy(planar)
+        c[key] = value
+        assert rejected(c).startswith(step)
+    c = copy.deepcopy(planar)
+    c["claims"][0]["tree"]["children"][0]["leaf"] = "undecided"
+    rejected(c, "leaf at path 0: unknown rule 'undecided'")
+    c = copy.deepcopy(planar)
+    c["claims"][0]["status"] = "free"
+    rejected(c, "claims[0].status: unknown status")
+    c = copy.deepcopy(planar)
+    c["robot"]["base"][0][0] = 0.1
+    rejected(c, "robot.base[0][0]: expected an exact decimal string")
+    assert rejected([]) == "certificate: expected a JSON object"
+
+
+def test_undecided_claim_claims_nothing(planar):
+    planar["claims"].append({"box": [[0, 1]], "status": "undecided"})
+    report = proofs.check(planar)
+    assert report.ok and report.checked["undecided"] == 1
+    assert "1 undecided" in str(report)
+
+
+# ----- singular claims ----------------------------------------------------------
+@pytest.fixture
+def singular():
+    pos, neg = [5.0, 5.0, 1.0], [10.0, 10.0, 1.0]
+    assert reference_det("planar-3rpr/1", PLANAR, pos) > 100 and reference_det("planar-3rpr/1", PLANAR, neg) < -100
+    claim = {"box": [[0.0, 10.0], [0.0, 10.0], [0.9, 1.1]], "status": "singular",
+             "witnesses": {"positive": pos, "negative": neg}}
+    return cert("planar-3rpr/1", PLANAR, ["x", "y", "phi"], [claim])
+
+
+def test_singular_witnesses(singular):
+    assert proofs.check(singular).ok
+    same = copy.deepcopy(singular)
+    same["claims"][0]["witnesses"]["negative"] = [5.0, 5.0, 1.0]
+    assert rejected(same) == "claims[0].witnesses.negative: det(A) not proved < 0"
+    swapped = copy.deepcopy(singular)
+    w = swapped["claims"][0]["witnesses"]
+    w["positive"], w["negative"] = w["negative"], w["positive"]
+    assert rejected(swapped) == "claims[0].witnesses.positive: det(A) not proved > 0"
+    outside = copy.deepcopy(singular)
+    outside["claims"][0]["witnesses"]["negative"] = [10.0, 10.5, 1.0]
+    assert rejected(outside) == "claims[0].witnesses.negative: pose outside the box"
+
+
+# ----- the other rules and the checker's own bisection --------------------------
+MONO_BOX = [[1.8, 2.2], [7.8, 8.2], [0.29, 0.31]]
+
+
+def _single(box, node, sign=1):
+    return cert("planar-3rpr/1", PLANAR, ["x", "y", "phi"],
+                [{"box": box, "status": "singularity-free", "sign": sign, "tree": node}])
+
+
+def test_monotone_leaf():
+    from proofs import rules
+    from proofs.models import MODELS, Robot
+    assert reference_det("planar-3rpr/1", PLANAR, [2.0, 8.0, 0.3]) > 0
+    box = [tuple(b) for b in MONO_BOX]
+    robot = Robot(MODELS["planar-3rpr/1"], PLANAR)
+    assert rules.natural(robot, box, 1, None) == 0   # the natural rule alone does not decide this box
+    assert rules.monotone(robot, box, 1, [1, 0, -1]) == 1
+    report = proofs.check(_single(MONO_BOX, leaf(MONO_BOX, 1, "monotone", monotone=[1, 0, -1])))
+    assert report.ok and report.checked["pieces"] == 0, report
+    wrong = _single(MONO_BOX, leaf(MONO_BOX, 1, "monotone", monotone=[-1, 0, -1]))
+    rejected(wrong, "leaf at path root: monotone rule: sign 1 not proved", "after bisecting 6 levels")
+    bad = _single(MONO_BOX, leaf(MONO_BOX, 1, "monotone", monotone=[1, 0]))
+    rejected(bad, "'monotone' must be 3 values")
+
+
+def test_centred_leaf():
+    box = [[7.5, 8.5], [7.5, 8.5], [0.275, 0.325]]
+    report = proofs.check(_single(box, leaf(box, 1, "centred")))
+    assert report.ok and report.checked["pieces"] == 0, report
+
+
+def test_checker_bisects_a_leaf_its_enclosure_does_not_decide():
+    box = [[4.0, 6.0], [4.0, 6.0], [0.2, 0.4]]
+    report = proofs.check(_single(box, leaf(box, 1)))
+    assert report.ok and report.checked["pieces"] > 0, report
+    singular_box = [[0.0, 10.0], [0.0, 10.0], [0.9, 1.1]]
+    rejected(_single(singular_box, leaf(singular_box, 1)), "leaf at path root: natural rule:")
+
+
+# ----- files and the command line ----------------------------------------------
+def _run(*args):
+    return subprocess.run([sys.executable, "-m", "proofs", *map(str, args)], cwd=ROOT,
+                          capture_output=True, text=True, timeout=60)
+
+
+def test_cli_exit_codes(planar, tmp_path):
+    good = tmp_path / "good.json"
+    good.write_text(json.dumps(planar))
+    assert proofs.check_file(good).ok
+    r = _run(good, "--prec", "64")
+    assert r.returncode == 0 and r.stdout == "OK: 1 claims, 2 leaves re-verified\n"
+
+    planar["claims"][0]["sign"] = -1
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(planar))
+    r = _run(bad)
+    assert r.returncode == 1 and r.stdout.startswith("REJECTED: claims[0].tree") and r.stdout.count("\n") == 1
+
+    broken = tmp_path / "broken.json"
+    broken.write_text('{"format": ')
+    nan = tmp_path / "nan.json"
+    nan.write_text('{"x": NaN}')
+    for path in (broken, nan, tmp_path / "missing.json"):
+        r = _run(path)
+        assert r.returncode == 2 and r.stdout == "" and r.stderr.count("\n") == 1, r
+    with pytest.raises(ValueError):
+        proofs.check_file(nan)

@@ -1,0 +1,215 @@
+"""Robot models: IK, det(A) against the seed 003 closed form, Annex C vertex signs, file errors."""
+from decimal import Decimal
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from certkin import RobotFileError, load_robot, robot_from_dict
+from certkin.robots import GoughStewart, Planar3RPR, Spherical3DOF
+from intervals import Interval
+
+DATA = Path(__file__).parent / "data"
+EXAMPLES = Path(__file__).parent.parent / "examples" / "robots"
+
+# seed 003, Table 3.9 (planar Example 2) and Table 3.8 (Example 1)
+EX2 = {"name": "ex2", "kind": "planar-3rpr",
+       "base": [["3.78", "4.34"], ["34.47", "-3.78"], ["16.233", "34.76"]],
+       "platform": [["-4.83", "-3.19"], ["12.04", "-3.19"], ["8.23", "12.09"]]}
+EX1 = {"name": "ex1", "kind": "planar-3rpr",
+       "base": [["0", "0"], ["15.91", "0"], ["0", "10"]],
+       "platform": [["0", "0"], ["17.04", "0"], ["13.2364", "16.097"]]}
+
+
+def annex_b_closed_form(corrected: bool):
+    """det J of seed 003 eq. (3.4)-(3.5) with the Annex B.1 coefficients, as a sympy expression."""
+    (x, y, phi), g = Planar3RPR.symbols()
+    names = {str(s): s for s in g}
+    N = {}
+    for line in (DATA / "seed003_annex_b.txt").read_text().splitlines():
+        if line.startswith("#") or not line.strip():
+            continue
+        k, e = line.split("=", 1)
+        N[int(k.strip()[1:])] = sp.sympify(e, locals=names)
+    if corrected:  # digest: the last term of N13 is b1y p1y p3y, not b1y p1y p3x
+        N[13] += names["b1y"] * names["p1y"] * (names["p3y"] - names["p3x"])
+    c, s = sp.cos(phi), sp.sin(phi)
+    E1, E2, E3 = N[1] * c + N[2] * s, N[3] * c + N[4] * s, N[5] * c + N[6] * s
+    E4 = N[7] * c**2 + N[8] * s**2 + N[9] * s * c + N[10] * c + N[11] * s
+    E5 = N[12] * c**2 + N[13] * s**2 + N[14] * s * c + N[15] * c + N[16] * s
+    E6 = (N[17] * c**3 + N[18] * s**3 + N[19] * s * c**2 + N[20] * s**2 * c + N[21] * c**2
+          + N[22] * s**2 + N[23] * s * c + N[24] * c + N[25] * s)
+    return E1 * x**2 + E2 * y**2 + E3 * x * y + E4 * x + E5 * y + E6
+
+
+def _poly(expr):
+    (x, y, phi), _ = Planar3RPR.symbols()
+    C, S = sp.symbols("C S")
+    return sp.expand(expr.subs({sp.cos(phi): C, sp.sin(phi): S}))
+
+
+def test_planar_det_equals_annex_b_closed_form_with_n13_corrected():
+    det = Planar3RPR.symbolic_model()["det"]
+    assert _poly(annex_b_closed_form(corrected=True) - det) == 0
+    # the printed N13 is wrong: the difference is exactly the typo term
+    assert _poly(annex_b_closed_form(corrected=False) - det) != 0
+
+
+def _exact_closed_form(data, pose):
+    """det J at a pose by the corrected closed form, exactly (sympy rationals, exact cos/sin)."""
+    (x, y, phi), g = Planar3RPR.symbols()
+    vals = [Fraction(v) for p in data["base"] + data["platform"] for v in p]
+    expr = annex_b_closed_form(corrected=True).subs(dict(zip(g, [sp.Rational(v.numerator, v.denominator) for v in vals])))
+    return expr.subs({x: pose[0], y: pose[1], phi: pose[2]})
+
+
+@pytest.mark.parametrize("data,signs", [(EX2, [1, -1, -1, -1, 1, -1, 1, -1]), (EX1, [1, -1, 1, 1, 1, -1, 1, -1])])
+def test_annex_c_vertex_signs(data, signs):
+    """Annex C.1 prints the vertex signs of Example 2; vertices in (x, y, phi) lexicographic order."""
+    robot = robot_from_dict(data)
+    verts = [(x, y, p) for x in (-50, 50) for y in (-50, 50) for p in (0, sp.pi / 4)] if data is EX2 else \
+            [(x, y, p) for x in (-20, 20) for y in (-20, 20) for p in (0, sp.pi / 4)]
+    exact = [sp.sign(sp.nsimplify(_exact_closed_form(data, v))) for v in verts]
+    assert exact == signs
+    pi4 = robot.pose_box(["0", "0", "45deg"])[2]
+    boxes = Interval(np.array([[float(v[0]), float(v[1]), 0.0 if v[2] == 0 else float(pi4.lo)] for v in verts]),
+                     np.array([[float(v[0]), float(v[1]), 0.0 if v[2] == 0 else float(pi4.hi)] for v in verts]))
+    det = robot.det_enclosure(boxes)
+    got = np.where(det.lo > 0, 1, np.where(det.hi < 0, -1, 0))
+    assert list(got) == signs
+
+
+def test_annex_c2_rectangle_vertices_all_negative():
+    robot = robot_from_dict(EX2)
+    verts = [(x, y) for x in (-50, 50) for y in (-50, 50)]
+    exact = [sp.sign(sp.nsimplify(_exact_closed_form(EX2, (x, y, sp.pi / 4)))) for x, y in verts]
+    assert exact == [-1, -1, -1, -1]
+    pi4 = robot.pose_box(["0", "0", "45deg"])[2]
+    det = robot.det_enclosure(Interval(np.array([[x, y, pi4.lo] for x, y in verts], dtype=float),
+                                       np.array([[x, y, pi4.hi] for x, y in verts], dtype=float)))
+    assert np.all(det.hi < 0)
+
+
+def test_det_enclosure_contains_exact_value_at_rational_points():
+    robot = robot_from_dict(EX2)
+    for pose in [(0, 0, 0), (10, 10, 0), (-7, 3, 0)]:
+        exact = _exact_closed_form(EX2, pose)
+        det = robot.det_enclosure(Interval(np.array(pose, dtype=float)))
+        assert Fraction(float(det.lo)) <= Fraction(str(sp.Rational(exact))) <= Fraction(float(det.hi))
+    assert abs(float(_exact_closed_form(EX2, (0, 0, 0))) - 28891.66058) < 1e-4  # digest §3.6 spot value
+
+
+def test_inverse_kinematics_against_numpy():
+    rng = np.random.default_rng(3)
+    robot = robot_from_dict(EX2)
+    b = np.array([[float(c) for c in p] for p in EX2["base"]])
+    p = np.array([[float(c) for c in q] for q in EX2["platform"]])
+    for _ in range(20):
+        x, y, phi = rng.uniform(-30, 30), rng.uniform(-30, 30), rng.uniform(-np.pi, np.pi)
+        R = np.array([[np.cos(phi), -np.sin(phi)], [np.sin(phi), np.cos(phi)]])
+        expected = np.linalg.norm(np.array([x, y]) + p @ R.T - b, axis=1)
+        enc = robot.leg_lengths(Interval(np.array([x, y, phi])))
+        assert np.all(enc.lo <= expected + 1e-9 * expected) and np.all(expected - 1e-9 * expected <= enc.hi)
+        assert np.all(enc.hi - enc.lo < 1e-9)
+        assert np.allclose(robot.leg_lengths_float([x, y, phi]), expected)
+
+
+def _rz(a):
+    return np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+
+
+def _rx(a):
+    return np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+
+
+def _ry(a):
+    return np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])
+
+
+def test_gough_ik_and_det_against_numpy():
+    rng = np.random.default_rng(5)
+    base = rng.uniform(-10, 10, size=(6, 3)).round(3)
+    base[:, 2] = 0
+    plat = rng.uniform(-5, 5, size=(6, 3)).round(3)
+    plat[:, 2] = 0
+    robot = robot_from_dict({"kind": "gough-stewart", "base": [[str(c) for c in r] for r in base],
+                             "platform": [[str(c) for c in r] for r in plat]})
+    for _ in range(5):
+        pose = np.array([*rng.uniform(-2, 2, 2), rng.uniform(8, 12), *rng.uniform(-0.5, 0.5, 3)])
+        R = _rz(pose[3]) @ _rx(pose[4]) @ _rz(pose[5])
+        rb = plat @ R.T
+        legs = pose[:3] + rb - base
+        A = np.hstack([legs, np.cross(rb, legs)])
+        enc = robot.leg_lengths(Interval(pose))
+        assert np.allclose((enc.lo + enc.hi) / 2, np.linalg.norm(legs, axis=1), rtol=1e-12)
+        det = robot.det_enclosure(Interval(pose))
+        assert float(det.lo) <= np.linalg.det(A) * (1 + 1e-9) + 1e-9 and np.linalg.det(A) * (1 - 1e-9) - 1e-9 <= float(det.hi) \
+            or float(det.lo) <= np.linalg.det(A) <= float(det.hi)
+
+
+def test_spherical_matches_seed003_tilt_torsion_reference():
+    """Seed 003 Example 3 (Table 4.15): det J at T&T (0, pi/4, 0) is -0.0576 (digest §3.6)."""
+    w1, w2, w3, u2, u3, x1, x2, x3, y2, y3, h = ["1.6", "-1.1", "-0.9", "1.2", "-1", "1", "-0.8", "-0.1", "0", "-0.5", "1.5"]
+    robot = robot_from_dict({"kind": "spherical-3dof",
+                             "base": [[w1, "0", "-" + h], [w2, u2, "-" + h], [w3, u3, "-" + h]],
+                             "platform": [[x1, "0", "0"], [x2, y2, "0"], [x3, y3, "0"]]})
+    # T&T (phi1, phi2, sigma) = Euler (phi1, phi2, sigma - phi1)
+    box = robot.pose_box(["0", "45deg", "0"])
+    det = robot.det_enclosure(box)
+    assert float(det.lo) <= -0.0576 + 1e-12 and -0.0576 - 1e-12 <= float(det.hi)
+    # independent numpy evaluation at a random pose
+    rng = np.random.default_rng(2)
+    a = np.array([[1.6, 0, -1.5], [-1.1, 1.2, -1.5], [-0.9, -1, -1.5]])
+    b = np.array([[1, 0, 0], [-0.8, 0, 0], [-0.1, -0.5, 0]])
+    for _ in range(5):
+        e = rng.uniform(-1.5, 1.5, 3)
+        Q = _rz(e[0]) @ _ry(e[1]) @ _rz(e[2])
+        A = np.cross(a, b @ Q.T)
+        det = robot.det_enclosure(Interval(e))
+        assert abs((float(det.lo) + float(det.hi)) / 2 - np.linalg.det(A)) < 1e-12
+
+
+@pytest.mark.parametrize("mutate,field", [
+    (lambda d: d.pop("base"), "base"),
+    (lambda d: d.__setitem__("kind", "delta"), "kind"),
+    (lambda d: d["base"].pop(), "base"),
+    (lambda d: d["base"][1].__setitem__(0, "abc"), "base[1][0]"),
+    (lambda d: d["base"][1].__setitem__(0, Decimal("NaN")), "base[1][0]"),
+    (lambda d: d["base"][1].__setitem__(0, Decimal("Infinity")), "base[1][0]"),
+    (lambda d: d["platform"][2].append("1"), "platform[2]"),
+    (lambda d: d.__setitem__("platform", [["1", "1"]] * 3), "platform"),
+    (lambda d: d.__setitem__("limits", {"leg_length": [["5", "3"], ["1", "2"], ["1", "2"]]}), "limits.leg_length[0]"),
+    (lambda d: d.__setitem__("limits", {"leg_width": 3}), "limits.leg_width"),
+    (lambda d: d.__setitem__("colour", "red"), "colour"),
+])
+def test_bad_robot_data_names_the_field(mutate, field):
+    data = {k: (v if not isinstance(v, list) else [list(p) for p in v]) for k, v in EX2.items()}
+    mutate(data)
+    with pytest.raises(RobotFileError) as err:
+        robot_from_dict(data, "bad.toml")
+    assert err.value.field == field
+    assert str(err.value).startswith("bad.toml: ")
+
+
+def test_bad_files(tmp_path):
+    p = tmp_path / "broken.toml"
+    p.write_text("kind = [unclosed")
+    with pytest.raises(RobotFileError, match="broken.toml: not valid TOML"):
+        load_robot(p)
+    with pytest.raises(RobotFileError, match="no such file"):
+        load_robot(tmp_path / "missing.toml")
+
+
+def test_every_bundled_robot_loads_and_round_trips():
+    files = sorted(EXAMPLES.glob("*.toml"))
+    assert len(files) >= 10
+    for f in files:
+        robot = load_robot(f)
+        again = robot_from_dict(robot.to_dict() | ({"home": robot.home} if robot.home else {}), str(f))
+        assert again.to_dict() == robot.to_dict()
+        assert again.geometry_texts() == robot.geometry_texts()
+        # exact decimals survive: each enclosure contains the decimal text
+        for t, iv in zip(robot.geometry_texts(), robot.parameters):
+            assert Fraction(float(iv.lo)) <= Fraction(t) <= Fraction(float(iv.hi))

@@ -1,0 +1,212 @@
+"""Singularity-free regions: seed 003 examples, hard cases, soundness against sampling, tampering."""
+import copy
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+import proofs
+from certkin import robot_from_dict
+from certkin.engine import Budget
+from certkin.singularity import certify_singularity_free, classify_cells, largest_free_box
+
+EX2 = {"name": "ex2", "kind": "planar-3rpr",
+       "base": [["3.78", "4.34"], ["34.47", "-3.78"], ["16.233", "34.76"]],
+       "platform": [["-4.83", "-3.19"], ["12.04", "-3.19"], ["8.23", "12.09"]]}
+EX1 = {"name": "ex1", "kind": "planar-3rpr",
+       "base": [["0", "0"], ["15.91", "0"], ["0", "10"]],
+       "platform": [["0", "0"], ["17.04", "0"], ["13.2364", "16.097"]]}
+FULL = "x=-50:50,y=-50:50,phi=0:0.7853981634"
+
+
+def spherical(h, x2, x3, y2):
+    """Seed 003 Tables 4.13-4.15 (w1 w2 w3 u2 u3 x1 x2 x3 y2 y3 h), tilt-and-torsion angles."""
+    return robot_from_dict({"kind": "spherical-3dof",
+                            "base": [["1.6", "0", "-" + h], ["-1.1", "1.2", "-" + h], ["-0.9", "-1", "-" + h]],
+                            "platform": [["1", "0", "0"], [x2, y2, "0"], [x3, "-0.5", "0"]]}).with_angles("tilt-torsion")
+
+
+def checked(results):
+    """Every certified answer in these tests is re-checked by the independent checker."""
+    cert = (results if isinstance(results, list) else [results])[0].certificate() if not isinstance(results, list) \
+        else __import__("certkin.certificates", fromlist=["x"]).singularity_certificate(results)
+    report = proofs.check(cert)
+    assert report.ok, report.step
+    return cert
+
+
+def test_example2_full_box_is_singular_with_certified_witnesses():
+    robot = robot_from_dict(EX2)
+    r = certify_singularity_free(robot, FULL)
+    assert r.status == "singular"
+    pos, neg = r.witnesses["positive"], r.witnesses["negative"]
+    assert robot.det_enclosure(pos).lo > 0 > robot.det_enclosure(neg).hi
+    for w in (pos, neg):
+        assert np.all(r.lo <= w) and np.all(w <= r.hi)
+    checked(r)
+
+
+def test_example2_rectangle_at_pi_over_4_needs_the_interior():
+    """Digest §3.6: the vertices and edges are all negative; an ellipse of positive det lies inside."""
+    robot = robot_from_dict(EX2)
+    r = certify_singularity_free(robot, "x=-50:50,y=-50:50,phi=45deg")
+    assert r.status == "singular"
+    x, y, _ = r.witnesses["positive"]
+    assert 5.0 <= x <= 26.5 and -13.0 <= y <= 22.0  # the positive region (digest §3.6)
+    checked(r)
+
+
+def test_example2_three_cells_per_side_match_the_digest():
+    robot = robot_from_dict(EX2)
+    cells = classify_cells(robot, FULL, 3)
+    free = [tuple(int(i) for i in np.unravel_index(k, (3, 3, 3))) for k, c in enumerate(cells) if c.status == "singularity-free"]
+    assert free == [(0, 0, 2), (0, 1, 1), (0, 1, 2), (0, 2, 0), (0, 2, 1), (0, 2, 2)]
+    assert all(c.status == "singular" for c in cells if c.status != "singularity-free")
+    checked(cells)
+
+
+def test_example2_ten_cells_per_side_counts():
+    robot = robot_from_dict(EX2)
+    cells = classify_cells(robot, FULL, 10)
+    counts = {s: sum(c.status == s for c in cells) for s in ("singularity-free", "singular", "undecided")}
+    assert counts == {"singularity-free": 743, "singular": 257, "undecided": 0}
+
+
+def test_example1_touching_cells_are_never_called_free():
+    """Digest §3.6: det vanishes on x = y = 0 (B1 = P1) and on y = 0, phi = 0 without changing sign."""
+    robot = robot_from_dict(EX1)
+    budget = Budget(max_boxes=3000, max_seconds=10, min_width=1e-4)
+    for box in ["x=-4:0,y=0:4,phi=0.6:0.7", "x=-8:-4,y=0:4,phi=0:0.0785"]:
+        r = certify_singularity_free(robot, box, budget=budget)
+        assert r.status in ("undecided", "singular")
+
+
+def test_spherical_free_cell_with_small_margin():
+    """Digest §3.6: spherical Ex 1, n = 3, cell (2,1,0) is free with max det = -0.019073."""
+    robot = spherical("1.2", "-0.6", "-0.2", "1")
+    r = certify_singularity_free(robot, "phi1=30deg:90deg,phi2=30deg:60deg,sigma=-90deg:-30deg")
+    assert r.status == "singularity-free" and r.sign == -1
+    checked(r)
+
+
+def test_spherical_tiny_singular_pocket_found():
+    """Digest §3.6: spherical Ex 2, n = 5, cell (3,2,3) has min det -0.0022 that a 7x7x7 grid misses."""
+    robot = spherical("1.4", "-0.6", "-0.2", "1")
+    r = certify_singularity_free(robot, "phi1=18deg:54deg,phi2=36deg:54deg,sigma=18deg:54deg")
+    assert r.status == "singular"
+    checked(r)
+    # a 7x7x7 grid of samples indeed sees one sign only
+    g = np.stack(np.meshgrid(*[np.linspace(a, b, 7) for a, b in zip(r.lo, r.hi)], indexing="ij"), -1).reshape(-1, 3)
+    assert np.all(robot.det_float(g) > 0)
+
+
+def test_gough_box_away_from_singularities():
+    base = [[str(c) for c in p] for p in [[10, 0, 0], [5, 8.66, 0], [-5, 8.66, 0], [-10, 0, 0], [-5, -8.66, 0], [5, -8.66, 0]]]
+    plat = [[str(c) for c in p] for p in [[4, 3, 0], [0.6, 5, 0], [-4.6, 2, 0], [-4.6, -2, 0], [0.6, -5, 0], [4, -3, 0]]]
+    robot = robot_from_dict({"kind": "gough-stewart", "base": base, "platform": plat})
+    r = certify_singularity_free(robot, "x=-0.05:0.05,y=-0.05:0.05,z=9.95:10.05,psi=-0.005:0.005,theta=-0.005:0.005,"
+                                        "phi=-0.005:0.005", budget=Budget(max_boxes=5000, max_seconds=20))
+    assert r.status == "singularity-free"
+    checked(r)
+
+
+def test_largest_free_box_is_certified_and_maximal_along_the_scale():
+    robot = robot_from_dict(EX2)
+    r = largest_free_box(robot, "-30,30,0.2", scale="1,1,0.05", budget=Budget(max_boxes=5000, max_seconds=5))
+    assert r.status == "singularity-free" and r.scale_factor > 0
+    checked(r)
+    c = np.array([-30, 30, 0.2])
+    assert np.allclose((r.lo + r.hi) / 2, c)
+    assert np.allclose((r.hi - r.lo) / 2, r.scale_factor * np.array([1, 1, 0.05]))
+    # near-maximal: a box twice as large already contains both signs of det(A)
+    rng = np.random.default_rng(0)
+    h = (r.hi - r.lo) / 2
+    d = robot.det_float(rng.uniform(c - 2 * h, c + 2 * h, size=(20000, 3)))
+    assert (d > 0).any() and (d < 0).any()
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 10_000))
+def test_soundness_against_dense_sampling(seed):
+    """Random robots and boxes: 'singularity-free' never meets a sign change, sign changes give 'singular'."""
+    rng = np.random.default_rng(seed)
+    base = rng.uniform(-10, 10, (3, 2)).round(2)
+    plat = rng.uniform(-4, 4, (3, 2)).round(2)
+    robot = robot_from_dict({"kind": "planar-3rpr", "base": [[str(v) for v in p] for p in base],
+                             "platform": [[str(v) for v in p] for p in plat]})
+    c = np.array([rng.uniform(-8, 8), rng.uniform(-8, 8), rng.uniform(-3, 3)])
+    h = np.array([rng.uniform(0.1, 4), rng.uniform(0.1, 4), rng.uniform(0.01, 0.5)])
+    box = {n: (repr(float(a)), repr(float(b))) for n, a, b in zip(robot.pose_names, c - h, c + h)}
+    r = certify_singularity_free(robot, box, budget=Budget(max_boxes=4000, max_seconds=5, min_width=1e-6))
+    g = rng.uniform(r.lo, r.hi, size=(4000, 3))
+    d = robot.det_float(g)
+    both = (d > 1e-6 * np.abs(d).max()).any() and (d < -1e-6 * np.abs(d).max()).any()
+    if r.status == "singularity-free":
+        assert not both
+        assert np.all(np.sign(d[np.abs(d) > 1e-9 * np.abs(d).max()]) == r.sign)
+    if both:
+        assert r.status == "singular"
+    if r.status != "undecided":
+        checked(r)
+
+
+@pytest.fixture(scope="module")
+def free_certificate():
+    robot = robot_from_dict(EX2)
+    r = certify_singularity_free(robot, "x=-50:-30,y=20:40,phi=0.5:0.7")
+    assert r.status == "singularity-free"
+    cert = r.certificate()
+    assert proofs.check(cert).ok
+    return cert
+
+
+def _leaves(node, path=()):
+    if "children" in node:
+        for i, c in enumerate(node["children"]):
+            yield from _leaves(c, path + (i,))
+    else:
+        yield path, node
+
+
+def _find_split(node):
+    if "children" in node:
+        return node
+    raise AssertionError("no split")
+
+
+def test_tampered_certificates_are_rejected(free_certificate):
+    cert = free_certificate
+    tree = cert["claims"][0]["tree"]
+    assert "children" in tree, "the test needs a tree with at least one split"
+
+    widened = copy.deepcopy(cert)
+    path, leaf = next(_leaves(widened["claims"][0]["tree"]))
+    leaf["box"][0][0] -= 1.0
+    assert not proofs.check(widened).ok
+
+    flipped = copy.deepcopy(cert)
+    flipped["claims"][0]["sign"] = -flipped["claims"][0]["sign"]
+    assert not proofs.check(flipped).ok
+
+    dropped = copy.deepcopy(cert)
+    dropped["claims"][0]["tree"] = dropped["claims"][0]["tree"]["children"][0]
+    assert not proofs.check(dropped).ok
+
+    geometry = copy.deepcopy(cert)
+    geometry["robot"]["base"][2][1] = "-34.76"  # a changed character: det(A) > 0 somewhere on this box then
+    assert not proofs.check(geometry).ok
+
+    grown = copy.deepcopy(cert)
+    grown["claims"][0]["box"][1][1] += 100.0
+    assert not proofs.check(grown).ok
+
+
+def test_tampered_witness_rejected():
+    robot = robot_from_dict(EX2)
+    cert = certify_singularity_free(robot, FULL).certificate()
+    bad = copy.deepcopy(cert)
+    bad["claims"][0]["witnesses"]["negative"] = bad["claims"][0]["witnesses"]["positive"]
+    assert not proofs.check(bad).ok
+    outside = copy.deepcopy(cert)
+    outside["claims"][0]["witnesses"]["negative"][0] = 1000.0
+    assert not proofs.check(outside).ok
