@@ -12,6 +12,8 @@ import os
 from pathlib import Path
 import tempfile
 
+from .engine import PROVED
+
 FORMAT = "certkin-certificate"
 VERSION = 1
 
@@ -20,18 +22,21 @@ def _floats(a):
     return [float(v) for v in a]
 
 
-def tree_to_json(node) -> dict:
-    """The search tree of the engine as certificate nodes."""
-    if node.status == "contracted":
-        raise ValueError("contracted nodes are not part of singularity certificates")
-    if node.children:
-        return {"split": [int(node.split_dim), float(node.split_at)],
-                "children": [tree_to_json(c) for c in node.children]}
-    leaf = {"leaf": node.reason if node.status == "proved" else "undecided",
-            "box": [[float(a), float(b)] for a, b in zip(node.lo, node.hi)]}
-    if node.evidence:
-        leaf.update(node.evidence)
-    return leaf
+def singularity_tree(result) -> dict:
+    """The search tree of one singularity result as nested certificate nodes."""
+    tree = result.tree
+
+    def leaf(i):
+        out = {"leaf": tree.reason_name(i) if tree.kind[i] == PROVED else "undecided",
+               "box": [[float(a), float(b)] for a, b in zip(tree.lo[i], tree.hi[i])]}
+        if tree.kind[i] == PROVED:
+            ev = tree.evidence_of(i)
+            out["sign"] = int(ev["sign"])
+            if out["leaf"] == "monotone":
+                out["monotone"] = [int(v) for v in ev["monotone"]]
+        return out
+
+    return tree.nested(result.node, leaf)
 
 
 def header(robot, problem: str) -> dict:
@@ -45,7 +50,7 @@ def singularity_claim(result) -> dict:
         claim["requested"] = {k: [str(a), str(b)] for k, (a, b) in result.box.items()}
     if result.status == "singularity-free":
         claim["sign"] = int(result.sign)
-        claim["tree"] = tree_to_json(result.tree)
+        claim["tree"] = singularity_tree(result)
     elif result.status == "singular":
         claim["witnesses"] = {k: _floats(v) for k, v in result.witnesses.items()}
     return claim

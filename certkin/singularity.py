@@ -35,77 +35,72 @@ import numpy as np
 
 from intervals import Interval
 
-from .engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, search
+from .engine import OPEN, PROVED, Budget, Decisions, search
 from .poses import parse_box
 
 
 class SingularityProblem:
     """Decides batches of boxes for the sign of det(A) (see the module docstring)."""
 
+    reasons = ("natural", "centred", "monotone")
+
     def __init__(self, robot, n_roots: int):
         self.robot = robot
-        self.positive = [None] * n_roots   # per root: a pose with certified det > 0
-        self.negative = [None] * n_roots
+        d = len(robot.pose_names)
+        self.positive = np.zeros((n_roots, d))   # per root: a pose with certified det > 0
+        self.negative = np.zeros((n_roots, d))
+        self.has_positive = np.zeros(n_roots, dtype=bool)
+        self.has_negative = np.zeros(n_roots, dtype=bool)
 
-    def _witness(self, roots, points, values: Interval):
-        found = []
-        for k in range(len(roots)):
-            r = int(roots[k])
-            if values.lo[k] > 0 and self.positive[r] is None:
-                self.positive[r] = points[k].copy()
-            elif values.hi[k] < 0 and self.negative[r] is None:
-                self.negative[r] = points[k].copy()
-            else:
-                continue
-            if self.positive[r] is not None and self.negative[r] is not None:
-                found.append(r)
-        return found
+    def _witness(self, roots, points, signs):
+        """Record the first pose of each certified sign per root; returns the roots with both."""
+        for s, has, store in ((1, self.has_positive, self.positive), (-1, self.has_negative, self.negative)):
+            sel = (signs == s) & ~has[roots]
+            if sel.any():
+                r, first = np.unique(roots[sel], return_index=True)
+                store[r] = points[sel][first]
+                has[r] = True
+        return np.nonzero(self.has_positive & self.has_negative)[0]
 
     def decide(self, lo, hi, roots) -> Decisions:
         n, d = lo.shape
-        status = np.full(n, OPEN, dtype=np.int8)
-        reason = [""] * n
-        evidence = [None] * n
         box = Interval._raw(lo, hi)
         D = self.robot.det_enclosure(box)
-        sign = np.where(D.lo > 0, 1, np.where(D.hi < 0, -1, 0))
-        for k in np.nonzero(sign)[0]:
-            status[k] = PROVED
-            reason[k] = "natural"
-            evidence[k] = {"sign": int(sign[k])}
+        sign = _sign(D)
+        reason = np.zeros(n, dtype=np.int64)             # natural
+        mono = np.zeros((n, d), dtype=np.int8)
         mids = box.mid()
-        finished = []
         rest = np.nonzero(sign == 0)[0]
         if len(rest):
-            sub = box[rest]
             m = mids[rest]
             Dm = self.robot.det_enclosure(Interval._raw(m, m.copy()))
-            finished += self._witness(roots[rest], m, Dm)
-            self._refine(sub, m, Dm, rest, status, reason, evidence, roots, finished)
+            self._witness(roots[rest], m, _sign(Dm))
+            s, r, flags = self._refine(box[rest], m, Dm, roots[rest])
+            sign[rest], reason[rest], mono[rest] = s, r, flags
         # proved boxes witness their sign at their midpoint
-        proved = np.nonzero(status == PROVED)[0]
-        if len(proved):
-            signs = np.array([evidence[k]["sign"] for k in proved])
-            fake = Interval._raw(signs.astype(float), signs.astype(float))
-            finished += self._witness(roots[proved], mids[proved], fake)
-        return Decisions(status, reason, evidence, finished=tuple(sorted(set(finished))))
+        self._witness(roots, mids, sign)
+        finished = np.nonzero(self.has_positive & self.has_negative)[0]
+        status = np.where(sign != 0, PROVED, OPEN).astype(np.int8)
+        return Decisions(status, reason, {"sign": sign.astype(np.int8), "monotone": mono}, finished=finished)
 
-    def _refine(self, sub, m, Dm, rest, status, reason, evidence, roots, finished):
+    def _refine(self, sub, m, Dm, roots):
+        """Centred form, then the monotonicity rule, on boxes the natural extension left open.
+
+        Returns (sign, reason code, monotone flags) per box (sign 0: still open).
+        """
+        n, d = sub.shape
         _, grad = self.robot.det_gradient(sub)
         dx = sub - Interval._raw(m, m.copy())
-        centred = Dm + _dot(grad, dx)
-        for j, k in enumerate(rest):
-            if centred.lo[j] > 0 or centred.hi[j] < 0:
-                status[k] = PROVED
-                reason[k] = "centred"
-                evidence[k] = {"sign": 1 if centred.lo[j] > 0 else -1}
+        sign = _sign(Dm + _dot(grad, dx))
+        reason = np.where(sign != 0, 1, 0)
+        flags = np.zeros((n, d), dtype=np.int8)
         mono = np.where(grad.lo > 0, 1, np.where(grad.hi < 0, -1, 0)).astype(np.int8)
-        todo = [j for j, k in enumerate(rest) if status[k] == OPEN and mono[j].any()]
-        if not todo:
-            return
-        todo = np.array(todo)
+        todo = np.nonzero((sign == 0) & mono.any(axis=1))[0]
+        if not len(todo):
+            return sign, reason, flags
         s = mono[todo]
         slo, shi = sub.lo[todo], sub.hi[todo]
+        # F_min: each monotone coordinate at the bound minimising det; F_max: maximising
         fmin_lo = np.where(s > 0, slo, np.where(s < 0, shi, slo))
         fmin_hi = np.where(s > 0, slo, np.where(s < 0, shi, shi))
         fmax_lo = np.where(s > 0, shi, np.where(s < 0, slo, slo))
@@ -114,21 +109,20 @@ class SingularityProblem:
         F = self._face_enclosure(faces)
         t = len(todo)
         lower, upper = F.lo[:t], F.hi[t:]
-        for i, j in enumerate(todo):
-            k = rest[j]
-            if lower[i] > 0 or upper[i] < 0:
-                status[k] = PROVED
-                reason[k] = "monotone"
-                evidence[k] = {"sign": 1 if lower[i] > 0 else -1, "monotone": [int(v) for v in s[i]]}
+        got = np.where(lower > 0, 1, np.where(upper < 0, -1, 0))
+        sign[todo] = got
+        reason[todo] = np.where(got != 0, 2, 0)
+        flags[todo] = np.where(got[:, None] != 0, s, 0)
         # extreme faces that are single vertices give witnesses
         vertex = np.all(fmin_lo == fmin_hi, axis=1) & np.all(fmax_lo == fmax_hi, axis=1)
         if vertex.any():
             idx = np.nonzero(vertex)[0]
-            r = roots[rest[todo[idx]]]
             pts = np.concatenate([fmin_lo[idx], fmax_lo[idx]])
             vals = Interval._raw(np.concatenate([F.lo[:t][idx], F.lo[t:][idx]]),
                                  np.concatenate([F.hi[:t][idx], F.hi[t:][idx]]))
-            finished += self._witness(np.concatenate([r, r]), pts, vals)
+            r = roots[todo[idx]]
+            self._witness(np.concatenate([r, r]), pts, _sign(vals))
+        return sign, reason, flags
 
     def _face_enclosure(self, faces: Interval) -> Interval:
         """Natural extension intersected with the centred form on the faces."""
@@ -138,6 +132,11 @@ class SingularityProblem:
         _, grad = self.robot.det_gradient(faces)
         centred = Dm + _dot(grad, faces - Interval._raw(m, m.copy()))
         return D.intersect(centred)
+
+
+def _sign(D: Interval) -> np.ndarray:
+    """1 where the enclosure is > 0, -1 where < 0, else 0."""
+    return np.where(D.lo > 0, 1, np.where(D.hi < 0, -1, 0))
 
 
 def _dot(grad: Interval, dx: Interval) -> Interval:
@@ -158,7 +157,8 @@ class SingularityResult:
     status: str
     sign: int = 0                   # sign of det(A) when singularity-free
     witnesses: dict | None = None   # {"positive": pose, "negative": pose} when singular
-    tree: object = None             # the search tree (engine.Node)
+    tree: object = None             # the search tree (engine.Tree), shared by the cells of one run
+    node: int = 0                   # the root node of this box in ``tree``
     undecided: list = field(default_factory=list)
     boxes: int = 0
     seconds: float = 0.0
@@ -186,19 +186,33 @@ class SingularityResult:
         return singularity_certificate(self)
 
 
-def _verdict(robot, problem, node, r):
-    """Status, sign, witnesses and undecided boxes of one root of the search."""
-    pos, neg = problem.positive[r], problem.negative[r]
-    if pos is not None and neg is not None:
-        return "singular", 0, {"positive": pos, "negative": neg}, []
-    leaves = list(node.leaves())
-    undecided = [(l.lo, l.hi) for l in leaves if l.status != "proved"]
-    if undecided:
-        return "undecided", 0, None, undecided
-    signs = {l.evidence["sign"] for l in leaves}
-    if len(signs) == 1:
-        return "singularity-free", signs.pop(), None, []
-    raise AssertionError("leaves of both signs without witnesses")  # witnesses are recorded for every proved leaf
+def _verdicts(problem, tree):
+    """Per root of the search: (status, sign, witnesses, undecided boxes), computed on arrays."""
+    n = tree.n_roots
+    leaf = tree.leaf_mask()
+    proved = tree.kind == PROVED
+    sign = np.zeros(len(tree), dtype=np.int64)
+    if proved.any():
+        sign[proved] = tree.evidence["sign"][tree.evidence_row[proved]]
+    positive = np.bincount(tree.root[proved & (sign > 0)], minlength=n)
+    negative = np.bincount(tree.root[proved & (sign < 0)], minlength=n)
+    open_ = leaf & ~proved
+    open_ids = np.nonzero(open_)[0]
+    open_ids = open_ids[np.argsort(tree.root[open_ids], kind="stable")]
+    starts = np.searchsorted(tree.root[open_ids], np.arange(n + 1))
+    out = []
+    for r in range(n):
+        if problem.has_positive[r] and problem.has_negative[r]:
+            out.append(("singular", 0, {"positive": problem.positive[r].copy(),
+                                        "negative": problem.negative[r].copy()}, []))
+        elif starts[r + 1] > starts[r]:
+            ids = open_ids[starts[r]:starts[r + 1]]
+            out.append(("undecided", 0, None, list(zip(tree.lo[ids], tree.hi[ids]))))
+        elif positive[r] and negative[r]:  # every proved leaf gives a witness, so this cannot happen
+            raise AssertionError("leaves of both signs without witnesses")
+        else:
+            out.append(("singularity-free", 1 if positive[r] else -1, None, []))
+    return out
 
 
 def certify_singularity_free(robot, box, budget: Budget | None = None, progress=None) -> SingularityResult:
@@ -219,22 +233,23 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
     free = hi0 > lo0
     counts = [n if f else 1 for f in free]
     grids = [np.linspace(lo0[i], hi0[i], c + 1) for i, c in enumerate(counts)]
-    for i in range(len(grids)):
-        grids[i][0], grids[i][-1] = lo0[i], hi0[i]
+    for g, a, b in zip(grids, lo0, hi0):
+        g[0], g[-1] = a, b  # the outer faces are exactly the box's
     idx = np.stack(np.meshgrid(*[np.arange(c) for c in counts], indexing="ij"), -1).reshape(-1, len(counts))
-    clo = np.array([[grids[i][j[i]] for i in range(len(counts))] for j in idx])
-    chi = np.array([[grids[i][j[i] + 1] for i in range(len(counts))] for j in idx])
+    clo = np.stack([grids[i][idx[:, i]] for i in range(len(counts))], axis=1)
+    chi = np.stack([grids[i][idx[:, i] + 1] for i in range(len(counts))], axis=1)
     problem = SingularityProblem(robot, len(idx))
     scale = np.where(free, hi0 - lo0, 1.0)
     budget = budget or Budget(max_boxes=200_000, max_seconds=60.0, min_width=1e-7)
     res = search(problem, clo, chi, scale=scale, budget=budget, progress=progress)
+    tree = res.tree
     out = []
     per_cell_seconds = res.seconds / max(1, len(idx))
-    for r, node in enumerate(res.roots):
-        status, sign, wit, und = _verdict(robot, problem, node, r)
-        nboxes = sum(1 for _ in node.leaves())
+    nodes = np.bincount(tree.root, minlength=len(idx))
+    for r, (status, sign, wit, und) in enumerate(_verdicts(problem, tree)):
+        nboxes = int(nodes[r])
         out.append(SingularityResult(robot, texts if len(idx) == 1 else _cell_texts(robot, clo[r], chi[r]),
-                                     clo[r], chi[r], status, sign, wit, node, und, nboxes, per_cell_seconds))
+                                     clo[r], chi[r], status, sign, wit, tree, r, und, nboxes, per_cell_seconds))
     if len(idx) == 1:
         out[0].boxes, out[0].seconds = res.boxes, res.seconds
     return out

@@ -1,7 +1,8 @@
 """The model equations of docs/certificates.md, rebuilt from the stated geometry.
 
 Each model maps a pose and the geometry to the matrix A of A ṫ + B ρ̇ = 0;
-``det.det`` expands det(A).  The formulas use only +, −, ×, sin and cos
+``det.det_interval`` encloses det(A) (Laplace, and for 6×6 also a
+preconditioned elimination).  The formulas use only +, −, ×, sin and cos
 (``ad.sin``/``ad.cos``), so the same code gives an interval enclosure of
 det(A) over a box (``iv`` numbers) or, with ``ad.Dual`` numbers, enclosures
 of det(A) and of its gradient.
@@ -21,15 +22,19 @@ from dataclasses import dataclass
 from mpmath import iv
 
 from . import ad
-from .det import det
+from .det import det, det_interval
 from .numbers import enclose
 from .report import Rejected
 
 
-def _rot(axis: str, angle, v):
-    """R_axis(angle) v with Rz = [[c,−s,0],[s,c,0],[0,0,1]], Ry = [[c,0,s],[0,1,0],[−s,0,c]],
-    Rx = [[1,0,0],[0,c,−s],[0,s,c]]."""
-    c, s = ad.cos(angle), ad.sin(angle)
+def _cs(angle):
+    return ad.cos(angle), ad.sin(angle)
+
+
+def _rot(axis: str, cs, v):
+    """R_axis(angle) v, with cs = (cos, sin) of the angle: Rz = [[c,−s,0],[s,c,0],[0,0,1]],
+    Ry = [[c,0,s],[0,1,0],[−s,0,c]], Rx = [[1,0,0],[0,c,−s],[0,s,c]]."""
+    c, s = cs
     x, y, z = v
     if axis == "z":
         return (c * x - s * y, s * x + c * y, z)
@@ -54,8 +59,9 @@ def planar_rows(pose, base, platform):
 
 def _spherical(p1, p2, p3, base, platform):
     rows = []
+    c1, c2, c3 = _cs(p1), _cs(p2), _cs(p3)
     for a, b in zip(base, platform):
-        qb = _rot("z", p1, _rot("y", p2, _rot("z", p3, b)))
+        qb = _rot("z", c1, _rot("y", c2, _rot("z", c3, b)))
         rows.append(list(_cross(a, qb)))
     return rows
 
@@ -73,8 +79,9 @@ def spherical_tt_rows(pose, base, platform):
 def gough_rows(pose, base, platform):
     x, y, z, psi, theta, phi = pose
     rows = []
+    c1, c2, c3 = _cs(psi), _cs(theta), _cs(phi)
     for a, b in zip(base, platform):
-        rb = _rot("z", psi, _rot("x", theta, _rot("z", phi, b)))
+        rb = _rot("z", c1, _rot("x", c2, _rot("z", c3, b)))
         l = (x + rb[0] - a[0], y + rb[1] - a[1], z + rb[2] - a[2])
         rows.append(list(l) + list(_cross(rb, l)))
     return rows
@@ -127,7 +134,7 @@ class Robot:
     def det(self, box):
         """Interval enclosure of det(A) over the box."""
         pose = [iv.mpf([lo, hi]) for lo, hi in box]
-        return det(self.model.rows(pose, self.base, self.platform))
+        return det_interval(self.model.rows(pose, self.base, self.platform))
 
     def det_gradient(self, box):
         """(enclosure of det(A), enclosures of ∂det/∂x_i) over the box."""

@@ -1,4 +1,6 @@
 """The one branch-and-bound engine used by every solver (see ``search``)."""
-from .search import EXCLUDED, OPEN, PROVED, SPLIT, Budget, Decisions, Node, SearchResult, search
+from .search import (CONTRACTED, EXCLUDED, OPEN, PROVED, SPLIT, UNDECIDED, Budget, Decisions, SearchResult, Tree,
+                     search)
 
-__all__ = ["search", "Budget", "Decisions", "Node", "SearchResult", "OPEN", "PROVED", "EXCLUDED", "SPLIT"]
+__all__ = ["search", "Budget", "Decisions", "SearchResult", "Tree", "OPEN", "PROVED", "EXCLUDED", "UNDECIDED",
+           "SPLIT", "CONTRACTED"]

@@ -4,22 +4,26 @@ A *problem* decides batches of boxes; the engine owns the frontier, the
 bisection, the budgets and the record of the search tree:
 
     class Problem:
+        reasons: tuple[str, ...]          # names of the rules, indexed by reason codes
         def decide(self, lo, hi, roots) -> Decisions
             # lo, hi: float arrays (N, d); roots: (N,) index of the initial box of each
 
 ``Decisions`` gives, per box, a status (``PROVED``, ``EXCLUDED`` or
-``OPEN``), a reason string and a JSON-able evidence dict for the decided
-boxes, and optionally contracted boxes for the open ones.  Open boxes are
-bisected (widest side scaled by ``scale``, split off-centre at ``SPLIT`` so
+``OPEN``), a reason code, and evidence as a dict of arrays with one row per
+box (read only for decided boxes), and optionally contracted boxes (with
+their own reason and evidence) for the open ones.  Open boxes are bisected
+(widest side scaled by ``scale``, split off-centre at ``SPLIT_RATIO`` so
 that symmetric roots do not land on faces) until they are decided, narrower
-than ``min_width``, or a budget (boxes, seconds) runs out.  Nothing is
-dropped: every box of the domain ends in exactly one leaf of the returned
-tree, with status ``proved``, ``excluded`` or ``undecided`` (and why).
+than ``min_width``, or a budget (boxes, seconds) runs out.  When few boxes
+are open, each is halved several times at once (up to ``d`` times) so that
+one batch keeps numpy busy; the tree still records binary splits.
 
-The frontier is processed depth-first in batches (the last ``batch`` boxes
-first), so memory stays bounded by about ``batch * depth`` boxes.  Results
-are deterministic: no randomness, and the order of work depends only on the
-input.
+Nothing is dropped: every box of the domain ends in exactly one leaf of the
+returned ``Tree`` with status ``proved``, ``excluded`` or ``undecided`` (and
+why).  All bookkeeping is done on arrays, never per box in Python.  The
+frontier is a stack processed ``batch`` boxes at a time, last in first
+out, so memory stays bounded by about ``batch * 2^d * depth`` boxes.
+Results are deterministic: the order of work depends only on the input.
 """
 from __future__ import annotations
 
@@ -29,85 +33,216 @@ import time
 import numpy as np
 
 OPEN, PROVED, EXCLUDED = 0, 1, 2
-SPLIT = 0.4921875  # off-centre bisection ratio (exact in binary)
+# node kinds in the tree (leaves: PROVED, EXCLUDED, UNDECIDED)
+UNDECIDED, SPLIT, CONTRACTED = 3, 4, 5
+SPLIT_RATIO = 0.4921875  # off-centre bisection ratio (exact in binary)
+
+# reasons of undecided leaves (engine codes, negative to keep them apart from the problem's)
+BUDGET, RESOLUTION, NOT_NEEDED = -1, -2, -3
+UNDECIDED_REASONS = {BUDGET: "budget: boxes or time exhausted",
+                     RESOLUTION: "resolution: box narrower than min_width",
+                     NOT_NEEDED: "not needed: the answer for this box was found"}
 
 
 @dataclass
 class Decisions:
     """What a problem says about a batch of N boxes."""
 
-    status: np.ndarray                      # (N,) int: OPEN | PROVED | EXCLUDED
-    reason: list                            # (N,) str, for decided boxes
-    evidence: list                          # (N,) dict or None, for decided boxes
-    contracted: tuple | None = None         # optional (lo, hi) replacing the open boxes
-    finished: tuple = ()                    # initial boxes (roots) whose answer is known: stop them
+    status: np.ndarray                      # (N,) int8: OPEN | PROVED | EXCLUDED
+    reason: np.ndarray                      # (N,) int: index into problem.reasons (decided boxes)
+    evidence: dict = field(default_factory=dict)   # name -> array (N, ...), rows of decided boxes
+    contracted: tuple | None = None         # optional (lo, hi) (N, d) replacing the open boxes
+    contraction_reason: np.ndarray | None = None   # (N,) int, for the contracted boxes
+    contraction_evidence: dict = field(default_factory=dict)  # name -> array (N, ...)
+    finished: np.ndarray | None = None      # roots whose answer is known: stop working on them
 
 
 @dataclass
 class Budget:
-    max_boxes: int = 200_000                # boxes processed
+    max_boxes: int = 200_000                # boxes decided (all roots together)
     max_seconds: float = 60.0
     min_width: float = 1e-9                 # scaled width under which a box is not split
 
 
-@dataclass
-class Node:
-    """A node of the search tree: a leaf, or a split into two children."""
+_COLUMNS = ("lo", "hi", "root", "parent", "kind", "reason", "split_dim", "split_at", "first_child")
 
-    lo: np.ndarray
-    hi: np.ndarray
-    status: str = "undecided"               # proved | excluded | undecided | split
-    reason: str = ""
-    evidence: dict | None = None
-    root: int = 0
-    split_dim: int = -1
-    split_at: float = 0.0
-    children: list = field(default_factory=list)
-    contracted_from: tuple | None = None    # (lo, hi) before a contraction, if any
 
-    def leaves(self):
-        stack = [self]
+class _Store:
+    """Growable columns of the tree (amortised doubling)."""
+
+    def __init__(self, d: int, capacity: int = 1024):
+        self.n = 0
+        self.lo = np.empty((capacity, d))
+        self.hi = np.empty((capacity, d))
+        self.root = np.empty(capacity, dtype=np.int64)
+        self.parent = np.empty(capacity, dtype=np.int64)
+        self.kind = np.empty(capacity, dtype=np.int8)
+        self.reason = np.empty(capacity, dtype=np.int64)
+        self.split_dim = np.empty(capacity, dtype=np.int64)
+        self.split_at = np.empty(capacity)
+        self.first_child = np.empty(capacity, dtype=np.int64)
+
+    def add(self, lo, hi, root, parent) -> np.ndarray:
+        k = len(lo)
+        if self.n + k > len(self.root):
+            cap = max(self.n + k, 2 * len(self.root))
+            for name in _COLUMNS:
+                old = getattr(self, name)
+                arr = np.empty((cap,) + old.shape[1:], dtype=old.dtype)
+                arr[:self.n] = old[:self.n]
+                setattr(self, name, arr)
+        ids = np.arange(self.n, self.n + k)
+        self.lo[ids], self.hi[ids] = lo, hi
+        self.root[ids], self.parent[ids] = root, parent
+        self.kind[ids] = OPEN
+        self.reason[ids] = 0
+        self.split_dim[ids] = -1
+        self.split_at[ids] = 0.0
+        self.first_child[ids] = -1
+        self.n += k
+        return ids
+
+
+class _Evidence:
+    """Rows of evidence, appended per batch, indexed by node id.
+
+    Each column keeps the dtype the problem gave; rows of batches that did
+    not give a column are zero.
+    """
+
+    def __init__(self):
+        self.batches: list = []             # (node ids, {name: rows})
+        self.rows = 0
+
+    def add(self, ids, evidence: dict, sel):
+        if len(ids):
+            self.batches.append((ids, {k: np.asarray(v)[sel] for k, v in evidence.items()}))
+            self.rows += len(ids)
+
+    def finish(self, n_nodes):
+        shapes = {}
+        for _, cols in self.batches:
+            for k, v in cols.items():
+                shapes.setdefault(k, (v.shape[1:], v.dtype))
+        evidence = {k: np.zeros((self.rows,) + shp, dtype=dt) for k, (shp, dt) in shapes.items()}
+        row = np.full(n_nodes, -1, dtype=np.int64)
+        first = 0
+        for ids, cols in self.batches:
+            rows = np.arange(first, first + len(ids))
+            row[ids] = rows
+            for k, v in cols.items():
+                evidence[k][rows] = v
+            first += len(ids)
+        return evidence, row
+
+
+class Tree:
+    """The search tree as arrays; node ``i`` has ``lo[i]``, ``hi[i]``, ``kind[i]``, ...
+
+    Nodes ``0 .. n_roots - 1`` are the initial boxes.  A ``SPLIT`` node has
+    children ``first_child[i]`` (lower part, ``x[dim] <= at``) and
+    ``first_child[i] + 1`` (upper part); a ``CONTRACTED`` node has one child
+    ``first_child[i]`` whose box is inside its own.  Leaves are ``PROVED``,
+    ``EXCLUDED`` or ``UNDECIDED``; their ``reason`` indexes ``reasons``
+    (problem rules) or ``UNDECIDED_REASONS`` (negative codes).  Evidence of
+    decided and contracted nodes: ``evidence[name][evidence_row[i]]``.
+    """
+
+    def __init__(self, store: _Store, n_roots: int, reasons, evidence, evidence_row):
+        n = store.n
+        for name in _COLUMNS:
+            setattr(self, name, getattr(store, name)[:n])
+        self.n_roots = n_roots
+        self.reasons = tuple(reasons)
+        self.evidence = evidence
+        self.evidence_row = evidence_row
+
+    def __len__(self):
+        return len(self.kind)
+
+    def reason_name(self, i: int) -> str:
+        r = int(self.reason[i])
+        return UNDECIDED_REASONS[r] if r < 0 else self.reasons[r]
+
+    def leaf_mask(self) -> np.ndarray:
+        return (self.kind == PROVED) | (self.kind == EXCLUDED) | (self.kind == UNDECIDED)
+
+    def leaves(self, root: int | None = None, kind: int | None = None) -> np.ndarray:
+        """Ids of the leaves (of one root, of one kind), in creation order."""
+        m = self.leaf_mask() if kind is None else (self.kind == kind)
+        if root is not None:
+            m &= self.root == root
+        return np.nonzero(m)[0]
+
+    def evidence_of(self, i: int, keys=None) -> dict:
+        """The evidence of a decided or contracted node as plain Python values (``keys``: a subset)."""
+        row = int(self.evidence_row[i])
+        if row < 0:
+            return {}
+        return {k: v[row].tolist() for k, v in self.evidence.items() if keys is None or k in keys}
+
+    def nested(self, i: int, leaf, contraction=None) -> dict:
+        """The subtree at node ``i`` as nested dicts (for certificates).
+
+        Splits become ``{"split": [dim, at], "children": [lower, upper]}``,
+        leaves ``leaf(id)``, contractions ``contraction(id)`` updated with
+        ``{"child": ...}``.  Iterative: deep trees do not hit the recursion limit.
+        """
+        out: dict = {}
+        stack = [(i, out)]
         while stack:
-            n = stack.pop()
-            if n.children:
-                stack.extend(reversed(n.children))
+            j, slot = stack.pop()
+            k = self.kind[j]
+            if k == SPLIT:
+                a, b = {}, {}
+                slot.update({"split": [int(self.split_dim[j]), float(self.split_at[j])], "children": [a, b]})
+                c = int(self.first_child[j])
+                stack.append((c + 1, b))
+                stack.append((c, a))
+            elif k == CONTRACTED:
+                child: dict = {}
+                slot.update(contraction(j))
+                slot["child"] = child
+                stack.append((int(self.first_child[j]), child))
             else:
-                yield n
+                slot.update(leaf(j))
+        return out
 
 
 @dataclass
 class SearchResult:
-    roots: list                             # one Node per initial box
-    boxes: int
+    tree: Tree
+    boxes: int                              # boxes decided by the problem
     seconds: float
     exhausted: bool                         # a budget ran out
 
-    def leaves(self):
-        for r in self.roots:
-            yield from r.leaves()
-
 
 def choose_split(lo, hi, scale):
-    """Per box, the dimension with the widest scaled side."""
+    """Per box, the dimension with the widest scaled side and that width."""
     w = (hi - lo) / scale
     return np.argmax(w, axis=1), np.max(w, axis=1)
 
 
-def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int = 1024,
-           progress=None) -> SearchResult:
-    """Branch and bound from the boxes ``[lo, hi]`` (arrays (M, d)).
+def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int = 4096,
+           progress=None, min_batch: int = 128) -> SearchResult:
+    """Branch and bound from the boxes ``[lo, hi]`` (arrays (M, d), one per root).
 
     ``progress(processed_boxes, frontier_size)`` is called after each batch.
+    ``min_batch``: when fewer boxes than this are open after a batch, each
+    is halved several times at once.
     """
     budget = budget or Budget()
     lo = np.atleast_2d(np.asarray(lo, dtype=np.float64))
     hi = np.atleast_2d(np.asarray(hi, dtype=np.float64))
+    m, d = lo.shape
     if scale is None:
         scale = np.where(hi[0] > lo[0], hi[0] - lo[0], 1.0)
     scale = np.asarray(scale, dtype=np.float64)
-    roots = [Node(lo[i].copy(), hi[i].copy(), root=i) for i in range(len(lo))]
-    finished = set()
-    frontier = list(reversed(roots))  # a stack: the last entries are processed first
+    store = _Store(d, max(1024, 4 * m))
+    evidence = _Evidence()
+    roots = store.add(lo, hi, np.arange(m), np.full(m, -1))
+    frontier = [roots[::-1]]                # a stack of id arrays; the end is processed first
+    finished = np.zeros(m, dtype=bool)
     processed = 0
     t0 = time.perf_counter()
     exhausted = False
@@ -115,82 +250,106 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
         if processed >= budget.max_boxes or time.perf_counter() - t0 > budget.max_seconds:
             exhausted = True
             break
-        take = frontier[-batch:]
-        del frontier[-batch:]
-        take.reverse()
-        blo = np.stack([n.lo for n in take])
-        bhi = np.stack([n.hi for n in take])
-        dec = problem.decide(blo, bhi, np.array([n.root for n in take]))
-        processed += len(take)
-        open_idx = []
-        for k, node in enumerate(take):
-            s = dec.status[k]
-            if s == PROVED or s == EXCLUDED:
-                node.status = "proved" if s == PROVED else "excluded"
-                node.reason = dec.reason[k]
-                node.evidence = dec.evidence[k]
-            else:
-                open_idx.append(k)
-        if len(dec.finished):
-            finished.update(int(r) for r in dec.finished)
-            for k in list(open_idx):
-                if take[k].root in finished:
-                    take[k].status = "undecided"
-                    take[k].reason = "not needed: the answer for this box was found"
-                    open_idx.remove(k)
-            keep = []
-            for node in frontier:
-                if node.root in finished:
-                    node.status = "undecided"
-                    node.reason = "not needed: the answer for this box was found"
-                else:
-                    keep.append(node)
-            frontier = keep
-        if not open_idx:
-            if progress:
-                progress(processed, len(frontier))
-            continue
-        idx = np.array(open_idx)
-        olo, ohi = blo[idx], bhi[idx]
-        if dec.contracted is not None:
-            clo, chi = dec.contracted
-            clo, chi = clo[idx], chi[idx]
-            for j, k in enumerate(open_idx):
-                if np.any(clo[j] != olo[j]) or np.any(chi[j] != ohi[j]):
-                    node = take[k]
-                    child = Node(clo[j].copy(), chi[j].copy(), root=node.root)
-                    node.status = "contracted"
-                    node.contracted_from = (node.lo, node.hi)
-                    node.children = [child]
-                    take[k] = child
-            olo, ohi = clo, chi
-        dims, widths = choose_split(olo, ohi, scale)
-        new = []
-        for j, k in enumerate(open_idx):
-            node = take[k]
-            if widths[j] <= budget.min_width:
-                node.status = "undecided"
-                node.reason = node.reason or "resolution: box narrower than min_width"
+        ids = _pop(frontier, batch)
+        done = finished[store.root[ids]]
+        if done.any():
+            store.kind[ids[done]] = UNDECIDED
+            store.reason[ids[done]] = NOT_NEEDED
+            ids = ids[~done]
+            if not len(ids):
                 continue
-            d = int(dims[j])
-            at = olo[j, d] + SPLIT * (ohi[j, d] - olo[j, d])
-            if not (olo[j, d] < at < ohi[j, d]):  # too narrow to split in floating point
-                node.status = "undecided"
-                node.reason = "resolution: box cannot be split further"
-                continue
-            left_hi = ohi[j].copy()
-            left_hi[d] = at
-            right_lo = olo[j].copy()
-            right_lo[d] = at
-            node.status = "split"
-            node.split_dim, node.split_at = d, float(at)
-            node.children = [Node(olo[j].copy(), left_hi, root=node.root),
-                             Node(right_lo, ohi[j].copy(), root=node.root)]
-            new.extend(node.children)
-        frontier.extend(reversed(new))
+        blo, bhi = store.lo[ids], store.hi[ids]
+        dec = problem.decide(blo, bhi, store.root[ids])
+        processed += len(ids)
+        status = np.asarray(dec.status)
+        decided = status != OPEN
+        store.kind[ids[decided]] = np.where(status[decided] == PROVED, PROVED, EXCLUDED)
+        store.reason[ids[decided]] = np.asarray(dec.reason)[decided]
+        evidence.add(ids[decided], dec.evidence, decided)
+        if dec.finished is not None and len(dec.finished):
+            finished[np.asarray(dec.finished, dtype=np.int64)] = True
+        stop = ~decided & finished[store.root[ids]]
+        store.kind[ids[stop]] = UNDECIDED
+        store.reason[ids[stop]] = NOT_NEEDED
+        open_ = ~decided & ~stop
+        oids, olo, ohi = ids[open_], blo[open_], bhi[open_]
+        if dec.contracted is not None and len(oids):
+            clo, chi = dec.contracted[0][open_], dec.contracted[1][open_]
+            changed = np.any((clo != olo) | (chi != ohi), axis=1)
+            if changed.any():
+                parents = oids[changed]
+                kids = store.add(clo[changed], chi[changed], store.root[parents], parents)
+                store.kind[parents] = CONTRACTED
+                store.first_child[parents] = kids
+                store.reason[parents] = np.asarray(dec.contraction_reason)[open_][changed]
+                evidence.add(parents, dec.contraction_evidence, np.nonzero(open_)[0][changed])
+                oids = oids.copy()
+                oids[changed] = kids
+                olo, ohi = clo, chi
+        if len(oids):
+            new = _split(store, oids, olo, ohi, scale, budget.min_width, min_batch)
+            if len(new):
+                frontier.append(new[::-1])
         if progress:
-            progress(processed, len(frontier))
-    for node in frontier:
-        node.status = "undecided"
-        node.reason = "budget: boxes or time exhausted"
-    return SearchResult(roots, processed, time.perf_counter() - t0, exhausted)
+            progress(processed, sum(len(f) for f in frontier))
+    for ids in frontier:
+        store.kind[ids] = UNDECIDED
+        store.reason[ids] = BUDGET
+    ev, rows = evidence.finish(store.n)
+    tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows)
+    return SearchResult(tree, processed, time.perf_counter() - t0, exhausted)
+
+
+def _pop(frontier, batch):
+    """Up to ``batch`` ids from the top of the stack."""
+    out = []
+    need = batch
+    while frontier and need > 0:
+        top = frontier[-1]
+        if len(top) <= need:
+            out.append(top)
+            need -= len(top)
+            frontier.pop()
+        else:
+            out.append(top[-need:])
+            frontier[-1] = top[:-need]
+            need = 0
+    return np.concatenate(out[::-1]) if len(out) > 1 else out[0]
+
+
+def _split(store, ids, lo, hi, scale, min_width, min_batch):
+    """Bisect the open boxes (several times each when they are few); returns the new open ids."""
+    d = lo.shape[1]
+    rounds = 1
+    if 0 < len(ids) < min_batch:
+        rounds = int(min(d, max(1, np.ceil(np.log2(min_batch / len(ids))))))
+    kept = []                               # fresh pieces not split in a later round: still open
+    for r in range(rounds):
+        if not len(ids):
+            break
+        dims, widths = choose_split(lo, hi, scale)
+        rows = np.arange(len(ids))
+        a, b = lo[rows, dims], hi[rows, dims]
+        at = a + SPLIT_RATIO * (b - a)
+        ok = (a < at) & (at < b) & (widths > min_width)
+        if not ok.all():
+            if r == 0:  # an evaluated box too narrow to split: an undecided leaf
+                store.kind[ids[~ok]] = UNDECIDED
+                store.reason[ids[~ok]] = RESOLUTION
+            else:       # a fresh piece, not evaluated yet: it stays open
+                kept.append(ids[~ok])
+            ids, lo, hi, dims, at = ids[ok], lo[ok], hi[ok], dims[ok], at[ok]
+            rows = np.arange(len(ids))
+        clo = np.repeat(lo, 2, axis=0)
+        chi = np.repeat(hi, 2, axis=0)
+        chi[2 * rows, dims] = at            # lower halves
+        clo[2 * rows + 1, dims] = at        # upper halves
+        kids = store.add(clo, chi, np.repeat(store.root[ids], 2), np.repeat(ids, 2))
+        store.kind[ids] = SPLIT
+        store.split_dim[ids] = dims
+        store.split_at[ids] = at
+        store.first_child[ids] = kids[0::2]
+        ids, lo, hi = kids, clo, chi
+    if kept:
+        ids = np.concatenate(kept + [ids])
+    return ids
