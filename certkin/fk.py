@@ -1,144 +1,240 @@
 """Forward kinematics: every real assembly mode, each in a box proved to hold exactly one.
 
-The equations are written with unknowns that keep them polynomial of
-degree two (``robots`` give the systems: planar (x, y, c, s) with
-c² + s² = 1, which covers every real posture since (c, s) ranges over the
-whole unit circle).  The shared engine decides each box:
+The equations (``robots.fk_systems``: platform origin and frame axes as
+unknowns, quadratic, covering every real posture) are solved by the shared
+engine; each box is decided by
 
 1. ``equation``: the enclosure of one equation over the box misses 0 — no
    solution in the box;
-2. ``krawczyk-empty``: K(X) ∩ X = ∅ — no solution (Krawczyk 1969, Moore 1977);
+2. ``krawczyk-empty``: K(X) ∩ X = ∅ — no solution (Krawczyk 1969; Moore 1977);
 3. ``krawczyk-unique``: K(X*) ⊂ int X* for a box X* ⊇ X — exactly one
-   solution in X*, hence at most one in X (X* is X itself or X inflated
-   around a Newton iterate when X is small);
-4. otherwise X is contracted to K(X) ∩ X (slightly inflated, so that an
-   independent re-computation still contains it) and bisected.
+   solution in X*, hence at most one in X (X* is X itself, or for small
+   boxes X inflated around a Newton iterate: ε-inflation, Rump 1983);
+4. ``krawczyk`` contraction: the solutions in X lie in K(X) ∩ X, which
+   replaces X (widened by a relative 2⁻²⁰ so that an independent
+   re-computation still fits inside) when it is substantially smaller;
+5. otherwise X is bisected.
 
-Solutions are then merged (two proofs whose solution enclosure lies inside
-the other's X* concern the same root), and boxes left undecided (near a
-double root, or at the resolution limit) are grouped into ``unresolved``
-clusters: never reported as two roots, nor as none.  ``complete`` is true
-only when every box of the domain was excluded or proved.
+K(X) = c − C f(c) + (I − C J(X))(X − c) with c the midpoint and C the
+float inverse of the midpoint Jacobian (Neumaier 1990, ch. 5).
+
+Each proved box's root is then enclosed tightly: Krawczyk iterates from
+X*, then an ε-inflated box R with K(R) ⊂ int R, which proves exactly one
+root in R.  Proved boxes whose R lie in one another's X* share their root;
+roots whose R are pairwise disjoint are distinct.  Boxes left undecided
+(near a singular configuration or at the resolution limit) are grouped into
+``unresolved`` clusters: never reported as two roots, nor as none.
+``complete`` is true only when every box of the domain was excluded or
+proved and every root's R lies inside the domain.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+import time
 
 import numpy as np
 
 from intervals import Interval, linalg, sqr
 
-from .engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, search
+from .engine import CONTRACTED, EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
 from .errors import InputError
 
-MARGIN = 2.0 ** -30      # relative safety margin of the proofs (room for an independent re-check)
-INFLATE_BELOW = 1e-3     # scaled width under which a Newton-inflated box X* is tried
+MARGIN = 2.0 ** -30      # uniqueness requires K inside X shrunk by this relative margin
+WIDEN = 2.0 ** -20       # contracted boxes are widened by this fraction of the parent's width
+SHRINK = 0.05            # a contraction is kept when some side shrinks by this fraction
+INFLATE_BELOW = 2.0 ** -12  # scaled width under which ε-inflation around a Newton iterate is tried
+POSITION_SCALE = 8.0     # position sides count this much less than rotation sides when bisecting
 
 
-def _margin_box(lo, hi, rel=MARGIN):
-    w = (hi - lo) * rel + 1e-300
+def _inner(lo, hi, rel=MARGIN):
+    w = (hi - lo) * rel
     return lo + w, hi - w
+
+
+def krawczyk_boxes(system, X: Interval, L: Interval, C=None, with_jacobian=False):
+    """(K, C[, J]) for the boxes X (N, n) with squared leg lengths L (N, legs); c = midpoint."""
+    J = system.jacobian(X)
+    c = X.mid()
+    fc = system.equations(Interval._raw(c, c.copy()), L)
+    res = linalg.krawczyk(fc, J, X, c, C)
+    return (res.K, res.C, J) if with_jacobian else (res.K, res.C)
+
+
+def unique_in(K: Interval, lo, hi):
+    """K strictly inside [lo, hi] shrunk by the relative margin (all coordinates)."""
+    ilo, ihi = _inner(lo, hi)
+    return np.all((K.lo > ilo) & (K.hi < ihi), axis=-1)
+
+
+def contract_position(system, X: Interval, L: Interval):
+    """Preconditioned Gauss-Seidel on the position, linear given the rotation.
+
+    The differences of leg equations give D(X) p = g(X) (``FKSystem.position_system``);
+    with P ≈ pinv(mid D) every solution's p satisfies (P D) p = P g, and one
+    Gauss-Seidel sweep on that square system keeps every such p
+    (``linalg.gauss_seidel``).  Returns (new lo, new hi, empty mask, P).
+    """
+    p = system.n_pos
+    D, g = system.position_system(X, L)
+    Dm = 0.5 * D.lo + 0.5 * D.hi
+    Dt = np.swapaxes(Dm, -1, -2)
+    with np.errstate(all="ignore"):  # P = (Dᵀ D)⁻¹ Dᵀ: a heuristic; any float P keeps the solutions
+        G = Dt @ Dm + 1e-300 * np.eye(p)
+        try:
+            P = np.linalg.solve(G, Dt)
+        except np.linalg.LinAlgError:
+            P = np.linalg.pinv(Dm)
+    P = np.where(np.isfinite(P), P, 0.0)
+    A = linalg.matmul(P, D)
+    b = linalg.matvec(P, g)
+    box = Interval._raw(X.lo[:, :p], X.hi[:, :p])
+    new, empty = linalg.gauss_seidel(A, b, box, C=False)
+    w = (box.hi - box.lo) * WIDEN  # room for an independent re-computation
+    lo, hi = X.lo.copy(), X.hi.copy()
+    lo[:, :p] = np.where(empty[:, None], X.lo[:, :p], np.maximum(X.lo[:, :p], new.lo - w))
+    hi[:, :p] = np.where(empty[:, None], X.hi[:, :p], np.minimum(X.hi[:, :p], new.hi + w))
+    return lo, hi, empty, P
 
 
 class FKProblem:
     """Decides boxes of FK unknowns for a batch of instances (one root box per instance)."""
 
-    def __init__(self, system, params_per_root: list[Interval], scale):
+    reasons = ("equation", "krawczyk-empty", "krawczyk-unique", "krawczyk", "position-empty", "position")
+
+    def __init__(self, system, L: Interval, scale):
         self.system = system
-        self.params = params_per_root     # list of Interval arrays (M,) per parameter, or 0-d
+        self.L = L                          # (M, legs) squared leg lengths, one row per instance
         self.scale = scale
 
-    def _p(self, roots):
-        return [p if p.ndim == 0 else p[roots] for p in self.params]
+    def _L(self, roots):
+        return Interval._raw(self.L.lo[roots], self.L.hi[roots])
 
     def decide(self, lo, hi, roots) -> Decisions:
-        n, d = lo.shape
-        status = np.full(n, OPEN, dtype=np.int8)
-        reason = [""] * n
-        evidence = [None] * n
+        n_box, n = lo.shape
+        L = self._L(roots)
+        status = np.full(n_box, OPEN, dtype=np.int8)
+        reason = np.zeros(n_box, dtype=np.int64)
+        creason = np.zeros(n_box, dtype=np.int64)
+        cev = {}
+        lo, hi = lo.copy(), hi.copy()
+        # 1. the position is linear given the rotation: Gauss-Seidel contraction
+        position_moved = np.zeros(n_box, dtype=bool)
+        if self.system.n_pos:
+            plo, phi_, pempty, P = contract_position(self.system, Interval._raw(lo, hi), L)
+            status[pempty] = EXCLUDED
+            reason[pempty] = 4
+            shrink = _shrink(lo, hi, plo, phi_)
+            position_moved = ~pempty & (shrink >= SHRINK)
+            lo[position_moved], hi[position_moved] = plo[position_moved], phi_[position_moved]
+            creason[position_moved] = 5
+            cev["P"] = (position_moved, P[position_moved])
+            P_empty = P
+        # 2. exclusion by one equation
         X = Interval._raw(lo, hi)
-        F = self.system.equations(X, self._p(roots))
+        F = self.system.equations(X, L)
         out = (F.lo > 0) | (F.hi < 0)
-        excl = out.any(axis=1)
-        for k in np.nonzero(excl)[0]:
-            status[k] = EXCLUDED
-            reason[k] = "equation"
-            evidence[k] = {"equation": int(np.argmax(out[k]))}
-        clo, chi = lo.copy(), hi.copy()
-        rest = np.nonzero(~excl)[0]
+        excluded = out.any(axis=1) & (status == OPEN)
+        status[excluded] = EXCLUDED
+        reason[excluded] = 0
+        evidence = {"equation": np.argmax(out, axis=1).astype(np.int64)}
+        if self.system.n_pos and pempty.any():
+            evidence["P"] = (pempty, P_empty[pempty])
+        # 3. Krawczyk: empty, unique, or a contraction
+        rest = np.nonzero(status == OPEN)[0]
+        C_rows = np.zeros((n_box, n, n))
+        C_mask = np.zeros(n_box, dtype=bool)
+        star_mask = np.zeros(n_box, dtype=bool)
+        stars = np.zeros((n_box, n, 2))
+        split = np.full(n_box, -1)
         if len(rest):
-            self._krawczyk(lo[rest], hi[rest], roots[rest], rest, status, reason, evidence, clo, chi)
-        return Decisions(status, reason, evidence, contracted=(clo, chi))
+            rlo, rhi = lo[rest], hi[rest]
+            K, C, J = krawczyk_boxes(self.system, Interval._raw(rlo, rhi), Interval._raw(L.lo[rest], L.hi[rest]),
+                                     with_jacobian=True)
+            C_rows[rest] = C
+            # bisect where the equations vary most: the largest sum_i |J_ij| w_j ("smear", Kearfott 1996)
+            smear = np.sum(J.mag(), axis=1) * (rhi - rlo)
+            split[rest] = np.argmax(np.where(np.isfinite(smear), smear, np.inf), axis=1)
+            finite = np.all(np.isfinite(K.lo) & np.isfinite(K.hi), axis=1)
+            empty = np.any((K.hi < rlo) | (K.lo > rhi), axis=1) & finite
+            unique = unique_in(K, rlo, rhi) & ~empty
+            status[rest[empty]], reason[rest[empty]] = EXCLUDED, 1
+            status[rest[unique]], reason[rest[unique]] = PROVED, 2
+            C_mask[rest[empty | unique]] = True
+            open_ = ~(empty | unique)
+            # contraction K(X) ∩ X, widened, kept inside X (one contraction per box and call)
+            w = (rhi - rlo) * WIDEN
+            nlo = np.maximum(rlo, np.where(np.isfinite(K.lo), K.lo - w, -np.inf))
+            nhi = np.minimum(rhi, np.where(np.isfinite(K.hi), K.hi + w, np.inf))
+            keep = open_ & np.all(nlo <= nhi, axis=1) & (_shrink(rlo, rhi, nlo, nhi) >= SHRINK) \
+                & ~position_moved[rest]
+            k = rest[keep]
+            lo[k], hi[k] = nlo[keep], nhi[keep]
+            creason[k] = 3
+            kmask = np.zeros(n_box, dtype=bool)
+            kmask[k] = True
+            cev["C"] = (kmask, C[keep])
+            # small open boxes: ε-inflation around a Newton iterate
+            width = np.max((rhi - rlo) / self.scale, axis=1)
+            small = open_ & ~keep & (width < INFLATE_BELOW)
+            if small.any():
+                sm = rest[small]
+                proved, slo, shi, Cs = self._inflate(rlo[small], rhi[small], roots[sm])
+                status[sm[proved]], reason[sm[proved]] = PROVED, 2
+                star_mask[sm[proved]] = True
+                stars[sm[proved]] = np.stack([slo[proved], shi[proved]], axis=-1)
+                C_rows[sm[proved]] = Cs[proved]
+                C_mask[sm[proved]] = True
+        evidence["C"] = (C_mask, C_rows[C_mask])
+        if star_mask.any():
+            evidence["star"] = (star_mask, stars[star_mask])
+        return Decisions(status, reason, evidence, contracted=(lo, hi), contraction_reason=creason,
+                         contraction_evidence=cev, split=split)
 
-    def _krawczyk(self, lo, hi, roots, rest, status, reason, evidence, clo, chi):
-        P = self._p(roots)
-        X = Interval._raw(lo, hi)
-        _, J = self.system.equations.jacobian(X, P)
-        c = X.mid()
-        fc = self.system.equations(Interval._raw(c, c.copy()), P)
-        K, unique, empty, C = linalg.krawczyk(fc, J, X, c)
-        inner_lo, inner_hi = _margin_box(lo, hi)
-        unique = np.all((K.lo > inner_lo) & (K.hi < inner_hi), axis=1)
-        kx = K.intersect(X)
-        empty = np.any(kx.lo > kx.hi, axis=1) & np.all(np.isfinite(K.lo) & np.isfinite(K.hi), axis=1)
-        for j, k in enumerate(rest):
-            if empty[j]:
-                status[k] = EXCLUDED
-                reason[k] = "krawczyk-empty"
-                evidence[k] = {"c": c[j].tolist(), "C": C[j].tolist()}
-            elif unique[j]:
-                status[k] = PROVED
-                reason[k] = "krawczyk-unique"
-                evidence[k] = {"c": c[j].tolist(), "C": C[j].tolist(), "star": np.stack([lo[j], hi[j]], 1).tolist()}
-        open_ = np.nonzero(~(empty | unique))[0]
-        if not len(open_):
-            return
-        # contraction: K(X) ∩ X, widened by a relative margin and kept inside X
-        w = (hi[open_] - lo[open_]) * 2.0 ** -20
-        nlo = np.maximum(lo[open_], np.where(np.isfinite(K.lo[open_]), K.lo[open_] - w, lo[open_]))
-        nhi = np.minimum(hi[open_], np.where(np.isfinite(K.hi[open_]), K.hi[open_] + w, hi[open_]))
-        ok = np.all(nlo <= nhi, axis=1)
-        idx = rest[open_[ok]]
-        clo[idx], chi[idx] = nlo[ok], nhi[ok]
-        # small boxes: try a Newton-inflated box X* around the root
-        small = open_[np.max((hi[open_] - lo[open_]) / self.scale, axis=1) < INFLATE_BELOW]
-        if len(small):
-            self._inflate(lo[small], hi[small], roots[small], rest[small], C[small], status, reason, evidence)
-
-    def _inflate(self, lo, hi, roots, idx, C, status, reason, evidence):
-        P = self._p(roots)
+    def _inflate(self, lo, hi, roots):
+        """Try X* = Newton iterate ± r (⊇ X); returns (proved mask, X* lo, X* hi, C)."""
+        L = self._L(roots)
         x = 0.5 * (lo + hi)
-        for _ in range(4):  # float Newton steps with the preconditioner (not rigorous: only a guess)
-            f = self.system.equations(Interval._raw(x, x.copy()), P)
+        J = self.system.jacobian(Interval._raw(lo, hi))
+        C, _ = linalg.mid_inverse(J)
+        for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
+            f = self.system.equations(Interval._raw(x, x.copy()), L)
             x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
         r = np.maximum(np.abs(x - 0.5 * (lo + hi)), hi - lo) + 1e-12 * self.scale
         slo, shi = np.minimum(lo, x - r), np.maximum(hi, x + r)
-        S = Interval._raw(slo, shi)
-        _, J = self.system.equations.jacobian(S, P)
-        c = S.mid()
-        fc = self.system.equations(Interval._raw(c, c.copy()), P)
-        K, _, _, Cs = linalg.krawczyk(fc, J, S, c)
-        inner_lo, inner_hi = _margin_box(slo, shi)
-        unique = np.all((K.lo > inner_lo) & (K.hi < inner_hi), axis=1)
-        for j, k in enumerate(idx):
-            if unique[j]:
-                status[k] = PROVED
-                reason[k] = "krawczyk-unique"
-                evidence[k] = {"c": c[j].tolist(), "C": Cs[j].tolist(), "star": np.stack([slo[j], shi[j]], 1).tolist()}
+        K, Cs = krawczyk_boxes(self.system, Interval._raw(slo, shi), L)
+        return unique_in(K, slo, shi), slo, shi, Cs
 
 
-def tighten(system, params, star_lo, star_hi, steps=6):
-    """Iterate X <- K(X) ∩ X from a box proved to hold one root: a tight enclosure of it."""
-    X = Interval._raw(star_lo[None, :].copy(), star_hi[None, :].copy())
+def _shrink(lo, hi, nlo, nhi):
+    """The largest fraction of a side removed by a contraction, per box."""
+    w = np.maximum(hi - lo, 1e-300)
+    return np.max(((nlo - lo) + (hi - nhi)) / w, axis=1)
+
+
+def enclose_roots(system, star_lo, star_hi, L: Interval, steps: int = 8):
+    """Tight boxes R, each proved to hold exactly one root (the unique root of its X*), and their C.
+
+    Krawczyk iterates X ← K(X) ∩ X from X*, then ε-inflation (Rump 1983):
+    R = X widened by a relative 2⁻¹⁰ of its width and 2⁻⁴⁵ of its magnitude,
+    kept if K(R) ⊂ int R and R ⊆ X*; otherwise R = X* itself.  Batched over rows.
+    """
+    lo, hi = star_lo.copy(), star_hi.copy()
     for _ in range(steps):
-        _, J = system.equations.jacobian(X, params)
-        c = X.mid()
-        fc = system.equations(Interval._raw(c, c.copy()), params)
-        K, _, _, _ = linalg.krawczyk(fc, J, X, c)
-        X = K.intersect(X)
-        if np.any(X.lo > X.hi):
-            return None
-    return X[0]
+        K, _ = krawczyk_boxes(system, Interval._raw(lo, hi), L)
+        nlo, nhi = np.maximum(lo, K.lo), np.minimum(hi, K.hi)
+        ok = np.all(nlo <= nhi, axis=1)
+        before = np.max(hi - lo, axis=1)
+        lo[ok], hi[ok] = nlo[ok], nhi[ok]
+        if np.all(np.max(hi - lo, axis=1) > 0.5 * before):  # no longer contracting: converged
+            break
+    w = np.maximum((hi - lo) * 2.0 ** -10, (np.abs(lo) + np.abs(hi)) * 2.0 ** -45) + 1e-300
+    rlo, rhi = np.maximum(lo - w, star_lo), np.minimum(hi + w, star_hi)
+    K, C = krawczyk_boxes(system, Interval._raw(rlo, rhi), L)
+    good = unique_in(K, rlo, rhi)
+    if not good.all():
+        K2, C2 = krawczyk_boxes(system, Interval._raw(star_lo, star_hi), L)
+        rlo[~good], rhi[~good], C[~good] = star_lo[~good], star_hi[~good], C2[~good]
+    return rlo, rhi, C
 
 
 @dataclass
@@ -146,140 +242,351 @@ class FKResult:
     """All real assembly modes for one set of leg lengths."""
 
     robot: object
+    system: object
     lengths: list                       # exact texts
     domain: tuple                       # (lo, hi) of the unknowns searched
-    solutions: list = field(default_factory=list)    # dicts: status, unknowns box, pose, platform_points
+    solutions: list = field(default_factory=list)    # dicts: box (Interval of unknowns), pose, platform_points
     unresolved: list = field(default_factory=list)
     complete: bool = False
     tree: object = None
+    node: int = 0
+    leaf_proofs: dict = field(default_factory=dict)     # proved leaf -> {star, solution/twin | outside | undecided}
     boxes: int = 0
     seconds: float = 0.0
+    tracked: bool = False
+    user_domain: bool = False                           # a user --domain narrowed the search
+    track_C: np.ndarray | None = None                   # the Krawczyk matrix of a tracking proof
+    all_solutions: list = field(default_factory=list)   # every proved root of the searched box (certificate order)
+    filtered: list = field(default_factory=list)        # solutions outside a user domain (pose filter)
+
+    @property
+    def status(self) -> str:
+        return "complete" if self.complete else "incomplete"
 
     def to_json(self) -> dict:
         def entry(s, with_status):
             e = {"pose": {k: [float(v.lo), float(v.hi)] for k, v in s["pose"].items()},
                  "platform_points": [[[float(c.lo), float(c.hi)] for c in p] for p in s["platform_points"]]}
-            if with_status:
-                e = {"status": "unique", **e}
-            return e
-        return {"problem": "forward-kinematics", "robot": self.robot.name, "kind": self.robot.kind,
-                "lengths": self.lengths, "complete": self.complete,
-                "solutions": [entry(s, True) for s in self.solutions],
-                "unresolved": [entry(s, False) for s in self.unresolved],
-                "stats": {"boxes": self.boxes, "seconds": round(self.seconds, 6)}}
+            return {"status": "unique", **e} if with_status else e
+        out = {"problem": "forward-kinematics", "robot": self.robot.name, "kind": self.robot.kind,
+               "lengths": self.lengths, "complete": self.complete,
+               "solutions": [entry(s, True) for s in self.solutions],
+               "unresolved": [entry(s, False) for s in self.unresolved],
+               "stats": {"boxes": self.boxes, "seconds": round(self.seconds, 6)}}
+        if self.tracked:
+            out["tracked"] = True
+        return out
 
     def certificate(self) -> dict:
         from .certificates import fk_certificate
         return fk_certificate(self)
 
 
-def _clusters(boxes):
-    """Group boxes that touch or overlap (union-find on pairwise contact)."""
-    n = len(boxes)
-    parent = list(range(n))
+def _clusters(lo, hi, limit: int = 2000):
+    """Group boxes that touch or overlap (union-find); returns the hull of each group.
+
+    Beyond ``limit`` boxes (a search stopped by its budget) the boxes are
+    merged greedily along the first coordinate: fewer, larger clusters, still
+    covering every box.
+    """
+    n = len(lo)
+    if n > limit:
+        order = np.argsort(lo[:, 0], kind="stable")
+        chunks = np.array_split(order, limit)
+        return [(lo[c].min(axis=0), hi[c].max(axis=0)) for c in chunks if len(c)]
+    parent = np.arange(n)
 
     def find(i):
         while parent[i] != i:
             parent[i] = parent[parent[i]]
             i = parent[i]
         return i
-    for i in range(n):
-        for j in range(i + 1, n):
-            (a, b), (c, d) = boxes[i], boxes[j]
-            if np.all(a <= d) and np.all(c <= b):
-                parent[find(i)] = find(j)
-    groups = {}
-    for i in range(n):
-        groups.setdefault(find(i), []).append(i)
-    return [(np.min([boxes[i][0] for i in g], axis=0), np.max([boxes[i][1] for i in g], axis=0)) for g in groups.values()]
+    touch = np.all((lo[:, None, :] <= hi[None, :, :]) & (lo[None, :, :] <= hi[:, None, :]), axis=-1)
+    for i, j in zip(*np.nonzero(np.triu(touch, 1))):
+        parent[find(i)] = find(j)
+    roots = np.array([find(i) for i in range(n)])
+    return [(lo[roots == r].min(axis=0), hi[roots == r].max(axis=0)) for r in np.unique(roots)]
 
 
-def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None):
-    """All real FK postures for the leg lengths ``lengths`` (one set, or a 2-D array: one row per instance).
+def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None, track=None):
+    """All real FK postures for the leg lengths ``lengths``.
 
-    Returns an ``FKResult`` (or a list of them for a 2-D input) whose
-    ``solutions`` are each proved unique in their box, and whose
-    ``complete`` is true when the rest of the domain is proved empty.
+    ``lengths``: one set (sequence or "l1,l2,..." text), or a 2-D array with
+    one row per instance (then a list of results is returned; the instances
+    are searched together, as one batch).  ``domain``: optional box of pose
+    variables (``"x=a:b,..."``); position ranges narrow the search, angle
+    ranges filter the solutions.  ``track``: a previous pose; the unique
+    posture near it is proved directly when possible (``result.tracked``),
+    else the full search runs.  Each solution is proved unique in its box;
+    ``complete`` means the rest of the domain is proved empty.
     """
-    from .robots.fk_systems import fk_system
-    system = fk_system(robot)
-    rows, texts = _parse_lengths(robot, lengths)
+    from .robots.fk_systems import FKSystem
+    system = FKSystem(robot)
+    rows, texts, batch_input = _parse_lengths(robot, lengths)
     M = len(rows)
-    lo, hi = system.domain(robot, rows, domain)
-    L2 = [Interval._raw(np.array([r[i].lo for r in rows]), np.array([r[i].hi for r in rows])) for i in range(robot.n_legs)]
-    L2 = [sqr(l) for l in L2]
-    params = list(robot.parameters) + L2
-    scale = np.max(hi - lo, axis=0)
+    L = sqr(Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]),
+                          np.array([[float(v.hi) for v in r] for r in rows])))
+    rho = Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]), np.array([[float(v.hi) for v in r] for r in rows]))
+    if track is not None and not batch_input:
+        result = _track(robot, system, texts[0], L, track)
+        if result is not None:
+            return result
+    lo, hi = system.domain(rho)
+    angle_filter = None
+    if domain is not None:
+        lo, hi, angle_filter = _apply_domain(robot, system, domain, lo, hi)
+    feasible = np.all(lo <= hi, axis=1)
+    scale = np.max(np.where(feasible[:, None], hi - lo, 0.0), axis=0)
     scale = np.where(scale > 0, scale, 1.0)
-    problem = FKProblem(system, params, scale)
-    budget = budget or Budget(max_boxes=200_000 * max(1, M), max_seconds=60.0, min_width=1e-10)
-    res = search(problem, lo, hi, scale=scale, budget=budget, batch=max(256, min(4096, 64 * M)), progress=progress)
-    out = []
-    for r, node in enumerate(res.roots):
-        P = [p if p.ndim == 0 else p[r] for p in params]
-        out.append(_collect(robot, system, texts[r], (lo[r], hi[r]), node, P))
-        out[-1].boxes = sum(1 for _ in node.leaves())
-        out[-1].seconds = res.seconds / M
-    if np.ndim(lengths) == 2 or (isinstance(lengths, list) and lengths and isinstance(lengths[0], (list, tuple, np.ndarray))):
-        return out
-    out[0].boxes, out[0].seconds = res.boxes, res.seconds
-    return out[0]
+    scale[:system.n_pos] *= POSITION_SCALE  # bisect the rotation first: the position follows from it
+    budget = budget or Budget(max_boxes=max(200_000, 20_000 * M), max_seconds=60.0, min_width=1e-10)
+    t0 = time.perf_counter()
+    idx = np.nonzero(feasible)[0]
+    problem = FKProblem(system, Interval._raw(L.lo[idx], L.hi[idx]), scale)
+    res = search(problem, lo[idx], hi[idx], scale=scale, budget=budget, batch=max(4096, 256 * len(idx)),
+                 progress=progress) if len(idx) else None
+    out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter)
+    for r in out:
+        r.user_domain = domain is not None
+    seconds = time.perf_counter() - t0
+    for r in out:
+        r.seconds = seconds / M
+    if not batch_input:
+        out[0].boxes = res.boxes if res else 0
+        return out[0]
+    return out
 
 
-def _collect(robot, system, texts, dom, node, P) -> FKResult:
-    result = FKResult(robot, texts, dom, tree=node)
-    roots, pending = [], []
-    for leaf in node.leaves():
-        if leaf.status == "proved":
-            star = np.array(leaf.evidence["star"])
-            R = tighten(system, P, star[:, 0], star[:, 1])
-            if R is None:  # cannot happen for a proved box; never drop a root silently
-                pending.append((leaf.lo, leaf.hi))
-                continue
-            roots.append((R, star))
-        elif leaf.status == "undecided":
-            pending.append((leaf.lo, leaf.hi))
-    distinct = []
-    for R, star in roots:
-        inside_dom = np.all(R.lo >= dom[0]) and np.all(R.hi <= dom[1])
-        outside_dom = np.any(R.hi < dom[0]) or np.any(R.lo > dom[1])
-        if outside_dom:
-            continue
-        if not inside_dom:
-            pending.append((R.lo, R.hi))
-            continue
-        if not system.in_user_domain(R):
-            continue
-        same = ambiguous = False
-        for R2, star2 in distinct:
-            if (np.all(R.lo >= star2[:, 0]) and np.all(R.hi <= star2[:, 1])) or \
-               (np.all(R2.lo >= star[:, 0]) and np.all(R2.hi <= star[:, 1])):
-                same = True  # one root enclosure lies in the other's uniqueness box: the same root
+def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
+    """Results per instance from the search tree (solutions merged, undecided boxes clustered)."""
+    M = len(texts)
+    results = [FKResult(robot, system, texts[i], (lo[i], hi[i])) for i in range(M)]
+    for i in np.nonzero(~feasible)[0]:
+        results[i].complete = True          # the leg-length balls do not meet: no posture at all
+    if res is None:
+        return results
+    tree = res.tree
+    proved = tree.leaves(kind=PROVED)
+    slo, shi = tree.lo[proved].copy(), tree.hi[proved].copy()
+    rows = tree.evidence_rows.get("star")
+    if rows is not None:
+        has = rows[proved] >= 0
+        st = tree.evidence["star"][rows[proved[has]]]
+        slo[has], shi[has] = st[..., 0], st[..., 1]
+    inst = idx[tree.root[proved]]
+    Lp = Interval._raw(L.lo[inst], L.hi[inst])
+    if len(proved):
+        rlo, rhi, rC = enclose_roots(system, slo, shi, Lp)
+    else:
+        rlo, rhi, rC = slo, shi, np.zeros((0, system.n, system.n))
+    undecided = tree.leaves(kind=UNDECIDED)
+    nodes = np.bincount(tree.root, minlength=len(idx))
+    by_root = np.argsort(tree.root[proved], kind="stable")
+    starts = np.searchsorted(tree.root[proved][by_root], np.arange(len(idx) + 1))
+    und_sorted = undecided[np.argsort(tree.root[undecided], kind="stable")]
+    und_starts = np.searchsorted(tree.root[und_sorted], np.arange(len(idx) + 1))
+    for k, i in enumerate(idx):
+        r = results[i]
+        r.tree, r.node, r.boxes = tree, k, int(nodes[k])
+        sel = by_root[starts[k]:starts[k + 1]]
+        pending = [(tree.lo[j], tree.hi[j]) for j in und_sorted[und_starts[k]:und_starts[k + 1]]]
+        _merge(r, system, proved[sel], slo[sel], shi[sel], rlo[sel], rhi[sel], rC[sel], lo[i], hi[i], pending)
+        _finish(r, system, pending, angle_filter)
+    return results
+
+
+def _inside(alo, ahi, blo, bhi):
+    return bool(np.all(alo >= blo) and np.all(ahi <= bhi))
+
+
+def _meets(alo, ahi, blo, bhi):
+    return bool(np.all(alo <= bhi) and np.all(blo <= ahi))
+
+
+def _merge(result, system, leaves, slo, shi, rlo, rhi, rC, dlo, dhi, pending):
+    """Distinct roots (postures) from the proved leaves of one instance.
+
+    A leaf joins the root of an earlier group when that group's root box lies
+    in the leaf's uniqueness box X* (or, for a quaternion, the root box with q
+    negated: the same posture, a ``twin``); otherwise it starts a group with
+    its own root box.  Groups whose boxes lie in the domain and are disjoint
+    from every other group's box (and its negation) are the solutions.
+    """
+    spatial = system.kind != "planar-3rpr"
+    p = system.n_pos
+    neg = lambda lo_, hi_: (np.concatenate([lo_[:p], -hi_[p:]]), np.concatenate([hi_[:p], -lo_[p:]]))  # noqa: E731
+    groups = []                              # (lo, hi, C) of each group's root box
+    member = []                              # per leaf: (group, twin)
+    for a in range(len(leaves)):
+        found = None
+        for g, (glo, ghi, _) in enumerate(groups):
+            if _inside(glo, ghi, slo[a], shi[a]):
+                found = (g, False)
+            elif spatial and _inside(*neg(glo, ghi), slo[a], shi[a]):
+                found = (g, True)
+            if found:
                 break
-            if np.all(R.lo <= R2.hi) and np.all(R2.lo <= R.hi):
-                ambiguous = True  # overlapping enclosures without a shared proof: cannot separate
-        if ambiguous and not same:
-            pending.append((R.lo, R.hi))
-        elif not same:
-            distinct.append((R, star))
-    for R, star in distinct:
-        result.solutions.append({"status": "unique", "box": R, "pose": system.pose(R), "platform_points": system.points(robot, R, P)})
-    for lo, hi in _clusters(pending):
-        B = Interval._raw(lo, hi)
-        result.unresolved.append({"box": B, "pose": system.pose(B), "platform_points": system.points(robot, B, P)})
+        if found is None:
+            groups.append((rlo[a], rhi[a], rC[a]))
+            found = (len(groups) - 1, False)
+        member.append(found)
+    status = []                              # per group: "solution", "outside" or "ambiguous"
+    for g, (glo, ghi, _) in enumerate(groups):
+        if np.any(ghi < dlo) or np.any(glo > dhi):
+            status.append("outside")
+            continue
+        clash = not _inside(glo, ghi, dlo, dhi)
+        for h, (hlo, hhi, _) in enumerate(groups):
+            if h != g and (_meets(glo, ghi, hlo, hhi) or (spatial and _meets(glo, ghi, *neg(hlo, hhi)))):
+                clash = True
+        status.append("ambiguous" if clash else "solution")
+    index = {}
+    for g, st in enumerate(status):
+        glo, ghi, gC = groups[g]
+        if st == "solution":
+            index[g] = len(result.solutions)
+            result.solutions.append({"status": "unique", "box": Interval._raw(glo.copy(), ghi.copy()), "C": gC})
+        elif st == "ambiguous":
+            pending.append((glo, ghi))
+    for a, leaf in enumerate(leaves):
+        g, twin = member[a]
+        entry = {"star": (slo[a], shi[a])}
+        if status[g] == "solution":
+            entry.update(solution=index[g], twin=twin)
+        elif status[g] == "outside" and not twin and not _meets(groups[g][0], groups[g][1], *leaf_box(result, leaf)):
+            entry.update(outside=groups[g])  # the root of X* is outside the domain, so not in this leaf
+        else:
+            entry.update(undecided=True)
+            if status[g] == "outside":
+                pending.append(leaf_box(result, leaf))
+        result.leaf_proofs[int(leaf)] = entry
     result.complete = not pending
+
+
+def leaf_box(result, leaf):
+    return result.tree.lo[leaf], result.tree.hi[leaf]
+
+
+def _finish(result, system, pending, angle_filter):
+    """Poses and platform points of the solutions; undecided boxes clustered; the angle filter."""
+    result.all_solutions = list(result.solutions)
+    if result.solutions:
+        R = Interval._raw(np.stack([s["box"].lo for s in result.solutions]), np.stack([s["box"].hi for s in result.solutions]))
+        poses = system.pose(R)
+        pts = system.points(R)
+        kept = []
+        for j, s in enumerate(result.solutions):
+            s["pose"] = _pose_names(result.robot, {k: v[j] for k, v in poses.items()})
+            s["platform_points"] = [[pts[j, i, c] for c in range(pts.shape[2])] for i in range(pts.shape[1])]
+            verdict = _in_filter(s["pose"], angle_filter)
+            if verdict is True:
+                kept.append(s)
+            elif verdict is False:
+                result.filtered.append(s)
+            else:
+                pending.append((s["box"].lo, s["box"].hi))
+        result.solutions = kept
+    if pending:
+        hull = _clusters(np.array([p[0] for p in pending]), np.array([p[1] for p in pending]))
+        B = Interval._raw(np.stack([h[0] for h in hull]), np.stack([h[1] for h in hull]))
+        poses = system.pose(B)
+        pts = system.points(B)
+        for j in range(len(hull)):
+            result.unresolved.append({"box": B[j], "pose": _pose_names(result.robot, {k: v[j] for k, v in poses.items()}),
+                                      "platform_points": [[pts[j, i, c] for c in range(pts.shape[2])]
+                                                          for i in range(pts.shape[1])]})
+        result.complete = False
     result.solutions.sort(key=lambda s: [float(v.lo) for v in s["pose"].values()])
-    return result
+
+
+def _pose_names(robot, pose):
+    """The pose in the robot's own variables (tilt-and-torsion: sigma = phi1 + phi3)."""
+    if "sigma" in robot.pose_names:
+        return {"phi1": pose["phi1"], "phi2": pose["phi2"], "sigma": pose["phi1"] + pose["phi3"]}
+    return pose
+
+
+def _in_filter(pose, angle_filter):
+    """True (inside every angle range), False (outside one), None (cannot tell)."""
+    if not angle_filter:
+        return True
+    verdict = True
+    for name, (a, b) in angle_filter.items():
+        v = pose[name]
+        if float(v.hi) < a or float(v.lo) > b:
+            return False
+        if not (float(v.lo) >= a and float(v.hi) <= b):
+            verdict = None
+    return verdict
+
+
+def _apply_domain(robot, system, spec, lo, hi):
+    """Narrow the position unknowns to a user box; angle ranges become a solution filter."""
+    from .poses import parse_box
+    box, _ = parse_box(spec, robot, "--domain")
+    lo, hi = lo.copy(), hi.copy()
+    angles = {}
+    for k, name in enumerate(robot.pose_names):
+        if name in robot.angle_names:
+            angles[name] = (float(box.lo[k]), float(box.hi[k]))
+        else:
+            j = system.unknowns.index(name)
+            lo[:, j] = np.maximum(lo[:, j], box.lo[k])
+            hi[:, j] = np.minimum(hi[:, j], box.hi[k])
+    return lo, hi, angles
+
+
+def _track(robot, system, texts, L, previous):
+    """Prove the unique posture near a previous pose (seed 002 §4), or None to fall back.
+
+    Float Newton iterations from the previous pose give a guess x*; the box
+    around the previous pose and x*, inflated, must pass the Krawczyk test
+    K(X) ⊂ int X: it then holds exactly one posture, which is reported.
+    """
+    from .poses import parse_pose
+    pose, _ = parse_pose(previous, robot, "--track")
+    t0 = time.perf_counter()
+    x0 = system.unknowns_of_pose(pose.mid())[None, :]
+    x = x0.copy()
+    for _ in range(8):  # a guess only; the proof is the Krawczyk test below
+        J = system.jacobian(Interval._raw(x, x.copy()))
+        f = system.equations(Interval._raw(x, x.copy()), L)
+        with np.errstate(all="ignore"):
+            try:
+                step = np.linalg.solve(J.mid(), (0.5 * (f.lo + f.hi))[..., None])[..., 0]
+            except np.linalg.LinAlgError:
+                return None
+        if not np.all(np.isfinite(step)):
+            return None
+        x = x - step
+    # a box around x0 and x*, no thinner in any unknown than the move in units of the robot's size
+    size = np.concatenate([np.full(system.n_pos, system.size), np.ones(system.n - system.n_pos)])
+    move = np.max(np.abs(x - x0) / size) + 1e-12
+    for grow in (0.5, 0.25, 0.125):  # the box must hold x0 and x*; smaller boxes prove more easily
+        r = grow * np.abs(x - x0) + 0.5 * grow * move * size
+        lo, hi = np.minimum(x0, x) - r, np.maximum(x0, x) + r
+        K, C = krawczyk_boxes(system, Interval._raw(lo, hi), L)
+        if unique_in(K, lo, hi)[0]:
+            rlo, rhi, rC = enclose_roots(system, lo, hi, L)
+            res = FKResult(robot, system, texts, (lo[0], hi[0]), tracked=True, complete=True)
+            res.solutions.append({"status": "unique", "box": Interval._raw(rlo[0], rhi[0]), "C": rC[0]})
+            res.track_C = C[0]
+            _finish(res, system, [], None)
+            res.seconds = time.perf_counter() - t0
+            return res
+    return None
 
 
 def _parse_lengths(robot, lengths):
+    """(rows of enclosures, rows of exact texts, whether the input was a batch)."""
     from .robots.base import parse_number
     if isinstance(lengths, str):
         lengths = [p.strip() for p in lengths.split(",")]
     arr = np.asarray(lengths, dtype=object)
+    batch = arr.ndim == 2
     if arr.ndim == 1:
         arr = arr[None, :]
-    if arr.ndim != 2 or arr.shape[1] != robot.n_legs:
+    if arr.ndim != 2 or arr.shape[1] != robot.n_legs or arr.shape[0] == 0:
         raise InputError("--lengths", "", f"expected {robot.n_legs} leg lengths per instance")
     rows, texts = [], []
     for i, row in enumerate(arr):
@@ -287,14 +594,15 @@ def _parse_lengths(robot, lengths):
         for j, v in enumerate(row):
             if isinstance(v, (float, np.floating)):
                 v = repr(float(v))  # a float is its exact binary value; keep that text
+            field_name = f"[{i}][{j}]" if batch else f"leg {j + 1}"
             try:
-                iv, t = parse_number(v, "--lengths", f"[{i}][{j}]" if len(arr) > 1 else f"leg {j + 1}")
+                iv, t = parse_number(v, "--lengths", field_name)
             except InputError as exc:
                 raise InputError("--lengths", exc.field, exc.problem) from None
-            if float(iv.hi) < 0:
-                raise InputError("--lengths", f"leg {j + 1}", f"a leg length cannot be negative ({t})")
+            if float(iv.lo) < 0:
+                raise InputError("--lengths", field_name, f"a leg length cannot be negative ({t})")
             ivs.append(iv)
             ts.append(str(t))
         rows.append(ivs)
         texts.append(ts)
-    return rows, texts
+    return rows, texts, batch

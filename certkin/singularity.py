@@ -193,7 +193,7 @@ def _verdicts(problem, tree):
     proved = tree.kind == PROVED
     sign = np.zeros(len(tree), dtype=np.int64)
     if proved.any():
-        sign[proved] = tree.evidence["sign"][tree.evidence_row[proved]]
+        sign[proved] = tree.evidence_values("sign", np.nonzero(proved)[0])
     positive = np.bincount(tree.root[proved & (sign > 0)], minlength=n)
     negative = np.bincount(tree.root[proved & (sign < 0)], minlength=n)
     open_ = leaf & ~proved

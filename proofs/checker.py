@@ -5,13 +5,13 @@ import json
 
 from mpmath import iv
 
+from . import fk, singularity
 from .models import MODELS, Robot
 from .report import Rejected, Report
-from .singularity import check_claims
 
 FORMAT = "certkin-certificate"
 VERSION = 1
-PROBLEMS = {"singularity": check_claims}
+PROBLEMS = ("singularity", "forward-kinematics")
 
 
 def check(cert, prec: int = 80) -> Report:
@@ -48,21 +48,29 @@ def _check(cert, counts):
     problem = cert.get("problem")
     if problem not in PROBLEMS:
         raise Rejected(f"problem: unknown problem {problem!r} (known: {', '.join(PROBLEMS)})")
-    model = MODELS.get(cert.get("model")) if isinstance(cert.get("model"), str) else None
-    if model is None:
-        raise Rejected(f"model: unknown model {cert.get('model')!r} (known: {', '.join(MODELS)})")
     robot = cert.get("robot")
     if not isinstance(robot, dict):
         raise Rejected("robot: expected an object")
-    if robot.get("kind") != model.kind:
-        raise Rejected(f"robot.kind: {robot.get('kind')!r} does not fit model {model.name}")
-    if cert.get("pose") != list(model.pose):
-        raise Rejected(f"pose: expected {list(model.pose)} for model {model.name}")
     claims = cert.get("claims")
     if not isinstance(claims, list) or not claims:
         raise Rejected("claims: expected a non-empty list")
     counts["claims"] = len(claims)
-    PROBLEMS[problem](Robot(model, robot), claims, counts)
+    if problem == "forward-kinematics":
+        model = cert.get("model")
+        if not isinstance(model, str) or model not in fk.MODELS:
+            raise Rejected(f"model: unknown model {model!r} (known: {', '.join(fk.MODELS)})")
+        if cert.get("unknowns") != list(fk.MODELS[model][1]):
+            raise Rejected(f"unknowns: expected {list(fk.MODELS[model][1])} for model {model}")
+        fk.check_claims(model, robot, claims, counts)
+        return
+    model = MODELS.get(cert.get("model")) if isinstance(cert.get("model"), str) else None
+    if model is None:
+        raise Rejected(f"model: unknown model {cert.get('model')!r} (known: {', '.join(MODELS)})")
+    if robot.get("kind") != model.kind:
+        raise Rejected(f"robot.kind: {robot.get('kind')!r} does not fit model {model.name}")
+    if cert.get("pose") != list(model.pose):
+        raise Rejected(f"pose: expected {list(model.pose)} for model {model.name}")
+    singularity.check_claims(Robot(model, robot), claims, counts)
 
 
 def _no_constants(name):

@@ -17,7 +17,8 @@ class Report:
     """``ok``; ``step`` names the first failing step ("" when ok); ``checked`` counts what was re-verified.
 
     ``checked`` keys: ``claims`` (all claims), ``undecided`` (claims that claim
-    nothing), ``leaves`` (tree leaves re-proved), ``pieces`` (sub-boxes the
+    nothing), ``leaves`` (tree leaves re-proved), ``solutions`` and
+    ``contractions`` (forward kinematics), ``pieces`` (sub-boxes the
     checker cut leaves into when its own enclosure did not decide a whole
     leaf), ``witnesses`` (witness pairs re-proved).
     """
@@ -35,6 +36,8 @@ class Report:
             return self.step
         c = self.checked
         text = f"{c.get('claims', 0)} claims, {c.get('leaves', 0)} leaves re-verified"
+        if c.get("solutions"):
+            text += f", {c['solutions']} solutions proved unique"
         if c.get("witnesses"):
             text += f", {c['witnesses']} witness pairs"
         if c.get("undecided"):

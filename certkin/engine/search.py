@@ -11,7 +11,8 @@ bisection, the budgets and the record of the search tree:
 ``Decisions`` gives, per box, a status (``PROVED``, ``EXCLUDED`` or
 ``OPEN``), a reason code, and evidence as a dict of arrays with one row per
 box (read only for decided boxes), and optionally contracted boxes (with
-their own reason and evidence) for the open ones.  Open boxes are bisected
+their own reason and evidence): a contracted box becomes the child of the
+box it came from, and the status is about the contracted box.  Open boxes are bisected
 (widest side scaled by ``scale``, split off-centre at ``SPLIT_RATIO`` so
 that symmetric roots do not land on faces) until they are decided, narrower
 than ``min_width``, or a budget (boxes, seconds) runs out.  When few boxes
@@ -51,10 +52,12 @@ class Decisions:
     status: np.ndarray                      # (N,) int8: OPEN | PROVED | EXCLUDED
     reason: np.ndarray                      # (N,) int: index into problem.reasons (decided boxes)
     evidence: dict = field(default_factory=dict)   # name -> array (N, ...), rows of decided boxes
-    contracted: tuple | None = None         # optional (lo, hi) (N, d) replacing the open boxes
+    contracted: tuple | None = None         # optional (lo, hi) (N, d): the boxes after contraction; the
+                                            # statuses above are about these contracted boxes
     contraction_reason: np.ndarray | None = None   # (N,) int, for the contracted boxes
     contraction_evidence: dict = field(default_factory=dict)  # name -> array (N, ...)
     finished: np.ndarray | None = None      # roots whose answer is known: stop working on them
+    split: np.ndarray | None = None         # optional (N,) preferred dimension to bisect each open box
 
 
 @dataclass
@@ -104,36 +107,39 @@ class _Store:
 
 
 class _Evidence:
-    """Rows of evidence, appended per batch, indexed by node id.
+    """Evidence rows per name, stored only for the nodes that have them.
 
-    Each column keeps the dtype the problem gave; rows of batches that did
-    not give a column are zero.
+    ``add(node_ids, evidence, positions)``: node ``node_ids[k]`` was box
+    ``positions[k]`` of the batch.  ``evidence[name]`` is either an array
+    with one row per box of the batch, or a pair ``(mask, rows)`` with rows
+    only for the boxes where ``mask`` is true.
     """
 
     def __init__(self):
-        self.batches: list = []             # (node ids, {name: rows})
-        self.rows = 0
+        self.parts: dict[str, list] = {}    # name -> [(node ids, rows)]
 
-    def add(self, ids, evidence: dict, sel):
-        if len(ids):
-            self.batches.append((ids, {k: np.asarray(v)[sel] for k, v in evidence.items()}))
-            self.rows += len(ids)
+    def add(self, node_ids, evidence: dict, positions):
+        positions = np.asarray(positions, dtype=np.int64)
+        for name, value in evidence.items():
+            if isinstance(value, tuple):
+                mask, rows = np.asarray(value[0], dtype=bool), np.asarray(value[1])
+                keep = mask[positions]
+                index = np.cumsum(mask) - 1
+                self.parts.setdefault(name, []).append((node_ids[keep], rows[index[positions[keep]]]))
+            else:
+                self.parts.setdefault(name, []).append((node_ids, np.asarray(value)[positions]))
 
     def finish(self, n_nodes):
-        shapes = {}
-        for _, cols in self.batches:
-            for k, v in cols.items():
-                shapes.setdefault(k, (v.shape[1:], v.dtype))
-        evidence = {k: np.zeros((self.rows,) + shp, dtype=dt) for k, (shp, dt) in shapes.items()}
-        row = np.full(n_nodes, -1, dtype=np.int64)
-        first = 0
-        for ids, cols in self.batches:
-            rows = np.arange(first, first + len(ids))
-            row[ids] = rows
-            for k, v in cols.items():
-                evidence[k][rows] = v
-            first += len(ids)
-        return evidence, row
+        values, rows = {}, {}
+        for name, parts in self.parts.items():
+            values[name] = np.concatenate([r for _, r in parts])
+            index = np.full(n_nodes, -1, dtype=np.int64)
+            first = 0
+            for ids, r in parts:
+                index[ids] = np.arange(first, first + len(r))
+                first += len(r)
+            rows[name] = index
+        return values, rows
 
 
 class Tree:
@@ -145,17 +151,18 @@ class Tree:
     ``first_child[i]`` whose box is inside its own.  Leaves are ``PROVED``,
     ``EXCLUDED`` or ``UNDECIDED``; their ``reason`` indexes ``reasons``
     (problem rules) or ``UNDECIDED_REASONS`` (negative codes).  Evidence of
-    decided and contracted nodes: ``evidence[name][evidence_row[i]]``.
+    decided and contracted nodes: ``evidence[name][evidence_rows[name][i]]``
+    (row -1: node ``i`` has no such evidence).
     """
 
-    def __init__(self, store: _Store, n_roots: int, reasons, evidence, evidence_row):
+    def __init__(self, store: _Store, n_roots: int, reasons, evidence, evidence_rows):
         n = store.n
         for name in _COLUMNS:
             setattr(self, name, getattr(store, name)[:n])
         self.n_roots = n_roots
         self.reasons = tuple(reasons)
         self.evidence = evidence
-        self.evidence_row = evidence_row
+        self.evidence_rows = evidence_rows
 
     def __len__(self):
         return len(self.kind)
@@ -175,11 +182,19 @@ class Tree:
         return np.nonzero(m)[0]
 
     def evidence_of(self, i: int, keys=None) -> dict:
-        """The evidence of a decided or contracted node as plain Python values (``keys``: a subset)."""
-        row = int(self.evidence_row[i])
-        if row < 0:
-            return {}
-        return {k: v[row].tolist() for k, v in self.evidence.items() if keys is None or k in keys}
+        """The evidence of a node as plain Python values (``keys``: a subset of the names)."""
+        out = {}
+        for name, index in self.evidence_rows.items():
+            if (keys is None or name in keys) and index[i] >= 0:
+                out[name] = self.evidence[name][index[i]].tolist()
+        return out
+
+    def evidence_values(self, name: str, ids) -> np.ndarray:
+        """Evidence ``name`` of the nodes ``ids`` (which must all have it)."""
+        rows = self.evidence_rows[name][ids]
+        if np.any(rows < 0):
+            raise KeyError(f"some nodes have no evidence {name!r}")
+        return self.evidence[name][rows]
 
     def nested(self, i: int, leaf, contraction=None) -> dict:
         """The subtree at node ``i`` as nested dicts (for certificates).
@@ -224,7 +239,7 @@ def choose_split(lo, hi, scale):
 
 
 def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int = 4096,
-           progress=None, min_batch: int = 128) -> SearchResult:
+           progress=None, min_batch: int = 256) -> SearchResult:
     """Branch and bound from the boxes ``[lo, hi]`` (arrays (M, d), one per root).
 
     ``progress(processed_boxes, frontier_size)`` is called after each batch.
@@ -261,11 +276,24 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
         blo, bhi = store.lo[ids], store.hi[ids]
         dec = problem.decide(blo, bhi, store.root[ids])
         processed += len(ids)
+        if dec.contracted is not None:   # contracted boxes become children; the decisions apply to them
+            clo, chi = dec.contracted
+            changed = np.nonzero(np.any((clo != blo) | (chi != bhi), axis=1))[0]
+            if len(changed):
+                parents = ids[changed]
+                kids = store.add(clo[changed], chi[changed], store.root[parents], parents)
+                store.kind[parents] = CONTRACTED
+                store.first_child[parents] = kids
+                store.reason[parents] = np.asarray(dec.contraction_reason)[changed]
+                evidence.add(parents, dec.contraction_evidence, changed)
+                ids = ids.copy()
+                ids[changed] = kids
+                blo, bhi = clo, chi
         status = np.asarray(dec.status)
         decided = status != OPEN
         store.kind[ids[decided]] = np.where(status[decided] == PROVED, PROVED, EXCLUDED)
         store.reason[ids[decided]] = np.asarray(dec.reason)[decided]
-        evidence.add(ids[decided], dec.evidence, decided)
+        evidence.add(ids[decided], dec.evidence, np.nonzero(decided)[0])
         if dec.finished is not None and len(dec.finished):
             finished[np.asarray(dec.finished, dtype=np.int64)] = True
         stop = ~decided & finished[store.root[ids]]
@@ -273,21 +301,9 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
         store.reason[ids[stop]] = NOT_NEEDED
         open_ = ~decided & ~stop
         oids, olo, ohi = ids[open_], blo[open_], bhi[open_]
-        if dec.contracted is not None and len(oids):
-            clo, chi = dec.contracted[0][open_], dec.contracted[1][open_]
-            changed = np.any((clo != olo) | (chi != ohi), axis=1)
-            if changed.any():
-                parents = oids[changed]
-                kids = store.add(clo[changed], chi[changed], store.root[parents], parents)
-                store.kind[parents] = CONTRACTED
-                store.first_child[parents] = kids
-                store.reason[parents] = np.asarray(dec.contraction_reason)[open_][changed]
-                evidence.add(parents, dec.contraction_evidence, np.nonzero(open_)[0][changed])
-                oids = oids.copy()
-                oids[changed] = kids
-                olo, ohi = clo, chi
         if len(oids):
-            new = _split(store, oids, olo, ohi, scale, budget.min_width, min_batch)
+            prefer = None if dec.split is None else np.asarray(dec.split)[open_]
+            new = _split(store, oids, olo, ohi, scale, budget.min_width, min_batch, prefer)
             if len(new):
                 frontier.append(new[::-1])
         if progress:
@@ -317,8 +333,12 @@ def _pop(frontier, batch):
     return np.concatenate(out[::-1]) if len(out) > 1 else out[0]
 
 
-def _split(store, ids, lo, hi, scale, min_width, min_batch):
-    """Bisect the open boxes (several times each when they are few); returns the new open ids."""
+def _split(store, ids, lo, hi, scale, min_width, min_batch, prefer=None):
+    """Bisect the open boxes (several times each when they are few); returns the new open ids.
+
+    ``prefer``: the problem's choice of dimension per box for the first halving
+    (-1: the widest scaled side), used when that side is wider than ``min_width``.
+    """
     d = lo.shape[1]
     rounds = 1
     if 0 < len(ids) < min_batch:
@@ -329,6 +349,10 @@ def _split(store, ids, lo, hi, scale, min_width, min_batch):
             break
         dims, widths = choose_split(lo, hi, scale)
         rows = np.arange(len(ids))
+        if r == 0 and prefer is not None:
+            w_pref = (hi[rows, np.maximum(prefer, 0)] - lo[rows, np.maximum(prefer, 0)]) / scale[np.maximum(prefer, 0)]
+            use = (prefer >= 0) & (w_pref > min_width)
+            dims = np.where(use, prefer, dims)
         a, b = lo[rows, dims], hi[rows, dims]
         at = a + SPLIT_RATIO * (b - a)
         ok = (a < at) & (at < b) & (widths > min_width)

@@ -1,103 +1,278 @@
-"""Forward-kinematics equation systems, one per robot kind.
+"""Forward-kinematics equations: position and rotation unknowns for every robot kind.
 
-Each system has unknowns that keep the equations quadratic and cover every
-real posture (see ``docs/soundness.md``, forward kinematics):
+The unknowns are the platform origin ``p`` (none for the spherical robot,
+whose platform turns about O) and the rotation as a unit complex number
+(planar: ``c = cos phi``, ``s = sin phi``) or a unit quaternion
+``q = (q0, q1, q2, q3)`` (spatial robots), with the rotation matrix
 
-- planar 3-RPR: (x, y, c, s) with c = cos phi, s = sin phi:
-  |(x, y) + [[c, −s], [s, c]] p_i − b_i|² − ρ_i² = 0 (i = 1..3) and
-  c² + s² − 1 = 0.  (c, s) ranges over the whole unit circle, so every
-  real posture is a solution, and phi = atan2(s, c).
+    R(q) = [[1 − 2(q2² + q3²), 2(q1 q2 − q0 q3), 2(q1 q3 + q0 q2)],
+            [2(q1 q2 + q0 q3), 1 − 2(q1² + q3²), 2(q2 q3 − q0 q1)],
+            [2(q1 q3 − q0 q2), 2(q2 q3 + q0 q1), 1 − 2(q1² + q2²)]]
 
-The equations are compiled once per kind with the geometry and the squared
-leg lengths as parameters, so a batch of instances is one evaluation.
+(a rotation whenever |q| = 1; every unknown occurs once in each entry, so
+each entry's interval extension is exact).  The equations are
+
+    leg i:  sum_k (p_k + (R b_i)_k − a_ik)² − ρ_i² = 0
+    norm:   c² + s² − 1 = 0,   or   q0² + q1² + q2² + q3² − 1 = 0
+
+a square system (3 + 1 planar, 3 + 1 spherical, 6 + 1 Gough).  The domain
+``q0 ∈ [−δ, 1]`` (δ = 2⁻¹⁰) holds a representative of every rotation
+(q and −q give the same one); rotations with |q0| ≤ δ may appear twice, as
+q and −q, and the solver reports such twins once (``docs/soundness.md``).
+
+For a given rotation the position enters the differences of leg equations
+linearly (Merlet's observation used in ALIAS):
+
+    2 p·(R(b_i − b_1) − a_i + a_1) − 2 a_i·R b_i + 2 a_1·R b_1
+        + |a_i|² − |a_1|² + |b_i|² − |b_1|² − ρ_i² + ρ_1² = 0   (i ≥ 2)
+
+(|R b| = |b| holds at every solution), which the solver uses to contract
+the position by preconditioned interval Gauss-Seidel.  The independent
+checker (``proofs/fk.py``) evaluates the same formulas.
+
+All functions are batched: ``X`` (N, n) boxes of unknowns, ``L`` (N, legs)
+enclosures of the squared leg lengths (one instance per box).
 """
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
-import sympy as sp
 
-from intervals import Interval, atan2, sqrt, sqr
-from intervals.compiler import compile_exprs
+from intervals import Interval, atan2, sqr, sqrt
 
-from ..errors import InputError
+DELTA = 2.0 ** -10      # q0 >= -DELTA: the hemisphere with a margin (see the module docstring)
 
 
-class PlanarFK:
-    unknowns = ("x", "y", "c", "s")
+def _cat(parts, axis=-1):
+    return Interval._raw(np.stack([p.lo for p in parts], axis=axis), np.stack([p.hi for p in parts], axis=axis))
+
+
+class FKSystem:
+    """The FK equations of one robot (see the module docstring)."""
 
     def __init__(self, robot):
         self.robot = robot
-        self.equations = _planar_compiled()
-        self.user_phi = None
+        self.kind = robot.kind
+        n = robot.n_legs
+        dim = robot.dim
+        params = robot.parameters
+        self.a = Interval._raw(np.array([float(v.lo) for v in params[:n * dim]]).reshape(n, dim),
+                               np.array([float(v.hi) for v in params[:n * dim]]).reshape(n, dim))
+        self.b = Interval._raw(np.array([float(v.lo) for v in params[n * dim:]]).reshape(n, dim),
+                               np.array([float(v.hi) for v in params[n * dim:]]).reshape(n, dim))
+        self.legs = n
+        if self.kind == "planar-3rpr":
+            self.unknowns = ("x", "y", "c", "s")
+            self.n_pos = 2
+        elif self.kind == "gough-stewart":
+            self.unknowns = ("x", "y", "z", "q0", "q1", "q2", "q3")
+            self.n_pos = 3
+        else:
+            self.unknowns = ("q0", "q1", "q2", "q3")
+            self.n_pos = 0
+        self.n = len(self.unknowns)
+        self.model_name = f"{self.kind}-fk/1"
+        # |a_i|², |b_i|² (enclosures), used by the difference equations and the domain
+        total = _sum3 if dim == 3 else _sum2
+        self.norm_a2 = total(sqr(self.a))
+        self.norm_b2 = total(sqr(self.b))
+        self.size = float(max(np.max(np.abs(self.a.hi)), np.max(np.abs(self.b.hi)), 1e-300))  # the robot's scale
 
-    def domain(self, robot, rows, user=None):
-        """Boxes of unknowns holding every real posture of each instance (M, 4)."""
-        b = [robot.parameters[2 * i:2 * i + 2] for i in range(3)]
-        p = [robot.parameters[6 + 2 * i:6 + 2 * i + 2] for i in range(3)]
-        lo, hi = [], []
-        for row in rows:
-            xl, xh, yl, yh = -np.inf, np.inf, -np.inf, np.inf
-            for i in range(3):
-                reach = row[i] + sqrt(sqr(p[i][0]) + sqr(p[i][1]))  # |t - b_i| <= rho_i + |p_i|
-                xl = max(xl, float((b[i][0] - reach).lo))
-                xh = min(xh, float((b[i][0] + reach).hi))
-                yl = max(yl, float((b[i][1] - reach).lo))
-                yh = min(yh, float((b[i][1] + reach).hi))
-            if xl > xh or yl > yh:  # the disks do not meet: no posture; keep a valid empty-ish box
-                xl, xh, yl, yh = xl, max(xl, xh), yl, max(yl, yh)
-            lo.append([xl, yl, -1.0, -1.0])
-            hi.append([xh, yh, 1.0, 1.0])
-        lo, hi = np.array(lo), np.array(hi)
-        if user is not None:
-            lo, hi = self._apply_user_domain(lo, hi, user)
-        return lo, hi
+    # ----- rotation -----------------------------------------------------------
+    def rotation(self, X: Interval) -> Interval:
+        """Enclosure of R over the boxes: (N, dim, dim)."""
+        if self.kind == "planar-3rpr":
+            c, s = X[:, 2], X[:, 3]
+            return _cat([_cat([c, -s]), _cat([s, c])], axis=-2)
+        p = self.n_pos
+        q0, q1, q2, q3 = (X[:, p + k] for k in range(4))
+        s0, s1, s2, s3 = sqr(q0), sqr(q1), sqr(q2), sqr(q3)
+        rows = [[1.0 - 2.0 * (s2 + s3), 2.0 * (q1 * q2 - q0 * q3), 2.0 * (q1 * q3 + q0 * q2)],
+                [2.0 * (q1 * q2 + q0 * q3), 1.0 - 2.0 * (s1 + s3), 2.0 * (q2 * q3 - q0 * q1)],
+                [2.0 * (q1 * q3 - q0 * q2), 2.0 * (q2 * q3 + q0 * q1), 1.0 - 2.0 * (s1 + s2)]]
+        return _cat([_cat(r) for r in rows], axis=-2)
 
-    def _apply_user_domain(self, lo, hi, user):
-        from ..poses import parse_box
-        box, _ = parse_box(user, self.robot, "--domain")
-        lo[:, 0] = np.maximum(lo[:, 0], box.lo[0])
-        hi[:, 0] = np.minimum(hi[:, 0], box.hi[0])
-        lo[:, 1] = np.maximum(lo[:, 1], box.lo[1])
-        hi[:, 1] = np.minimum(hi[:, 1], box.hi[1])
-        if np.any(lo[:, :2] > hi[:, :2]):
-            raise InputError("--domain", "x", "the domain misses every reachable position")
-        self.user_phi = (float(box.lo[2]), float(box.hi[2]))
-        return lo, hi
-
-    def in_user_domain(self, R) -> bool:
-        if self.user_phi is None:
-            return True
-        phi = atan2(R[3], R[2])
-        return bool(phi.lo >= self.user_phi[0] and phi.hi <= self.user_phi[1])
-
-    def pose(self, R):
-        return {"x": R[0], "y": R[1], "phi": atan2(R[3], R[2])}
-
-    def points(self, robot, R, P):
-        x, y, c, s = R[0], R[1], R[2], R[3]
-        out = []
-        for i in range(3):
-            px, py = robot.parameters[6 + 2 * i], robot.parameters[7 + 2 * i]
-            out.append([x + c * px - s * py, y + s * px + c * py])
+    def rotated(self, R: Interval) -> Interval:
+        """R b_i for every leg: (N, legs, dim)."""
+        b = self.b
+        out = R[:, None, :, 0] * b[None, :, 0, None]
+        for j in range(1, b.shape[1]):
+            out = out + R[:, None, :, j] * b[None, :, j, None]
         return out
 
+    # ----- equations -----------------------------------------------------------
+    def equations(self, X: Interval, L: Interval, R: Interval | None = None) -> Interval:
+        """Enclosures of the n equations over the boxes: (N, n)."""
+        R = self.rotation(X) if R is None else R
+        ell = self.rotated(R) - self.a[None, :, :]
+        if self.n_pos:
+            ell = ell + X[:, None, :self.n_pos]
+        legs = sqr(ell[..., 0])
+        for k in range(1, ell.shape[-1]):
+            legs = legs + sqr(ell[..., k])
+        legs = legs - L
+        p = self.n_pos
+        norm = sqr(X[:, p])
+        for k in range(p + 1, self.n):
+            norm = norm + sqr(X[:, k])
+        norm = norm - 1.0
+        return Interval._raw(np.concatenate([legs.lo, norm.lo[:, None]], axis=1),
+                             np.concatenate([legs.hi, norm.hi[:, None]], axis=1))
 
-@lru_cache(maxsize=None)
-def _planar_compiled():
-    x, y, c, s = sp.symbols("x y c s", real=True)
-    g = sp.symbols("b1x b1y b2x b2y b3x b3y p1x p1y p2x p2y p3x p3y", real=True)
-    L = sp.symbols("L1 L2 L3", real=True)
-    eqs = []
-    for i in range(3):
-        bx, by, px, py = g[2 * i], g[2 * i + 1], g[6 + 2 * i], g[7 + 2 * i]
-        eqs.append((x + c * px - s * py - bx) ** 2 + (y + s * px + c * py - by) ** 2 - L[i])
-    eqs.append(c ** 2 + s ** 2 - 1)
-    return compile_exprs(eqs, [x, y, c, s], list(g) + list(L))
+    def jacobian(self, X: Interval, R: Interval | None = None) -> Interval:
+        """Enclosure of the Jacobian over the boxes: (N, n, n)."""
+        N = X.shape[0]
+        R = self.rotation(X) if R is None else R
+        rb = self.rotated(R)
+        ell = rb - self.a[None, :, :]
+        p = self.n_pos
+        if p:
+            ell = ell + X[:, None, :p]
+        two_ell = 2.0 * ell                                   # (N, legs, dim)
+        J = Interval._raw(np.zeros((N, self.n, self.n)), np.zeros((N, self.n, self.n)))
+        legs = self.legs
+        for k in range(p):
+            J[:, :legs, k] = two_ell[..., k]
+        # d/dr of sum_k (ell_k)^2 = sum_k 2 ell_k d(R b)_k/dr
+        for r, dR in enumerate(self._rotation_derivatives(X)):
+            drb = self.rotated(dR)                            # (N, legs, dim)
+            col = two_ell[..., 0] * drb[..., 0]
+            for k in range(1, drb.shape[-1]):
+                col = col + two_ell[..., k] * drb[..., k]
+            J[:, :legs, p + r] = col
+        for k in range(p, self.n):
+            J[:, legs, k] = 2.0 * X[:, k]
+        return J
+
+    def _rotation_derivatives(self, X: Interval):
+        """dR/dr for each rotation unknown r (each (N, dim, dim); linear in the unknowns)."""
+        N = X.shape[0]
+        if self.kind == "planar-3rpr":
+            c, s = X[:, 2], X[:, 3]
+            one = Interval._raw(np.ones(N), np.ones(N))
+            zero = Interval._raw(np.zeros(N), np.zeros(N))
+            return [_cat([_cat([one, zero]), _cat([zero, one])], axis=-2),        # d/dc
+                    _cat([_cat([zero, -one]), _cat([one, zero])], axis=-2)]       # d/ds
+        p = self.n_pos
+        q0, q1, q2, q3 = (2.0 * X[:, p + k] for k in range(4))  # 2 q_k (exact scaling)
+        z = Interval._raw(np.zeros(N), np.zeros(N))
+        m = lambda rows: _cat([_cat(r) for r in rows], axis=-2)  # noqa: E731
+        return [m([[z, -q3, q2], [q3, z, -q1], [-q2, q1, z]]),
+                m([[z, q2, q3], [q2, -2.0 * q1, -q0], [q3, q0, -2.0 * q1]]),
+                m([[-2.0 * q2, q1, q0], [q1, z, q3], [-q0, q3, -2.0 * q2]]),
+                m([[-2.0 * q3, -q0, q1], [q0, -2.0 * q3, q2], [q1, q2, z]])]
+
+    # ----- the position is linear given the rotation ----------------------------
+    def position_system(self, X: Interval, L: Interval, R: Interval | None = None):
+        """(D, g): the differences of leg equations, D p = g, D (N, legs−1, n_pos), g (N, legs−1)."""
+        R = self.rotation(X) if R is None else R
+        rb = self.rotated(R)                                  # (N, legs, dim)
+        a = self.a[None, :, :]
+        D = 2.0 * ((rb[:, 1:, :] - rb[:, :1, :]) - (a[:, 1:, :] - a[:, :1, :]))
+        arb = a * rb
+        arb_sum = arb[..., 0]
+        for k in range(1, arb.shape[-1]):
+            arb_sum = arb_sum + arb[..., k]                   # a_i · R b_i  (N, legs)
+        const = (self.norm_a2 + self.norm_b2)[None, :]        # |a_i|² + |b_i|²
+        rhs = 2.0 * (arb_sum[:, 1:] - arb_sum[:, :1]) - (const[:, 1:] - const[:, :1]) + (L[:, 1:] - L[:, :1])
+        return D, rhs
+
+    # ----- the domain holding every real posture ---------------------------------
+    def domain(self, lengths: Interval) -> tuple[np.ndarray, np.ndarray]:
+        """Boxes of unknowns holding every real posture of each instance: (M, n) each.
+
+        Rotation unknowns in [−1, 1] (q0 in [−δ, 1]); the origin satisfies
+        |p − a_i| ≤ ρ_i + |b_i| for every leg, so it lies in the intersection of
+        those boxes (outward rounded).  An empty intersection means no posture:
+        the box is then returned with lo > hi in some coordinate.
+        """
+        M = lengths.shape[0]
+        lo = np.empty((M, self.n))
+        hi = np.empty((M, self.n))
+        p = self.n_pos
+        lo[:, p:], hi[:, p:] = -1.0, 1.0
+        if self.kind != "planar-3rpr":
+            lo[:, p] = -DELTA
+        if p:
+            reach = lengths + sqrt(self.norm_b2)[None, :]    # (M, legs)
+            for k in range(p):
+                a = self.a[:, k][None, :]
+                lo[:, k] = np.max((a - reach).lo, axis=1)
+                hi[:, k] = np.min((a + reach).hi, axis=1)
+        return lo, hi
+
+    # ----- poses and points -------------------------------------------------------
+    def points(self, X: Interval) -> Interval:
+        """World coordinates of the platform joints over the boxes: (N, legs, dim)."""
+        rb = self.rotated(self.rotation(X))
+        return rb + X[:, None, :self.n_pos] if self.n_pos else rb
+
+    def pose(self, X: Interval) -> dict:
+        """Enclosures of the pose variables (dict name -> (N,) Interval).
+
+        Angles come from entries of R with a rigorous atan2; they are wide
+        near a parametrisation singularity (theta = 0 for Gough, phi2 = 0 for
+        spherical) where ``platform_points`` stay tight.
+        """
+        if self.kind == "planar-3rpr":
+            return {"x": X[:, 0], "y": X[:, 1], "phi": atan2(X[:, 3], X[:, 2])}
+        R = self.rotation(X)
+        e = lambda i, j: R[:, i, j]  # noqa: E731
+        out = {}
+        if self.kind == "gough-stewart":
+            # R = Rz(psi) Rx(theta) Rz(phi): R33 = cos theta, (R13, R23) = sin theta (sin psi, −cos psi),
+            # (R31, R32) = sin theta (sin phi, cos phi)
+            out.update({"x": X[:, 0], "y": X[:, 1], "z": X[:, 2]})
+            out["psi"] = atan2(e(0, 2), -e(1, 2))
+            out["theta"] = atan2(sqrt(sqr(e(0, 2)) + sqr(e(1, 2))), e(2, 2))
+            out["phi"] = atan2(e(2, 0), e(2, 1))
+        else:
+            # Q = Rz(phi1) Ry(phi2) Rz(phi3): Q33 = cos phi2, (Q13, Q23) = sin phi2 (cos phi1, sin phi1),
+            # (Q31, Q32) = sin phi2 (−cos phi3, sin phi3)
+            out["phi1"] = atan2(e(1, 2), e(0, 2))
+            out["phi2"] = atan2(sqrt(sqr(e(0, 2)) + sqr(e(1, 2))), e(2, 2))
+            out["phi3"] = atan2(e(2, 1), -e(2, 0))
+        return out
+
+    def unknowns_of_pose(self, pose) -> np.ndarray:
+        """Float unknowns of float poses (..., d) (not certified: for guesses and tests)."""
+        pose = np.asarray(pose, dtype=np.float64)
+        if self.kind == "planar-3rpr":
+            return np.stack([pose[..., 0], pose[..., 1], np.cos(pose[..., 2]), np.sin(pose[..., 2])], -1)
+        from .spherical import rotation_float
+        q = quaternion_float(rotation_float(self.kind, pose))
+        return np.concatenate([pose[..., :3], q], -1) if self.n_pos else q
 
 
-def fk_system(robot):
-    if robot.kind == "planar-3rpr":
-        return PlanarFK(robot)
-    raise InputError("fk", "kind", f"forward kinematics of {robot.kind} robots is not available yet")
+def _sum2(v: Interval) -> Interval:
+    return v[..., 0] + v[..., 1]
+
+
+def _sum3(v: Interval) -> Interval:
+    return v[..., 0] + v[..., 1] + v[..., 2]
+
+
+def quaternion_float(R) -> np.ndarray:
+    """Unit quaternions (q0 >= 0) of rotation matrices (..., 3, 3) (floats, not certified)."""
+    R = np.asarray(R, dtype=np.float64)
+    tr = R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2]
+    cand = np.stack([1 + tr, 1 + R[..., 0, 0] - R[..., 1, 1] - R[..., 2, 2],
+                     1 - R[..., 0, 0] + R[..., 1, 1] - R[..., 2, 2], 1 - R[..., 0, 0] - R[..., 1, 1] + R[..., 2, 2]], -1)
+    k = np.argmax(cand, axis=-1)
+    q = np.zeros(R.shape[:-2] + (4,))
+    big = np.sqrt(np.take_along_axis(cand, k[..., None], -1)[..., 0]) / 2
+    # off-diagonal combinations: 4 q_i q_j
+    s01 = (R[..., 2, 1] - R[..., 1, 2]) / 4
+    s02 = (R[..., 0, 2] - R[..., 2, 0]) / 4
+    s03 = (R[..., 1, 0] - R[..., 0, 1]) / 4
+    s12 = (R[..., 0, 1] + R[..., 1, 0]) / 4
+    s13 = (R[..., 0, 2] + R[..., 2, 0]) / 4
+    s23 = (R[..., 1, 2] + R[..., 2, 1]) / 4
+    table = {0: (s01, s02, s03), 1: (s01, s12, s13), 2: (s02, s12, s23), 3: (s03, s13, s23)}
+    for i in range(4):
+        sel = k == i
+        others = [j for j in range(4) if j != i]
+        q[..., i] = np.where(sel, big, q[..., i])
+        for j, sij in zip(others, table[i]):
+            q[..., j] = np.where(sel, sij / np.where(big > 0, big, 1.0), q[..., j])
+    q = np.where(q[..., :1] < 0, -q, q)
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)

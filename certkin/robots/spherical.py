@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+import numpy as np
 import sympy as sp
 
 from .base import Robot, det3
@@ -97,3 +98,32 @@ class Spherical3DOFTiltTorsion(Spherical3DOF):
     def symbolic_model(cls):
         (p1, p2, sg), g = cls.symbols()
         return _model(rot_z(p1) * rot_y(p2) * rot_z(sg - p1), g)
+
+
+def rotation_float(kind: str, pose) -> np.ndarray:
+    """Rotation matrices at float poses (..., d) -> (..., 3, 3) (not certified).
+
+    Gough-Stewart: Rz(psi) Rx(theta) Rz(phi) from pose[..., 3:6]; spherical:
+    Rz(phi1) Ry(phi2) Rz(phi3) from pose[..., 0:3] (ZYZ Euler angles).
+    """
+    pose = np.asarray(pose, dtype=np.float64)
+    if kind == "gough-stewart":
+        a, b, c = pose[..., 3], pose[..., 4], pose[..., 5]
+        return _rz(a) @ _rx(b) @ _rz(c)
+    a, b, c = pose[..., 0], pose[..., 1], pose[..., 2]
+    return _rz(a) @ _ry(b) @ _rz(c)
+
+
+def _rz(t):
+    c, s, z, o = np.cos(t), np.sin(t), np.zeros_like(t), np.ones_like(t)
+    return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1), np.stack([z, z, o], -1)], -2)
+
+
+def _ry(t):
+    c, s, z, o = np.cos(t), np.sin(t), np.zeros_like(t), np.ones_like(t)
+    return np.stack([np.stack([c, z, s], -1), np.stack([z, o, z], -1), np.stack([-s, z, c], -1)], -2)
+
+
+def _rx(t):
+    c, s, z, o = np.cos(t), np.sin(t), np.zeros_like(t), np.ones_like(t)
+    return np.stack([np.stack([o, z, z], -1), np.stack([z, c, -s], -1), np.stack([z, s, c], -1)], -2)

@@ -1,0 +1,431 @@
+"""Forward-kinematics claims (``"problem": "forward-kinematics"``, docs/certificates.md).
+
+The equations are rebuilt here from the exact geometry and leg lengths
+stated in the certificate (models ``planar-3rpr-fk/1``,
+``spherical-3dof-fk/1``, ``gough-stewart-fk/1``):
+
+- unknowns: the platform origin p (planar x, y; Gough x, y, z; none for
+  the spherical robot) and the rotation, (c, s) in the plane or a
+  quaternion (q0, q1, q2, q3) in space, with
+  R(q) = [[1 − 2(q2² + q3²), 2(q1 q2 − q0 q3), 2(q1 q3 + q0 q2)],
+          [2(q1 q2 + q0 q3), 1 − 2(q1² + q3²), 2(q2 q3 − q0 q1)],
+          [2(q1 q3 − q0 q2), 2(q2 q3 + q0 q1), 1 − 2(q1² + q2²)]],
+  R = [[c, −s], [s, c]] in the plane;
+- equations: leg i, Σ_k (p_k + (R b_i)_k − a_ik)² − ρ_i² (i = 1..legs),
+  then c² + s² − 1 or |q|² − 1;
+- position system (for ``position`` contractions): D p = g with, for i ≥ 2,
+  D_i = 2((R b_i − R b_1) − (a_i − a_1)),
+  g_i = 2(a_i·R b_i − a_1·R b_1) − (|a_i|² + |b_i|²) + (|a_1|² + |b_1|²) + ρ_i² − ρ_1².
+
+A claim lists ``solutions`` (boxes R_j of unknowns, each with a float
+matrix C_j such that the Krawczyk image K(R_j) lies in the interior of R_j:
+exactly one root in R_j), pairwise disjoint, inside the ``domain``; and a
+``tree`` covering the domain whose leaves are excluded (``equation``,
+``krawczyk-empty``, ``position-empty``) or proved (``krawczyk-unique``:
+K(X*) ⊂ int X* for X* ⊇ leaf, and the solution it names lies in X*, so the
+leaf's only possible root is that solution — or, with ``twin``, the
+solution with q negated, the same posture; or ``outside``: a box proved to
+hold X*'s root misses the leaf, which then holds no root).  Solutions are
+distinct postures: their boxes, and (spatial robots) their boxes with the
+quaternion negated, are pairwise disjoint.  Contractions (``krawczyk``:
+K(X) ∩ X, ``position``: one Gauss-Seidel sweep of (P D) p = P g) must land
+inside the child box.  With ``complete`` true, no leaf is undecided, so the
+solutions are all the roots in the domain; with ``covers`` =
+``all-postures`` the domain is checked to hold every real posture.  The
+Krawczyk midpoint c is the float fl(0.5 lo + 0.5 hi) of each box.
+"""
+from __future__ import annotations
+
+from mpmath import iv
+
+from . import ad
+from .numbers import enclose, exact, real
+from .report import Rejected
+from .singularity import read_box
+
+MODELS = {"planar-3rpr-fk/1": ("planar-3rpr", ("x", "y", "c", "s"), 3, 2, 2),
+          "spherical-3dof-fk/1": ("spherical-3dof", ("q0", "q1", "q2", "q3"), 3, 3, 0),
+          "gough-stewart-fk/1": ("gough-stewart", ("x", "y", "z", "q0", "q1", "q2", "q3"), 6, 3, 3)}
+
+
+def _sqr(x):
+    if isinstance(x, ad.Dual):
+        return ad.Dual(x.v ** 2, {k: 2 * x.v * g for k, g in x.d.items()})
+    return x ** 2
+
+
+class System:
+    """The FK equations of one robot and one set of leg lengths, over ``iv`` boxes."""
+
+    def __init__(self, model: str, robot: dict, lengths):
+        kind, names, legs, dim, n_pos = MODELS[model]
+        self.names, self.legs, self.dim, self.n_pos = names, legs, dim, n_pos
+        self.n = len(names)
+        self.planar = dim == 2
+        self.a = _points(robot, "base", legs, dim)
+        self.b = _points(robot, "platform", legs, dim)
+        if not isinstance(lengths, list) or len(lengths) != legs:
+            raise Rejected(f"lengths: expected {legs} exact decimals")
+        rho = [enclose(v, f"lengths[{i}]") for i, v in enumerate(lengths)]
+        if any(exact(v, f"lengths[{i}]") < 0 for i, v in enumerate(lengths)):
+            raise Rejected("lengths: a leg length cannot be negative")
+        self.rho = rho
+        self.L = [r ** 2 for r in rho]
+        self.norm_a2 = [sum((c ** 2 for c in p), iv.mpf(0)) for p in self.a]
+        self.norm_b2 = [sum((c ** 2 for c in p), iv.mpf(0)) for p in self.b]
+        self._lift = ([[ad.lift(c) for c in p] for p in self.a], [[ad.lift(c) for c in p] for p in self.b])
+
+    # ----- the formulas (same code for iv numbers and ad.Dual numbers) --------
+    def rotation(self, z):
+        p = self.n_pos
+        if self.planar:
+            c, s = z[2], z[3]
+            return [[c, -s], [s, c]]
+        q0, q1, q2, q3 = z[p:p + 4]
+        return [[1 - 2 * (_sqr(q2) + _sqr(q3)), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
+                [2 * (q1 * q2 + q0 * q3), 1 - 2 * (_sqr(q1) + _sqr(q3)), 2 * (q2 * q3 - q0 * q1)],
+                [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (_sqr(q1) + _sqr(q2))]]
+
+    def rotated(self, R, b):
+        """R b_i for every leg (b: the platform points, plain or lifted)."""
+        out = []
+        for bi in b:
+            out.append([sum((R[k][j] * bi[j] for j in range(1, self.dim)), R[k][0] * bi[0]) for k in range(self.dim)])
+        return out
+
+    def equations(self, z, dual=False):
+        a, b = self._lift if dual else (self.a, self.b)
+        R = self.rotation(z)
+        rb = self.rotated(R, b)
+        out = []
+        for i in range(self.legs):
+            total = None
+            for k in range(self.dim):
+                ell = rb[i][k] - a[i][k]
+                if self.n_pos:
+                    ell = z[k] + ell
+                total = _sqr(ell) if total is None else total + _sqr(ell)
+            out.append(total - self.L[i])
+        norm = _sqr(z[self.n_pos])
+        for k in range(self.n_pos + 1, self.n):
+            norm = norm + _sqr(z[k])
+        out.append(norm - 1)
+        return out
+
+    def values(self, box):
+        return self.equations([iv.mpf([lo, hi]) for lo, hi in box])
+
+    def jacobian(self, box):
+        zs = ad.variables([iv.mpf([lo, hi]) for lo, hi in box])
+        rows = []
+        for f in self.equations(zs, dual=True):
+            _, grad = ad.gradient(f, self.n)
+            rows.append(grad)
+        return rows
+
+    def position_system(self, box):
+        z = [iv.mpf([lo, hi]) for lo, hi in box]
+        rb = self.rotated(self.rotation(z), self.b)
+        a = self.a
+        arb = [sum((a[i][k] * rb[i][k] for k in range(1, self.dim)), a[i][0] * rb[i][0]) for i in range(self.legs)]
+        D, g = [], []
+        for i in range(1, self.legs):
+            D.append([2 * ((rb[i][k] - rb[0][k]) - (a[i][k] - a[0][k])) for k in range(self.n_pos)])
+            g.append(2 * (arb[i] - arb[0]) - ((self.norm_a2[i] + self.norm_b2[i]) - (self.norm_a2[0] + self.norm_b2[0]))
+                     + (self.L[i] - self.L[0]))
+        return D, g
+
+    # ----- the tests ---------------------------------------------------------------
+    def krawczyk(self, box, C):
+        """The Krawczyk image K = c − C f(c) + (I − C J(box))(box − c), c the float midpoint."""
+        c = [min(max(0.5 * lo + 0.5 * hi, lo), hi) for lo, hi in box]
+        fc = self.values([(x, x) for x in c])
+        J = self.jacobian(box)
+        n = self.n
+        K = []
+        for i in range(n):
+            acc = iv.mpf(c[i])
+            for k in range(n):
+                acc = acc - iv.mpf(C[i][k]) * fc[k]
+            for j in range(n):
+                r = iv.mpf(1 if i == j else 0)
+                for k in range(n):
+                    r = r - iv.mpf(C[i][k]) * J[k][j]
+                acc = acc + r * (iv.mpf([box[j][0], box[j][1]]) - iv.mpf(c[j]))
+            K.append(acc)
+        return K
+
+    def gauss_seidel(self, box, P):
+        """One Gauss-Seidel sweep on (P D) p = P g; returns the new position intervals or None (empty)."""
+        D, g = self.position_system(box)
+        m = len(D)
+        A = [[sum((iv.mpf(P[i][r]) * D[r][j] for r in range(1, m)), iv.mpf(P[i][0]) * D[0][j])
+              for j in range(self.n_pos)] for i in range(self.n_pos)]
+        rhs = [sum((iv.mpf(P[i][r]) * g[r] for r in range(1, m)), iv.mpf(P[i][0]) * g[0]) for i in range(self.n_pos)]
+        x = [iv.mpf([lo, hi]) for lo, hi in box[:self.n_pos]]
+        for i in range(self.n_pos):
+            num = rhs[i]
+            for j in range(self.n_pos):
+                if j != i:
+                    num = num - A[i][j] * x[j]
+            new = _divide_into(num, A[i][i], x[i])
+            if new is None:
+                return None
+            x[i] = new
+        return x
+
+
+def _divide_into(num, den, x):
+    """x ∩ {t : d t = v, d ∈ den, v ∈ num} (its hull), or None when empty.
+
+    With 0 in den and not in num the set is one or two half-lines (Hansen &
+    Sengupta 1981): for num > 0, [nl/dh, ∞) if dh > 0 and (−∞, nl/dl] if
+    dl < 0; for num < 0, (−∞, nh/dh] if dh > 0 and [nh/dl, ∞) if dl < 0.
+    """
+    if (den > 0) is True or (den < 0) is True:
+        return _meet(x, num / den)
+    if (num > 0) is not True and (num < 0) is not True:
+        return x  # 0 in both: every t qualifies
+    dl, dh = den.a, den.b
+    inf = iv.mpf("inf")
+    pieces = []
+    if (num > 0) is True:
+        if (dh > 0) is True:
+            pieces.append(iv.mpf([(num.a / dh).a, inf]))
+        if (dl < 0) is True:
+            pieces.append(iv.mpf([-inf, (num.a / dl).b]))
+    else:
+        if (dh > 0) is True:
+            pieces.append(iv.mpf([-inf, (num.b / dh).b]))
+        if (dl < 0) is True:
+            pieces.append(iv.mpf([(num.b / dl).a, inf]))
+    parts = [m for m in (_meet(x, piece) for piece in pieces) if m is not None]
+    if not parts:
+        return None
+    return iv.mpf([min((m.a for m in parts), key=float), max((m.b for m in parts), key=float)])
+
+
+def _meet(x, y):
+    lo, hi = max(x.a, y.a), min(x.b, y.b)
+    if (lo > hi) is True:
+        return None
+    return iv.mpf([lo, hi])
+
+
+def _points(robot, key, count, dim):
+    pts = robot.get(key)
+    if not isinstance(pts, list) or len(pts) != count:
+        raise Rejected(f"robot.{key}: expected {count} points")
+    out = []
+    for i, p in enumerate(pts):
+        if not isinstance(p, list) or len(p) != dim:
+            raise Rejected(f"robot.{key}[{i}]: expected {dim} coordinates")
+        out.append([enclose(c, f"robot.{key}[{i}][{j}]") for j, c in enumerate(p)])
+    return out
+
+
+# ----------------------------------------------------------------------------- claims
+def check_claims(model, robot, claims, counts):
+    if model not in MODELS:
+        raise Rejected(f"model: unknown model {model!r} (known: {', '.join(MODELS)})")
+    if robot.get("kind") != MODELS[model][0]:
+        raise Rejected(f"robot.kind: {robot.get('kind')!r} does not fit model {model}")
+    for k, claim in enumerate(claims):
+        if not isinstance(claim, dict):
+            raise Rejected(f"claims[{k}]: expected an object")
+        _claim(model, robot, claim, f"claims[{k}]", counts)
+
+
+def _matrix(value, n, m, where):
+    if not isinstance(value, list) or len(value) != n or any(not isinstance(r, list) or len(r) != m for r in value):
+        raise Rejected(f"{where}: expected a {n}x{m} matrix of numbers")
+    return [[real(v, where) for v in r] for r in value]
+
+
+def _claim(model, robot, claim, where, counts):
+    system = System(model, robot, claim.get("lengths"))
+    n = system.n
+    domain = read_box(claim.get("domain"), n, f"{where}.domain")
+    complete = claim.get("complete")
+    if complete not in (True, False):
+        raise Rejected(f"{where}.complete: expected true or false")
+    if claim.get("covers") == "all-postures":
+        _covers_all(system, domain, f"{where}.domain")
+    elif claim.get("covers") != "box":
+        raise Rejected(f"{where}.covers: expected 'all-postures' or 'box'")
+    sols = claim.get("solutions")
+    if not isinstance(sols, list):
+        raise Rejected(f"{where}.solutions: expected a list")
+    boxes = []
+    for j, s in enumerate(sols):
+        w = f"{where}.solutions[{j}]"
+        if not isinstance(s, dict):
+            raise Rejected(f"{w}: expected an object")
+        box = read_box(s.get("box"), n, f"{w}.box")
+        C = _matrix(s.get("C"), n, n, f"{w}.C")
+        if not _inside(box, domain):
+            raise Rejected(f"{w}: box not inside the domain")
+        if not _interior(system.krawczyk(box, C), box):
+            raise Rejected(f"{w}: Krawczyk image not inside the box: uniqueness not proved")
+        for i, other in enumerate(boxes):
+            if not _disjoint(box, other) or (not system.planar and not _disjoint(box, _negated(system, other))):
+                raise Rejected(f"{w}: box meets solutions[{i}] (or its negated quaternion): "
+                               "the postures are not proved distinct")
+        boxes.append(box)
+        counts["solutions"] = counts.get("solutions", 0) + 1
+    _tree(system, claim.get("tree"), domain, boxes, complete, f"{where}.tree", counts)
+
+
+def _covers_all(system, domain, where):
+    """The domain holds every real posture: rotation unknowns cover the circle/hemisphere, and
+    |p − a_i| ≤ ρ_i + |b_i| bounds the origin."""
+    p = system.n_pos
+    for k in range(p, system.n):
+        need_lo = 0.0 if (not system.planar and k == p) else -1.0
+        if not (domain[k][0] <= need_lo and domain[k][1] >= 1.0):
+            raise Rejected(f"{where}: {system.names[k]} does not cover [{need_lo}, 1]")
+    for k in range(p):
+        lows, highs = [], []
+        for i in range(system.legs):
+            reach = system.rho[i] + iv.sqrt(system.norm_b2[i])
+            lows.append((system.a[i][k] - reach).a)
+            highs.append((system.a[i][k] + reach).b)
+        if not ((iv.mpf(domain[k][0]) <= max(lows)) is True and (iv.mpf(domain[k][1]) >= min(highs)) is True):
+            raise Rejected(f"{where}: {system.names[k]} does not cover the reachable positions")
+
+
+def _inside(inner, outer):
+    return all(a >= c and b <= d for (a, b), (c, d) in zip(inner, outer))
+
+
+def _disjoint(x, y):
+    return any(b < c or d < a for (a, b), (c, d) in zip(x, y))
+
+
+def _interior(K, box):
+    return all((k > lo) is True and (k < hi) is True for k, (lo, hi) in zip(K, box))
+
+
+def _negated(system, box):
+    """The box with the quaternion negated (the same rotation)."""
+    p = system.n_pos
+    return [b if k < p else (-b[1], -b[0]) for k, b in enumerate(box)]
+
+
+def _tree(system, root, domain, solutions, complete, where, counts):
+    n = system.n
+    stack = [(root, domain, ())]
+    while stack:
+        node, box, path = stack.pop()
+        at = f"{where}: {'leaf' if isinstance(node, dict) and 'leaf' in node else 'node'} at path " \
+             f"{'/'.join(map(str, path)) or 'root'}"
+        if not isinstance(node, dict):
+            raise Rejected(f"{at}: expected an object")
+        if "split" in node:
+            split, children = node.get("split"), node.get("children")
+            if (not isinstance(split, list) or len(split) != 2 or isinstance(split[0], bool)
+                    or not isinstance(split[0], int) or not 0 <= split[0] < n):
+                raise Rejected(f"{at}: 'split' must be [dim, at] with 0 <= dim < {n}")
+            if not isinstance(children, list) or len(children) != 2:
+                raise Rejected(f"{at}: a split needs exactly two children")
+            dim, cut = split[0], real(split[1], f"{at}: split point")
+            lo, hi = box[dim]
+            if not lo < cut < hi:
+                raise Rejected(f"{at}: split point {cut!r} not strictly inside [{lo!r}, {hi!r}] on dim {dim}")
+            stack.append((children[1], [*box[:dim], (cut, hi), *box[dim + 1:]], path + (1,)))
+            stack.append((children[0], [*box[:dim], (lo, cut), *box[dim + 1:]], path + (0,)))
+        elif "contract" in node:
+            child_box = read_box(node.get("box"), n, f"{at}: box")
+            if not _inside(child_box, box):
+                raise Rejected(f"{at}: contracted box not inside its parent")
+            _contraction(system, node, box, child_box, at)
+            counts["contractions"] = counts.get("contractions", 0) + 1
+            stack.append((node.get("child"), child_box, path + ("c",)))
+        elif "leaf" in node:
+            if read_box(node.get("box"), n, f"{at}: box") != box:
+                raise Rejected(f"{at}: box does not match the derived box")
+            _leaf(system, node, box, solutions, complete, at)
+            counts["leaves"] += 1
+        else:
+            raise Rejected(f"{at}: neither a split, a contraction nor a leaf")
+
+
+def _contraction(system, node, box, child, at):
+    rule = node.get("contract")
+    if rule == "krawczyk":
+        K = system.krawczyk(box, _matrix(node.get("C"), system.n, system.n, f"{at}: C"))
+        for k, ((lo, hi), (clo, chi)) in enumerate(zip(box, child)):
+            kk = K[k]
+            low = max(kk.a, iv.mpf(lo))   # K ∩ X along coordinate k
+            high = min(kk.b, iv.mpf(hi))
+            if (low > high) is True:
+                continue  # K ∩ X is empty: no root in X at all
+            if not ((low >= clo) is True and (high <= chi) is True):
+                raise Rejected(f"{at}: krawczyk contraction: K ∩ X not inside the child box on dim {k}")
+    elif rule == "position":
+        if not system.n_pos:
+            raise Rejected(f"{at}: a position contraction needs a position")
+        P = _matrix(node.get("P"), system.n_pos, system.legs - 1, f"{at}: P")
+        x = system.gauss_seidel(box, P)
+        if x is None:
+            return  # no root in X at all
+        for k in range(system.n_pos):
+            if not ((x[k] >= child[k][0]) is True and (x[k] <= child[k][1]) is True):
+                raise Rejected(f"{at}: position contraction: Gauss-Seidel result not inside the child box on dim {k}")
+        for k in range(system.n_pos, system.n):
+            if child[k] != box[k]:
+                raise Rejected(f"{at}: a position contraction changes only the position")
+    else:
+        raise Rejected(f"{at}: unknown contraction {rule!r} (known: krawczyk, position)")
+
+
+def _leaf(system, node, box, solutions, complete, at):
+    rule = node.get("leaf")
+    n = system.n
+    if rule == "undecided":
+        if complete:
+            raise Rejected(f"{at}: undecided leaf in a claim that says complete")
+        return
+    if rule == "equation":
+        k = node.get("equation")
+        if isinstance(k, bool) or not isinstance(k, int) or not 0 <= k < n:
+            raise Rejected(f"{at}: 'equation' must be an index below {n}")
+        v = system.values(box)[k]
+        if (v > 0) is not True and (v < 0) is not True:
+            raise Rejected(f"{at}: equation {k} may vanish on the box")
+        return
+    if rule == "krawczyk-empty":
+        K = system.krawczyk(box, _matrix(node.get("C"), n, n, f"{at}: C"))
+        if not any((K[k] < lo) is True or (K[k] > hi) is True for k, (lo, hi) in enumerate(box)):
+            raise Rejected(f"{at}: Krawczyk image meets the box: emptiness not proved")
+        return
+    if rule == "position-empty":
+        if not system.n_pos:
+            raise Rejected(f"{at}: position-empty needs a position")
+        if system.gauss_seidel(box, _matrix(node.get("P"), system.n_pos, system.legs - 1, f"{at}: P")) is not None:
+            raise Rejected(f"{at}: Gauss-Seidel on the position does not prove the box empty")
+        return
+    if rule == "krawczyk-unique":
+        star = read_box(node["star"], n, f"{at}: star") if "star" in node else box
+        if not _inside(box, star):
+            raise Rejected(f"{at}: box not inside its uniqueness box 'star'")
+        if not _interior(system.krawczyk(star, _matrix(node.get("C"), n, n, f"{at}: C")), star):
+            raise Rejected(f"{at}: Krawczyk image not inside 'star': uniqueness not proved")
+        if "outside" in node:  # the star's root lies in a box that misses the leaf: no root in the leaf
+            out = node["outside"]
+            if not isinstance(out, dict):
+                raise Rejected(f"{at}: 'outside' must be {{'box': ..., 'C': ...}}")
+            root = read_box(out.get("box"), n, f"{at}: outside.box")
+            if not _inside(root, star) or not _disjoint(root, box):
+                raise Rejected(f"{at}: 'outside' box must lie in 'star' and miss the leaf")
+            if not _interior(system.krawczyk(root, _matrix(out.get("C"), n, n, f"{at}: outside.C")), root):
+                raise Rejected(f"{at}: Krawczyk image not inside 'outside.box': its root is not proved")
+            return
+        j = node.get("solution")
+        if isinstance(j, bool) or not isinstance(j, int) or not 0 <= j < len(solutions):
+            raise Rejected(f"{at}: 'solution' must name one of the {len(solutions)} solutions")
+        sol = _negated(system, solutions[j]) if node.get("twin") is True else solutions[j]
+        if not _inside(sol, star):
+            raise Rejected(f"{at}: solutions[{j}] is not inside 'star': the leaf's root is not that solution")
+        return
+    raise Rejected(f"{at}: unknown rule {rule!r}")
