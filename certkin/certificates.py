@@ -58,6 +58,9 @@ def _box(lo, hi):
 
 def fk_claim(result) -> dict:
     """The claim of one FK result: domain, solutions with their Krawczyk matrices, and the search tree."""
+    if np.any(result.domain[0] > result.domain[1]):  # the leg-length balls do not meet: no posture at all
+        return {"lengths": list(result.lengths), "domain": "empty", "covers": "all-postures", "complete": True,
+                "solutions": [], "tree": None}
     claim = {"lengths": list(result.lengths), "domain": _box(*result.domain),
              "covers": "box" if result.user_domain or result.tracked else "all-postures",
              "complete": bool(result.complete)}

@@ -121,6 +121,39 @@ def _describe_singular(robot, r):
     return line + f" [{r.boxes} boxes, {r.seconds:.3f} s]"
 
 
+def cmd_fk(args):
+    from . import load_robot
+    from .certificates import fk_certificate, write_json
+    from .fk import forward_kinematics
+    robot = _with_angles(load_robot(args.robot), args.angles)
+    result = forward_kinematics(robot, args.lengths, domain=args.domain, budget=_budget(args),
+                                progress=_progress(args.progress), track=args.track)
+    if args.certificate:
+        write_json(args.certificate, fk_certificate(result))
+    if args.report:
+        from .report import fk_report
+        fk_report(robot, result, args.report)
+    if args.json:
+        print(json.dumps(result.to_json()))
+    else:
+        print(_describe_fk(robot, result))
+    return 0
+
+
+def _describe_fk(robot, r):
+    head = (f"{robot.name}: {len(r.solutions)} assembly modes, each proved unique"
+            + (" (tracked from the previous pose)" if r.tracked else
+               "; complete" if r.complete else f"; INCOMPLETE, {len(r.unresolved)} unresolved regions"))
+    lines = [head + f" [{r.boxes} boxes, {r.seconds:.3f} s]"]
+    for k, s in enumerate(r.solutions):
+        pose = ", ".join(f"{n}={0.5 * (float(v.lo) + float(v.hi)):.10g}" for n, v in s["pose"].items())
+        lines.append(f"  {k + 1}: {pose}")
+    for k, s in enumerate(r.unresolved):
+        pose = ", ".join(f"{n}=[{float(v.lo):.6g}, {float(v.hi):.6g}]" for n, v in s["pose"].items())
+        lines.append(f"  unresolved {k + 1}: {pose}")
+    return "\n".join(lines)
+
+
 def cmd_check(args):
     import proofs
     try:
@@ -152,6 +185,16 @@ def build_parser():
     _add_outputs(s)
     _add_budget(s, 200_000, 60.0, 1e-7)
     s.set_defaults(func=cmd_singular)
+
+    f = sub.add_parser("fk", help="every real assembly mode for given leg lengths, each proved unique")
+    f.add_argument("robot", help="robot file (TOML)")
+    f.add_argument("--lengths", required=True, metavar="L1,L2,...", help="leg lengths (exact decimals)")
+    f.add_argument("--domain", help='narrow the search: "x=a:b,..." (positions narrow the box, angles filter)')
+    f.add_argument("--track", metavar="POSE", help="previous pose: prove the unique posture near it first")
+    f.add_argument("--angles", choices=["zyz", "tilt-torsion"], help="spherical robots: pose angles of the output")
+    _add_outputs(f)
+    _add_budget(f, 2_000_000, 300.0, 1e-10)
+    f.set_defaults(func=cmd_fk)
 
     c = sub.add_parser("check", help="re-verify a certificate with the independent checker")
     c.add_argument("certificate")

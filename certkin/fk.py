@@ -215,7 +215,7 @@ def enclose_roots(system, star_lo, star_hi, L: Interval, steps: int = 8):
     """Tight boxes R, each proved to hold exactly one root (the unique root of its X*), and their C.
 
     Krawczyk iterates X ← K(X) ∩ X from X*, then ε-inflation (Rump 1983):
-    R = X widened by a relative 2⁻¹⁰ of its width and 2⁻⁴⁵ of its magnitude,
+    R = X widened by half its width and 2⁻⁴⁵ of its magnitude on each side,
     kept if K(R) ⊂ int R and R ⊆ X*; otherwise R = X* itself.  Batched over rows.
     """
     lo, hi = star_lo.copy(), star_hi.copy()
@@ -227,7 +227,7 @@ def enclose_roots(system, star_lo, star_hi, L: Interval, steps: int = 8):
         lo[ok], hi[ok] = nlo[ok], nhi[ok]
         if np.all(np.max(hi - lo, axis=1) > 0.5 * before):  # no longer contracting: converged
             break
-    w = np.maximum((hi - lo) * 2.0 ** -10, (np.abs(lo) + np.abs(hi)) * 2.0 ** -45) + 1e-300
+    w = 0.5 * (hi - lo) + (np.abs(lo) + np.abs(hi)) * 2.0 ** -45 + 1e-300
     rlo, rhi = np.maximum(lo - w, star_lo), np.minimum(hi + w, star_hi)
     K, C = krawczyk_boxes(system, Interval._raw(rlo, rhi), L)
     good = unique_in(K, rlo, rhi)

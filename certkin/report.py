@@ -75,3 +75,28 @@ def singularity_report(robot, results, path) -> None:
         body += _figure(lambda p: plot_cells(robot, results, p))
     body = "<h2>Robot</h2>" + _robot_table(robot) + body
     write_text(path, _page(f"Singularity analysis: {robot.name}", body))
+
+
+def _interval_text(v) -> str:
+    lo, hi = float(v.lo), float(v.hi)
+    return f"{0.5 * (lo + hi):.12g} ± {0.5 * (hi - lo):.1e}"
+
+
+def fk_report(robot, result, path) -> None:
+    """The assembly modes of one forward-kinematics result."""
+    names = list(result.solutions[0]["pose"]) if result.solutions else list(robot.pose_names)
+    rows = "".join("<tr><td>" + str(k + 1) + "</td>" + "".join(
+        f"<td>{html.escape(_interval_text(s['pose'][n]))}</td>" for n in names) + "</tr>"
+        for k, s in enumerate(result.solutions))
+    verdict = (f"{len(result.solutions)} assembly modes, each proved unique in its box; "
+               + ("the rest of the domain is proved to hold no posture (complete)." if result.complete else
+                  f"incomplete: {len(result.unresolved)} unresolved regions."))
+    if result.tracked:
+        verdict = "tracked: exactly one posture in the box around the previous pose."
+    body = "<h2>Robot</h2>" + _robot_table(robot)
+    body += (f"<h2>Question</h2><p>Every real posture for the leg lengths "
+             f"{html.escape(', '.join(result.lengths))}.</p>")
+    body += f'<h2>Verdict</h2><p class="v">{html.escape(verdict)}</p>'
+    body += "<table><tr><th>#</th>" + "".join(f"<th>{html.escape(n)}</th>" for n in names) + f"</tr>{rows}</table>"
+    body += f"<p>{result.boxes} boxes, {result.seconds:.3f} s.</p>"
+    write_text(path, _page(f"Forward kinematics: {robot.name}", body))

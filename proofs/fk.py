@@ -245,6 +245,11 @@ def _matrix(value, n, m, where):
 def _claim(model, robot, claim, where, counts):
     system = System(model, robot, claim.get("lengths"))
     n = system.n
+    if claim.get("domain") == "empty":
+        _no_position(system, f"{where}.domain")
+        if claim.get("solutions") != [] or claim.get("complete") is not True:
+            raise Rejected(f"{where}: an empty domain has no solutions and is complete")
+        return
     domain = read_box(claim.get("domain"), n, f"{where}.domain")
     complete = claim.get("complete")
     if complete not in (True, False):
@@ -285,13 +290,29 @@ def _covers_all(system, domain, where):
         if not (domain[k][0] <= need_lo and domain[k][1] >= 1.0):
             raise Rejected(f"{where}: {system.names[k]} does not cover [{need_lo}, 1]")
     for k in range(p):
-        lows, highs = [], []
-        for i in range(system.legs):
-            reach = system.rho[i] + iv.sqrt(system.norm_b2[i])
-            lows.append((system.a[i][k] - reach).a)
-            highs.append((system.a[i][k] + reach).b)
+        lows, highs = _reach(system, k)
         if not ((iv.mpf(domain[k][0]) <= max(lows)) is True and (iv.mpf(domain[k][1]) >= min(highs)) is True):
             raise Rejected(f"{where}: {system.names[k]} does not cover the reachable positions")
+
+
+def _reach(system, k):
+    """Rigorous bounds (lows, highs) of a_ik ∓ (ρ_i + |b_i|) per leg: every posture's origin p
+    satisfies max(lows) <= p_k <= min(highs)."""
+    lows, highs = [], []
+    for i in range(system.legs):
+        reach = system.rho[i] + iv.sqrt(system.norm_b2[i])
+        lows.append((system.a[i][k] - reach).a)
+        highs.append((system.a[i][k] + reach).b)
+    return lows, highs
+
+
+def _no_position(system, where):
+    """Some coordinate of the origin has no admissible value: no posture at all."""
+    for k in range(system.n_pos):
+        lows, highs = _reach(system, k)
+        if (max(lows) > min(highs)) is True:
+            return
+    raise Rejected(f"{where}: 'empty' is not proved: the leg-length balls may meet")
 
 
 def _inside(inner, outer):
