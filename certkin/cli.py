@@ -154,6 +154,73 @@ def _describe_fk(robot, r):
     return "\n".join(lines)
 
 
+def _constraints(text):
+    if not text:
+        return None
+    return [c.strip() for c in text.split(",") if c.strip()]
+
+
+def cmd_trajectory(args):
+    from . import load_robot
+    from .certificates import trajectory_certificate, write_json
+    from .trajectory import verify_trajectory
+    robot = load_robot(args.robot)
+    via = [w for w in (args.via or [])]
+    result = verify_trajectory(robot, args.start, args.goal, waypoints=via, constraints=_constraints(args.constraints),
+                               budget=_budget(args), progress=_progress(args.progress))
+    if args.certificate:
+        write_json(args.certificate, trajectory_certificate(result))
+    if args.report:
+        from .report import trajectory_report
+        trajectory_report(robot, result, args.report)
+    if args.json:
+        print(json.dumps(result.to_json()))
+    else:
+        print(_describe_trajectory(robot, result))
+    return 0
+
+
+def _describe_trajectory(robot, r):
+    j = r.to_json()
+    lines = [f"{robot.name}: {r.status.upper()} [{j['stats']['boxes']} boxes, {j['stats']['seconds']:.3f} s]"]
+    for k, why in j["skipped"].items():
+        lines.append(f"  not checked: {k} ({why})")
+    for m in j["margins"]:
+        extra = f", det sign {m['sign']:+d}" if "sign" in m else ""
+        lines.append(f"  {m['constraint']} {'-'.join(map(str, m['legs']))}{' ' + m['detail'] if 'detail' in m else ''}: "
+                     f"min margin in [{m['margin'][0]:.9g}, {m['margin'][1]:.9g}]{extra}")
+    for v in j["violations"]:
+        where = f"t in [{v['t'][0]:.12g}, {v['t'][1]:.12g}]" if "t" in v else f"s in [{v['s'][0]:.12g}, {v['s'][1]:.12g}]"
+        lines.append(f"  {'VIOLATED' if v['certain'] else 'may fail'}: {v['constraint']} "
+                     f"{'-'.join(map(str, v['legs']))} for {where}")
+    for u in j["undecided"]:
+        lines.append(f"  undecided for s in [{u['s'][0]:.12g}, {u['s'][1]:.12g}]")
+    return "\n".join(lines)
+
+
+def cmd_plan(args):
+    from . import load_robot
+    from .certificates import write_json
+    from .planning import plan
+    robot = load_robot(args.robot)
+    result = plan(robot, args.start, args.goal, constraints=_constraints(args.constraints),
+                  divisions=args.divisions, max_seconds=args.max_seconds)
+    if args.certificate and result.segments:
+        write_json(args.certificate, result.certificate())
+    if args.json:
+        print(json.dumps(result.to_json()))
+    else:
+        lines = [f"{robot.name}: {result.status} [{result.stats.get('edges_verified', 0)} segments verified, "
+                 f"{result.stats.get('seconds', 0):.2f} s]"]
+        for w in result.waypoints:
+            lines.append("  " + ",".join(w))
+        if result.endpoint:
+            lines.append(f"  the {result.endpoint['pose']} pose is {result.endpoint['status']}: " +
+                         "; ".join(f"{v['constraint']} {'-'.join(map(str, v['legs']))}" for v in result.endpoint["violations"]))
+        print("\n".join(lines))
+    return 0
+
+
 def cmd_check(args):
     import proofs
     try:
@@ -196,6 +263,28 @@ def build_parser():
     _add_budget(f, 2_000_000, 300.0, 1e-10)
     f.set_defaults(func=cmd_fk)
 
+    t = sub.add_parser("trajectory", help="certify a straight (or polyline) motion, or find where it fails")
+    t.add_argument("robot", help="robot file (TOML)")
+    t.add_argument("--from", dest="start", required=True, metavar="POSE", help="start pose, e.g. -69,-50,500,85deg,10deg,0")
+    t.add_argument("--to", dest="goal", required=True, metavar="POSE", help="goal pose")
+    t.add_argument("--via", action="append", metavar="POSE", help="intermediate pose (repeatable): a polyline")
+    t.add_argument("--constraints", metavar="LIST",
+                   help="comma-separated subset of leg-length,joints,interference,singularity (default: all)")
+    _add_outputs(t)
+    _add_budget(t, 200_000, 60.0, 1e-9)
+    t.set_defaults(func=cmd_trajectory)
+
+    pl = sub.add_parser("plan", help="a path whose every segment is certified feasible")
+    pl.add_argument("robot", help="robot file (TOML)")
+    pl.add_argument("--from", dest="start", required=True, metavar="POSE")
+    pl.add_argument("--to", dest="goal", required=True, metavar="POSE")
+    pl.add_argument("--constraints", metavar="LIST", help="as for trajectory (default: all)")
+    pl.add_argument("--divisions", type=int, default=6, help="grid steps between start and goal (default 6)")
+    pl.add_argument("--max-seconds", type=float, default=120.0, help="time budget (default 120)")
+    pl.add_argument("--json", action="store_true", help="print one JSON document")
+    pl.add_argument("--certificate", metavar="FILE", help="write the certificate of every segment to FILE")
+    pl.set_defaults(func=cmd_plan)
+
     c = sub.add_parser("check", help="re-verify a certificate with the independent checker")
     c.add_argument("certificate")
     c.set_defaults(func=cmd_check)
@@ -206,9 +295,26 @@ def build_parser():
     return p
 
 
+_POSE_OPTIONS = ("--from", "--to", "--via", "--track", "--around", "--lengths")
+
+
+def _join_pose_values(argv):
+    """``--from -69,-50,...``: a pose that starts with '-' is a value, not an option."""
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a in _POSE_OPTIONS and i + 1 < len(argv) and argv[i + 1].startswith("-") and argv[i + 1][1:2].isdigit() | (argv[i + 1][1:2] == "."):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out
+
+
 def main(argv=None):
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_join_pose_values(list(sys.argv[1:] if argv is None else argv)))
     try:
         return args.func(args)
     except InputError as exc:

@@ -13,6 +13,8 @@ import tempfile
 from datetime import datetime, timezone
 from pathlib import Path
 
+import numpy as np
+
 from . import __version__
 from .certificates import write_text
 
@@ -100,3 +102,48 @@ def fk_report(robot, result, path) -> None:
     body += "<table><tr><th>#</th>" + "".join(f"<th>{html.escape(n)}</th>" for n in names) + f"</tr>{rows}</table>"
     body += f"<p>{result.boxes} boxes, {result.seconds:.3f} s.</p>"
     write_text(path, _page(f"Forward kinematics: {robot.name}", body))
+
+
+def trajectory_report(robot, result, path) -> None:
+    """Verdict, certified margins and forbidden t-intervals of one trajectory, with a plot of the
+    margin enclosures along the path."""
+    j = result.to_json()
+    pts = " &rarr; ".join(html.escape(",".join(p.values())) for p in j["path"])
+    body = "<h2>Robot</h2>" + _robot_table(robot)
+    body += f"<h2>Question</h2><p>Is the motion {pts} feasible (constraints: {', '.join(j['constraints'])})?</p>"
+    for k, why in j["skipped"].items():
+        body += f"<p>Not checked: {html.escape(k)} ({html.escape(why)}).</p>"
+    body += f'<h2>Verdict</h2><p class="v">{html.escape(result.status)}</p>'
+    rows = "".join(f"<tr><td>{html.escape(m['constraint'])}</td><td>{'-'.join(map(str, m['legs']))} "
+                   f"{html.escape(m.get('detail', ''))}</td><td>[{m['margin'][0]:.9g}, {m['margin'][1]:.9g}]</td></tr>"
+                   for m in j["margins"])
+    body += "<h2>Certified minimum margins</h2><table><tr><th>constraint</th><th>legs</th><th>min margin</th></tr>"
+    body += rows + "</table>"
+    if j["violations"]:
+        rows = "".join(f"<tr><td>{html.escape(v['constraint'])}</td><td>{'-'.join(map(str, v['legs']))}</td>"
+                       f"<td>[{v['s'][0]:.12g}, {v['s'][1]:.12g}]</td><td>{'proved' if v['certain'] else 'possible'}</td></tr>"
+                       for v in j["violations"])
+        body += ("<h2>Forbidden instants (their union contains every violation)</h2><table><tr><th>constraint</th>"
+                 "<th>legs</th><th>s interval</th><th>violation</th></tr>" + rows + "</table>")
+
+    def draw(png):
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        L = result.leaves
+        s_lo, s_hi = L["segment"] + L["tlo"], L["segment"] + L["thi"]
+        fig, ax = plt.subplots(figsize=(8, 4))
+        for k, inst in enumerate(result.constraints.instances):
+            if k == result.constraints.det_column:
+                continue
+            lo = np.clip(L["mlo"][:, k], -50, 200)
+            ax.hlines(lo, s_lo, s_hi, lw=1, color=f"C{k % 10}")
+        ax.axhline(0, color="k", lw=0.8)
+        ax.set_xlabel("s (segment index + t)")
+        ax.set_ylabel("margin lower bound (clipped)")
+        fig.tight_layout()
+        fig.savefig(png, dpi=90)
+        plt.close(fig)
+
+    body += _figure(draw)
+    write_text(path, _page(f"Trajectory: {robot.name}", body))

@@ -196,6 +196,12 @@ class CompiledExprs:
             return parts[0]
         return Interval._raw(np.concatenate([p.lo for p in parts]), np.concatenate([p.hi for p in parts]))
 
+    def evaluate(self, variables, params=None) -> list:
+        """The m expressions at prebuilt variable values (``Interval`` or ``autodiff.Dual``, one per
+        variable, any common shape); returns a list of m values (constants come back unbroadcast)."""
+        dual = any(isinstance(v, autodiff.Dual) for v in variables)
+        return self._fns[dual](list(variables), self._params(params))
+
     def jacobian(self, box: Interval, params=None):
         """(values (..., m), Jacobian enclosure (..., m, d)) over a batch of boxes."""
         params = self._params(params)

@@ -239,12 +239,12 @@ def choose_split(lo, hi, scale):
 
 
 def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int = 4096,
-           progress=None, min_batch: int = 256) -> SearchResult:
+           progress=None, min_batch: int = 256, max_rounds: int | None = None) -> SearchResult:
     """Branch and bound from the boxes ``[lo, hi]`` (arrays (M, d), one per root).
 
     ``progress(processed_boxes, frontier_size)`` is called after each batch.
     ``min_batch``: when fewer boxes than this are open after a batch, each
-    is halved several times at once.
+    is halved several times at once (up to ``max_rounds`` times, default d).
     """
     budget = budget or Budget()
     lo = np.atleast_2d(np.asarray(lo, dtype=np.float64))
@@ -303,7 +303,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
         oids, olo, ohi = ids[open_], blo[open_], bhi[open_]
         if len(oids):
             prefer = None if dec.split is None else np.asarray(dec.split)[open_]
-            new = _split(store, oids, olo, ohi, scale, budget.min_width, min_batch, prefer)
+            new = _split(store, oids, olo, ohi, scale, budget.min_width, min_batch, prefer, max_rounds or d)
             if len(new):
                 frontier.append(new[::-1])
         if progress:
@@ -333,7 +333,7 @@ def _pop(frontier, batch):
     return np.concatenate(out[::-1]) if len(out) > 1 else out[0]
 
 
-def _split(store, ids, lo, hi, scale, min_width, min_batch, prefer=None):
+def _split(store, ids, lo, hi, scale, min_width, min_batch, prefer=None, max_rounds=None):
     """Bisect the open boxes (several times each when they are few); returns the new open ids.
 
     ``prefer``: the problem's choice of dimension per box for the first halving
@@ -342,7 +342,7 @@ def _split(store, ids, lo, hi, scale, min_width, min_batch, prefer=None):
     d = lo.shape[1]
     rounds = 1
     if 0 < len(ids) < min_batch:
-        rounds = int(min(d, max(1, np.ceil(np.log2(min_batch / len(ids))))))
+        rounds = int(min(max_rounds or d, max(1, np.ceil(np.log2(min_batch / len(ids))))))
     kept = []                               # fresh pieces not split in a later round: still open
     for r in range(rounds):
         if not len(ids):

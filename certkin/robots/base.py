@@ -166,6 +166,10 @@ class Robot:
                 exprs = [sum(c ** 2 for c in leg) for leg in model["legs"]]
             elif what == "points":
                 exprs = [c for p in model["points"] for c in p]
+            elif what == "leg_vectors":   # l_i padded to 3 coordinates, then R row by row if modelled
+                exprs = [c for leg in model["legs"] for c in (list(leg) + [0] * (3 - len(leg)))]
+                if "R" in model:
+                    exprs += list(model["R"])
             else:
                 raise KeyError(what)
             _COMPILED[key] = compile_exprs(exprs, pose, geom)

@@ -53,4 +53,4 @@ class GoughStewart(Robot):
             rows.append(list(l) + list(rb.cross(l)))
         A = sp.Matrix(rows)
         rho = [sp.sqrt(sum(c ** 2 for c in leg)) for leg in legs]
-        return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho)}
+        return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho), "R": R}

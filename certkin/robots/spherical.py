@@ -74,7 +74,7 @@ def _model(Q, g):
         rows.append(list(a.cross(b)))
     A = sp.Matrix(rows)
     rho = [sp.sqrt(sum(c ** 2 for c in leg)) for leg in legs]
-    return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho), "det": det3(A)}
+    return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho), "det": det3(A), "R": Q}
 
 
 class Spherical3DOFTiltTorsion(Spherical3DOF):

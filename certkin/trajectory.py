@@ -1,0 +1,311 @@
+"""Certified trajectory feasibility (seed 000 ch. 1, with the digest's corrections).
+
+A path is a polyline of poses P_0 … P_n; on segment k the pose is
+P_k + t (P_{k+1} − P_k), t ∈ [0, 1]: a straight line in position and a linear
+interpolation of the pose angles (seed 000 eq. 1.82–1.83; constant orientation
+when the angles are equal).  The global parameter is s = k + t.
+
+The shared engine bisects t; each t-interval is decided by
+``trajectory_constraints.Constraints`` (every constraint instance proved
+satisfied, proved violated over the whole interval, or unknown).  Boxes are
+split while some instance is unknown (down to ``min_width``) or while a
+satisfied instance could still lower its certified minimum margin by more
+than the tolerance.  Verdicts:
+
+- ``feasible``: every instance is proved satisfied on every leaf and det(A)
+  has one proved sign along the whole path; margins are certified enclosures
+  of the minimum over the path;
+- ``infeasible``: an instance is proved violated on some leaf, or det(A) has
+  proved opposite signs at two instants (so it vanishes between them);
+  ``violations`` lists, per instance, t-intervals whose union contains every
+  instant where it may fail;
+- ``undecided``: neither could be proved within the budget (the t-ranges left
+  are listed).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+import time
+
+import numpy as np
+
+from intervals import Interval
+
+from .engine.search import OPEN, PROVED, EXCLUDED, Budget, search
+from .errors import InputError
+from .poses import parse_pose
+from .trajectory_constraints import KINDS, SATISFIED, UNKNOWN, VIOLATED, Constraints
+
+PIECES = 16          # initial sub-intervals of each segment (one batch keeps numpy busy)
+MARGIN_RTOL = 1e-4   # relative tolerance of the certified minimum margins
+INDEX_STEPS = 64     # sub-intervals per segment for the mean indices
+
+
+@dataclass
+class Path:
+    """A polyline of poses (exact texts and their enclosures)."""
+
+    texts: list
+    poses: Interval                      # (n + 1, d)
+
+    @property
+    def segments(self) -> int:
+        return self.poses.shape[0] - 1
+
+    def start_and_step(self):
+        P0 = self.poses[:-1]
+        D = self.poses[1:] - self.poses[:-1]
+        return P0, D
+
+
+def parse_path(robot, start, goal, waypoints=()) -> Path:
+    """``start``, ``goal`` and optional ``waypoints`` (pose texts or sequences) -> ``Path``."""
+    items = [("--from", start)] + [(f"--via[{k}]", w) for k, w in enumerate(waypoints or ())] + [("--to", goal)]
+    ivs, texts = [], []
+    for option, pose in items:
+        iv, t = parse_pose(pose, robot, option)
+        ivs.append(iv)
+        texts.append(t)
+    lo = np.stack([i.lo for i in ivs])
+    hi = np.stack([i.hi for i in ivs])
+    return Path(texts, Interval._raw(lo, hi))
+
+
+class TrajectoryProblem:
+    """Decides t-intervals of many segments at once (roots = pieces of segments)."""
+
+    reasons = ("every constraint decided on the interval",)
+
+    def __init__(self, constraints: Constraints, P0, D, piece_segment, segment_path, n_paths, rtol=MARGIN_RTOL):
+        self.c = constraints
+        self.P0, self.D = P0, D
+        self.piece_segment = piece_segment
+        self.segment_path = segment_path
+        self.best = np.full((n_paths, constraints.K), np.inf)
+        self.refine_cols = constraints.refinable()
+        self.rtol = rtol
+        self.linear = constraints.linear_data(P0, D)
+
+    def evaluate(self, tlo, thi, segment):
+        return self.c.evaluate(self.P0[segment], self.D[segment], tlo, thi, self.c.rows_of(self.linear, segment))
+
+    def decide(self, lo, hi, roots):
+        from .engine.search import Decisions
+        seg = self.piece_segment[roots]
+        state, mlo, mhi = self.evaluate(lo[:, 0], hi[:, 0], seg)
+        path = self.segment_path[seg]
+        np.minimum.at(self.best, path, np.where(state == SATISFIED, mhi, np.inf))
+        best = self.best[path]
+        if self.rtol is None:                  # feasibility only: no margin refinement
+            refine = np.zeros_like(state, dtype=bool)
+        else:
+            with np.errstate(invalid="ignore"):
+                refine = (state == SATISFIED) & self.refine_cols & (mlo < best - (self.rtol * np.abs(best) + 1e-12))
+        unknown = (state == UNKNOWN).any(axis=1) | refine.any(axis=1)
+        status = np.where(unknown, OPEN, np.where((state == VIOLATED).any(axis=1), EXCLUDED, PROVED)).astype(np.int8)
+        return Decisions(status=status, reason=np.zeros(len(lo), dtype=np.int64),
+                         evidence={"state": state, "mlo": mlo, "mhi": mhi})
+
+
+@dataclass
+class TrajectoryResult:
+    """The verdict on one path, with the leaves that prove it."""
+
+    robot: object
+    path: Path
+    constraints: Constraints
+    status: str = "undecided"
+    leaves: dict = field(default_factory=dict)    # segment, tlo, thi (arrays), state (L, K), mlo, mhi
+    margins: list = field(default_factory=list)
+    violations: list = field(default_factory=list)
+    undecided: list = field(default_factory=list)
+    det_sign: int = 0
+    stats: dict = field(default_factory=dict)
+    indices: list | None = None
+
+    def to_json(self) -> dict:
+        c = self.constraints
+        out = {"problem": "trajectory", "status": self.status,
+               "path": [dict(zip(self.robot.pose_names, t)) for t in self.path.texts],
+               "constraints": sorted({i.constraint for i in c.instances}),
+               "skipped": dict(c.skipped),
+               "margins": self.margins,
+               "violations": self.violations,
+               "undecided": self.undecided,
+               "stats": self.stats}
+        if c.det is not None:
+            out["det_sign"] = self.det_sign
+        if self.indices is not None:
+            out["indices"] = self.indices
+        return out
+
+    def certificate(self) -> dict:
+        from .certificates import trajectory_certificate
+        return trajectory_certificate([self])
+
+
+def _runs(mask_sorted, s_lo, s_hi):
+    """Maximal runs of consecutive True leaves -> list of (first, last) indices."""
+    idx = np.nonzero(mask_sorted)[0]
+    if not len(idx):
+        return []
+    breaks = np.nonzero((np.diff(idx) > 1) | (s_lo[idx[1:]] > s_hi[idx[:-1]]))[0]
+    starts = np.concatenate([[idx[0]], idx[breaks + 1]])
+    ends = np.concatenate([idx[breaks], [idx[-1]]])
+    return list(zip(starts.tolist(), ends.tolist()))
+
+
+def _interval(lo, hi):
+    return [float(lo), float(hi)]
+
+
+def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = None, progress=None,
+                        indices: bool = True, rtol: float = MARGIN_RTOL) -> list[TrajectoryResult]:
+    """Verify many paths in one search (the batch path).  ``paths``: list of ``Path``."""
+    if not paths:
+        return []
+    budget = budget or Budget(max_boxes=200_000, max_seconds=60.0, min_width=1e-9)
+    cons = constraints if isinstance(constraints, Constraints) else Constraints(robot, constraints)
+    if cons.K == 0:
+        raise InputError("--constraints", "", "no constraint can be checked: " +
+                         "; ".join(f"{k}: {v}" for k, v in cons.skipped.items()))
+    t0 = time.perf_counter()
+    P0s, Ds, seg_path = [], [], []
+    for p_index, path in enumerate(paths):
+        P0, D = path.start_and_step()
+        P0s.append(P0)
+        Ds.append(D)
+        seg_path += [p_index] * path.segments
+    P0 = Interval._raw(np.concatenate([p.lo for p in P0s]), np.concatenate([p.hi for p in P0s]))
+    D = Interval._raw(np.concatenate([p.lo for p in Ds]), np.concatenate([p.hi for p in Ds]))
+    seg_path = np.asarray(seg_path, dtype=np.int64)
+    n_seg = len(seg_path)
+    edges = np.linspace(0.0, 1.0, PIECES + 1)          # exact binary fractions
+    piece_segment = np.repeat(np.arange(n_seg), PIECES)
+    lo = np.tile(edges[:-1], n_seg)[:, None]
+    hi = np.tile(edges[1:], n_seg)[:, None]
+    problem = TrajectoryProblem(cons, P0, D, piece_segment, seg_path, len(paths), rtol)
+    found = search(problem, lo, hi, scale=np.ones(1), budget=budget, progress=progress, min_batch=64, max_rounds=5)
+    tree = found.tree
+    leaves = tree.leaves()
+    segment = piece_segment[tree.root[leaves]]
+    tlo, thi = tree.lo[leaves, 0], tree.hi[leaves, 0]
+    state = np.zeros((len(leaves), cons.K), dtype=np.int8)
+    mlo, mhi = np.empty((len(leaves), cons.K)), np.empty((len(leaves), cons.K))
+    known = tree.evidence_rows["state"][leaves] >= 0 if "state" in tree.evidence_rows else np.zeros(len(leaves), bool)
+    if known.any():
+        ids = leaves[known]
+        state[known] = tree.evidence_values("state", ids)
+        mlo[known], mhi[known] = tree.evidence_values("mlo", ids), tree.evidence_values("mhi", ids)
+    if (~known).any():                # undecided leaves (resolution, budget): evaluated once more
+        state[~known], mlo[~known], mhi[~known] = problem.evaluate(tlo[~known], thi[~known], segment[~known])
+    results = []
+    for p_index, path in enumerate(paths):
+        segs = np.nonzero(seg_path == p_index)[0]
+        mine = np.isin(segment, segs)
+        local = segs.searchsorted(segment[mine])
+        order = np.lexsort((tlo[mine], local))
+        r = TrajectoryResult(robot, path, cons)
+        r.leaves = {"segment": local[order], "tlo": tlo[mine][order], "thi": thi[mine][order],
+                    "state": state[mine][order], "mlo": mlo[mine][order], "mhi": mhi[mine][order]}
+        _conclude(r)
+        if indices:
+            r.indices = _mean_indices(problem, cons, segs)
+        r.stats = {"boxes": int(found.boxes), "leaves": int(mine.sum()), "seconds": round(time.perf_counter() - t0, 6),
+                   "budget_exhausted": bool(found.exhausted)}
+        results.append(r)
+    return results
+
+
+def verify_trajectory(robot, start, goal, waypoints=(), constraints=None, budget: Budget | None = None,
+                      progress=None, indices: bool = True) -> TrajectoryResult:
+    """Is the straight (or polyline) motion from ``start`` to ``goal`` feasible?  See the module docstring."""
+    path = parse_path(robot, start, goal, waypoints)
+    return verify_trajectories(robot, [path], constraints, budget, progress, indices)[0]
+
+
+def _conclude(r: TrajectoryResult) -> None:
+    c = r.constraints
+    L = r.leaves
+    s_lo = L["segment"] + L["tlo"]
+    s_hi = L["segment"] + L["thi"]
+    state = L["state"]
+    dcol = c.det_column
+    certain = False
+    for k, inst in enumerate(c.instances):
+        lo, hi = L["mlo"][:, k], L["mhi"][:, k]
+        if k == dcol:
+            continue
+        entry = inst.to_json()
+        entry["margin"] = _interval(lo.min(), hi.min())
+        r.margins.append(entry)
+        for a, b in _runs(state[:, k] != SATISFIED, s_lo, s_hi):
+            sure = bool((state[a:b + 1, k] == VIOLATED).any())
+            certain |= sure
+            r.violations.append({**inst.to_json(), **_where(L, a, b), "certain": sure})
+    if dcol is not None:
+        sign = np.where(L["mlo"][:, dcol] > 0, 1, np.where(L["mhi"][:, dcol] < 0, -1, 0))
+        mig = np.where(sign > 0, L["mlo"][:, dcol], np.where(sign < 0, -L["mhi"][:, dcol], 0.0))
+        mag = np.maximum(np.abs(L["mlo"][:, dcol]), np.abs(L["mhi"][:, dcol]))
+        signs = set(sign[sign != 0].tolist())
+        entry = c.instances[dcol].to_json()
+        entry["margin"] = _interval(mig.min(), mag.min())      # min over the path of |det A|
+        entry["sign"] = signs.pop() if len(signs) == 1 and (sign != 0).all() else 0
+        r.det_sign = entry["sign"]
+        r.margins.append(entry)
+        crossing = len(set(sign[sign != 0].tolist())) > 1
+        certain |= crossing
+        for a, b in _runs(sign == 0, s_lo, s_hi):
+            before = sign[a - 1] if a > 0 else 0
+            after = sign[b + 1] if b + 1 < len(sign) else 0
+            sure = bool(before and after and before != after)
+            r.violations.append({**c.instances[dcol].to_json(), **_where(L, a, b), "certain": sure})
+    unknown = (state == UNKNOWN).any(axis=1)
+    if certain:
+        r.status = "infeasible"
+    elif not unknown.any() and not r.violations:
+        r.status = "feasible"
+    else:
+        r.status = "undecided"
+    for a, b in _runs(unknown, s_lo, s_hi):
+        r.undecided.append(_where(L, a, b))
+
+
+def _where(L, a, b) -> dict:
+    """The t-range of leaves a..b: local t when in one segment, and the global s."""
+    s0 = float(L["segment"][a] + L["tlo"][a])
+    s1 = float(L["segment"][b] + L["thi"][b])
+    out = {"s": [s0, s1]}
+    if L["segment"][a] == L["segment"][b]:
+        out["segment"] = int(L["segment"][a])
+        out["t"] = [float(L["tlo"][a]), float(L["thi"][b])]
+    return out
+
+
+def _mean_indices(problem, cons, segs) -> list:
+    """Certified enclosures of the mean margin over the path (∫ margin ds / segments),
+    from INDEX_STEPS sub-intervals per segment: each contributes width × [min, max]."""
+    edges = np.linspace(0.0, 1.0, INDEX_STEPS + 1)
+    seg = np.repeat(segs, INDEX_STEPS)
+    tlo = np.tile(edges[:-1], len(segs))
+    thi = np.tile(edges[1:], len(segs))
+    _, mlo, mhi = problem.evaluate(tlo, thi, seg)
+    n = Interval(INDEX_STEPS * len(segs))
+    out = []
+    for k, inst in enumerate(cons.instances):
+        if k == cons.det_column:
+            continue
+        mean = _interval_sum(mlo[:, k], mhi[:, k]) / n
+        lo, hi = float(mean.lo), float(mean.hi)
+        out.append({**inst.to_json(), "mean_margin": [float(lo), float(hi)]})
+    return out
+
+
+def _interval_sum(lo, hi) -> Interval:
+    """Enclosure of the sum of intervals [lo_i, hi_i] (pairwise, each addition rounded outward)."""
+    acc = Interval._raw(np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64))
+    while acc.shape[0] > 1:
+        if acc.shape[0] % 2:
+            acc = Interval._raw(np.append(acc.lo, 0.0), np.append(acc.hi, 0.0))
+        acc = acc[0::2] + acc[1::2]
+    return acc[0]

@@ -1,0 +1,294 @@
+"""Trajectory verification and planning against independent derivations.
+
+Reference values are computed here with mpmath (exact decimals, 40 digits) or
+from exact algebra, never copied from certkin's output: seed 000 Fig. 1.8
+(MEL robot), seed 001's planar 3-RPR path that crosses the singularity locus
+twice ((pi - 3)/3 exactly, and a second instant bracketed by sign changes),
+synthetic joint limits with a rational crossing instant, and a sampling
+property test.  Every certificate is re-checked by ``proofs``.
+"""
+import copy
+import json
+import subprocess
+import sys
+from fractions import Fraction
+from pathlib import Path
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+import proofs
+from certkin import load_robot, plan, robot_from_dict, verify_trajectory, verify_trajectories
+from certkin.trajectory import parse_path
+
+ROOT = Path(__file__).resolve().parents[1]
+MEL = ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml"
+START, GOAL = "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0"
+mp.mp.dps = 40
+
+
+def checked(result):
+    report = proofs.check(result.certificate())
+    assert report.ok, report.step
+    return report
+
+
+@pytest.fixture(scope="module")
+def mel():
+    return load_robot(MEL)
+
+
+# ----- independent model (mpmath) -------------------------------------------------------------
+def _rot(psi, theta, phi):
+    def rz(a):
+        return mp.matrix([[mp.cos(a), -mp.sin(a), 0], [mp.sin(a), mp.cos(a), 0], [0, 0, 1]])
+
+    def rx(a):
+        return mp.matrix([[1, 0, 0], [0, mp.cos(a), -mp.sin(a)], [0, mp.sin(a), mp.cos(a)]])
+    return rz(psi) * rx(theta) * rz(phi)
+
+
+def _pose(text):
+    out = []
+    for v in text.split(","):
+        out.append(mp.mpf(Fraction(v[:-3]).numerator) / Fraction(v[:-3]).denominator * mp.pi / 180
+                   if v.endswith("deg") else mp.mpf(Fraction(v).numerator) / Fraction(v).denominator)
+    return out
+
+
+def _legs_mp(robot, pose):
+    A = [mp.matrix([mp.mpf(Fraction(c).numerator) / Fraction(c).denominator for c in p]) for p in robot.base]
+    b = [mp.matrix([mp.mpf(Fraction(c).numerator) / Fraction(c).denominator for c in p]) for p in robot.platform]
+    R = _rot(*pose[3:])
+    C = mp.matrix(pose[:3])
+    return A, [C + R * bi for bi in b]
+
+
+def _seg_dist(p1, q1, p2, q2):
+    """Exact distance between segments [p1, q1] and [p2, q2] (minimum over the square, by cases)."""
+    u, v, w0 = q1 - p1, q2 - p2, p1 - p2
+    a, b, c, d, e = (mp.fdot(u, u), mp.fdot(u, v), mp.fdot(v, v), mp.fdot(u, w0), mp.fdot(v, w0))
+    cands = []
+    den = a * c - b * b
+    if den > 0:
+        s, t = (b * e - c * d) / den, (a * e - b * d) / den
+        if 0 <= s <= 1 and 0 <= t <= 1:
+            cands.append(mp.norm(w0 + s * u - t * v))
+
+    def pseg(P, X, Y):
+        e_ = Y - X
+        tau = min(max(mp.fdot(P - X, e_) / mp.fdot(e_, e_), 0), 1)
+        return mp.norm(P - X - tau * e_)
+    cands += [pseg(p1, p2, q2), pseg(q1, p2, q2), pseg(p2, p1, q1), pseg(q2, p1, q1)]
+    return min(cands)
+
+
+def _dist_at(robot, s0, s1, i, j, t):
+    P0, P1 = _pose(s0), _pose(s1)
+    pose = [a + t * (b - a) for a, b in zip(P0, P1)]
+    A, B = _legs_mp(robot, pose)
+    return _seg_dist(A[i], B[i], A[j], B[j])
+
+
+def _first_crossing(robot, i, j, lo, hi, r=4):
+    """Bisection at 40 digits for d_ij(t) = r between lo (d > r) and hi (d < r)."""
+    lo, hi = mp.mpf(lo), mp.mpf(hi)
+    assert _dist_at(robot, START, GOAL, i, j, lo) > r > _dist_at(robot, START, GOAL, i, j, hi)
+    for _ in range(120):
+        m = (lo + hi) / 2
+        lo, hi = (m, hi) if _dist_at(robot, START, GOAL, i, j, m) > r else (lo, m)
+    return lo
+
+
+# ----- seed 000 Fig. 1.8 -------------------------------------------------------------------------
+def test_mel_fig_1_8_interference_instants_are_enclosed(mel):
+    result = verify_trajectory(mel, START, GOAL)
+    assert result.status == "infeasible"
+    certain = {tuple(v["legs"]): v for v in result.violations if v["certain"]}
+    assert set(certain) == {(1, 2), (2, 5)}
+    for (i, j), guess in (((0, 1), (0.5, 0.6)), ((1, 4), (0.7, 0.72))):
+        t_star = _first_crossing(mel, i, j, *guess)          # digest: 0.548853053564660741..., 0.707437620702...
+        v = certain[(i + 1, j + 1)]
+        assert v["t"][0] <= t_star and v["t"][1] == 1.0
+        assert t_star - v["t"][0] < 1e-6                   # tight
+        assert _dist_at(mel, START, GOAL, i, j, v["t"][0] - mp.mpf("1e-6")) > 4
+    checked(result)
+
+
+def test_mel_fig_1_8_leg_margins_contain_the_exact_minima(mel):
+    result = verify_trajectory(mel, START, GOAL, constraints=["leg-length"])
+    margins = {m["legs"][0]: m["margin"] for m in result.to_json()["margins"]}
+    P0, P1 = _pose(START), _pose(GOAL)
+    A0, B0 = _legs_mp(mel, P0)
+    w = mp.matrix(P1[:3]) - mp.matrix(P0[:3])
+    for i, (rmin, rmax) in enumerate(mel.limits["leg_length"]):
+        V = B0[i] - A0[i]
+        a, b = mp.fdot(w, w), 2 * mp.fdot(V, w)
+        ts = [mp.mpf(0), mp.mpf(1)] + ([-b / (2 * a)] if 0 < -b / (2 * a) < 1 else [])
+        rho = [mp.norm(V + t * w) for t in ts]
+        exact = min(min(r - mp.mpf(rmin) for r in rho), min(mp.mpf(rmax) - r for r in rho))
+        lo, hi = margins[i + 1]
+        assert lo <= exact <= hi and hi - lo < 1e-3 * abs(exact)
+    assert abs(float(margins[6][0]) - 7.451160709) < 1e-3     # digest: leg 6, at t = 0.661682
+    assert result.status == "feasible"
+    checked(result)
+
+
+def test_mel_half_path_is_feasible_with_the_exact_pair_margin(mel):
+    goal = "7.5,21,500,85deg,10deg,0"                           # C(0.5) of the Fig. 1.8 path
+    result = verify_trajectory(mel, START, goal)
+    assert result.status == "feasible" and result.det_sign == -1
+    margins = {tuple(m["legs"]): m["margin"] for m in result.to_json()["margins"]}
+    ts = [mp.mpf(k) / 200 for k in range(201)]
+    for (i, j) in ((0, 1), (1, 4), (0, 3)):
+        d = min(_dist_at(mel, START, goal, i, j, t) for t in ts) - 4   # sampled: an upper bound of the min
+        lo, hi = margins[(i + 1, j + 1)]
+        assert lo <= d and hi - lo < 1e-3
+        assert d - hi < 1e-2
+    checked(result)
+
+
+def test_sampled_violations_always_lie_in_reported_intervals(mel):
+    """Random constant-orientation paths: every dense-sampling violation is inside an interval
+    reported for its instance, and a sampled violation never coexists with 'feasible'."""
+    rng = np.random.default_rng(7)
+    paths, texts = [], []
+    for _ in range(6):
+        a = rng.uniform(-90, 90, 2)
+        b = rng.uniform(-90, 90, 2)
+        z = rng.uniform(480, 560)
+        s = f"{a[0]:.3f},{a[1]:.3f},{z:.3f},85deg,10deg,0"
+        g = f"{b[0]:.3f},{b[1]:.3f},{z:.3f},85deg,10deg,0"
+        texts.append((s, g))
+        paths.append(parse_path(mel, s, g))
+    results = verify_trajectories(mel, paths, ["leg-length", "interference"])
+    ts = np.linspace(0, 1, 401)
+    lim = [(float(a), float(b)) for a, b in mel.limits["leg_length"]]
+    for (s, g), r in zip(texts, results):
+        P0 = np.array([float(v) for v in s.replace("deg", "").split(",")])
+        P1 = np.array([float(v) for v in g.replace("deg", "").split(",")])
+        P0[3:], P1[3:] = np.deg2rad(P0[3:]), np.deg2rad(P1[3:])
+        poses = P0 + ts[:, None] * (P1 - P0)
+        rho = mel.leg_lengths_float(poses)
+        sampled = []
+        for k, (lo, hi) in enumerate(lim):
+            bad = (rho[:, k] < lo - 1e-6) | (rho[:, k] > hi + 1e-6)
+            sampled += [(("leg-length", (k + 1,)), t) for t in ts[bad]]
+        for t in ts[::8]:
+            A, B = _legs_mp(mel, [mp.mpf(float(v)) for v in P0 + t * (P1 - P0)])
+            for i in range(6):
+                for j in range(i + 1, 6):
+                    if _seg_dist(A[i], B[i], A[j], B[j]) < 4 - 1e-6:
+                        sampled.append((("interference", (i + 1, j + 1)), t))
+        if sampled:
+            assert r.status != "feasible"
+        for (name, legs), t in sampled:
+            assert any(v["constraint"] == name and tuple(v["legs"]) == legs and v["t"][0] <= t <= v["t"][1]
+                       for v in r.violations), (name, legs, t)
+        checked(r)
+
+
+# ----- seed 001: planar 3-RPR, det(A) vanishes twice between equal end signs ----------------------
+SEED001 = {"kind": "planar-3rpr", "base": [["0", "0"], ["75", "0"], ["37.5", "64.952"]],
+           "platform": [["0", "0"], ["15", "0"], ["7.5", "12.990381"]],   # assumed geometry (digest 001)
+           "limits": {"leg_length": [["10", "200"]] * 3}}
+
+
+def test_seed001_singularity_crossings_are_found():
+    robot = robot_from_dict(SEED001)
+    result = verify_trajectory(robot, "20,0,3.0", "60,-50,6.0")
+    assert result.status == "infeasible"
+    sing = [v for v in result.violations if v["constraint"] == "singularity"]
+    assert all(v["certain"] for v in sing) and len(sing) == 2
+    # digest 001: with the ideal equilateral design det(A) = 0 where the platform angle is pi, at
+    # s = (pi - 3)/3; the file's 4-7 digit decimals move it slightly.  Each reported interval must
+    # hold a sign change of det(A), evaluated here at 40 digits from the exact decimals.
+    def det_mp(t):
+        t = mp.mpf(t)
+        x, y, phi = 20 + 40 * t, -50 * t, 3 + 3 * t
+        c, s_ = mp.cos(phi), mp.sin(phi)
+        rows = []
+        for (bx, by), (px, py) in zip(SEED001["base"], SEED001["platform"]):
+            bx, by, px, py = (mp.mpf(v) for v in (bx, by, px, py))
+            qx, qy = c * px - s_ * py, s_ * px + c * py
+            rows.append([(y - by) * qx - (x - bx) * qy, x + qx - bx, y + qy - by])
+        return mp.det(mp.matrix(rows))
+    for v, near in zip(sing, (float((mp.pi - 3) / 3), 0.367473112867)):
+        assert det_mp(v["t"][0] - 1e-12) * det_mp(v["t"][1] + 1e-12) < 0
+        assert v["t"][1] - v["t"][0] < 1e-8 and abs(v["t"][0] - near) < 1e-6
+    checked(result)
+
+
+# ----- joint limits: a rational crossing instant ---------------------------------------------------
+def test_base_joint_facet_violation_has_the_exact_instant(mel):
+    data = {"kind": "gough-stewart", "base": [list(p) for p in mel.base], "platform": [list(p) for p in mel.platform],
+            "limits": {"base_joints": [{"normals": [["1", "0", "0"], ["0", "0", "1"]]}] +
+                       [{"normals": [["0", "0", "1"]]}] * 5}}
+    robot = robot_from_dict(data)
+    # leg 1: (B1 - A1)_x = x + 95.263 - 112.5 at R = I, so n = (1,0,0) fails while x < 17.237
+    result = verify_trajectory(robot, "0,0,500,0,0,0", "40,0,500,0,0,0", constraints=["joints"])
+    t_star = Fraction("17.237") / 40
+    assert result.status == "infeasible"
+    (v,) = [v for v in result.violations if v.get("detail") == "base facet 1"]
+    assert v["t"][0] == 0.0 and v["t"][1] >= t_star and v["t"][1] - t_star < 1e-6 and v["certain"]
+    checked(result)
+    ok = verify_trajectory(robot, "20,0,500,0,0,0", "40,0,500,0,0,0", constraints=["joints"])
+    assert ok.status == "feasible"
+    checked(ok)
+
+
+def test_polyline_reports_global_parameter(mel):
+    result = verify_trajectory(mel, START, GOAL, waypoints=["7.5,21,500,85deg,10deg,0"],
+                               constraints=["interference"])
+    assert result.status == "infeasible"
+    v = [v for v in result.violations if tuple(v["legs"]) == (1, 2) and v["certain"]][0]
+    assert v["segment"] == 1 and 1.0 < v["s"][0] < 2.0 and v["s"][0] == 1.0 + v["t"][0]
+    checked(result)
+
+
+# ----- planning --------------------------------------------------------------------------------------
+def test_planner_finds_a_certified_detour(mel):
+    """The straight line dips under rho_min of leg 3 (rho^2 is convex in t, so only an interior
+    minimum fails); the planner goes around, and every emitted segment is feasible."""
+    s, g = "-90,140,520,0,0,0", "55,140,520,0,0,0"
+    assert verify_trajectory(mel, s, g, indices=False).status == "infeasible"
+    result = plan(mel, s, g)
+    assert result.status == "found" and len(result.waypoints) >= 3
+    assert result.waypoints[0] == s.split(",") and result.waypoints[-1] == g.split(",")
+    assert all(seg.status == "feasible" for seg in result.segments)
+    report = proofs.check(result.certificate())
+    assert report.ok, report.step
+
+
+def test_planner_rejects_a_colliding_goal(mel):
+    result = plan(mel, START, GOAL)
+    assert result.status == "infeasible-endpoint" and result.endpoint["pose"] == "goal"
+    assert {tuple(v["legs"]) for v in result.endpoint["violations"]} >= {(1, 2), (2, 5)}
+
+
+# ----- certificates and CLI ----------------------------------------------------------------------
+def test_tampered_trajectory_certificate_is_rejected(mel):
+    cert = verify_trajectory(mel, START, GOAL).certificate()
+    bad = copy.deepcopy(cert)
+    bad["claims"][0]["status"] = "feasible"
+    assert not proofs.check(bad).ok
+    bad = copy.deepcopy(cert)
+    states = bad["claims"][0]["leaves"]["state"]
+    k = next(i for i, s in enumerate(states) if "-" in s)
+    states[k] = states[k].replace("-", "+")
+    assert not proofs.check(bad).ok
+
+
+def test_cli_trajectory_json_certificate_and_errors(tmp_path):
+    cert = tmp_path / "t.json"
+    out = subprocess.run([sys.executable, "-m", "certkin", "trajectory", str(MEL), "--from", START, "--to",
+                          "7.5,21,500,85deg,10deg,0", "--json", "--certificate", str(cert)],
+                         capture_output=True, text=True, cwd=ROOT)
+    assert out.returncode == 0, out.stderr
+    doc = json.loads(out.stdout)
+    assert doc["status"] == "feasible" and "violations" in doc and "margins" in doc
+    assert subprocess.run([sys.executable, "-m", "certkin", "check", str(cert)], cwd=ROOT).returncode == 0
+    bad = subprocess.run([sys.executable, "-m", "certkin", "trajectory", str(MEL), "--from", "1,2,3", "--to", GOAL],
+                         capture_output=True, text=True, cwd=ROOT)
+    assert bad.returncode == 2 and "--from" in bad.stderr and "Traceback" not in bad.stderr
