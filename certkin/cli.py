@@ -285,6 +285,11 @@ def build_parser():
     pl.add_argument("--certificate", metavar="FILE", help="write the certificate of every segment to FILE")
     pl.set_defaults(func=cmd_plan)
 
+    from . import workspace
+    w = sub.add_parser("workspace", help="constant-orientation workspace: section (exact arcs, area) or volume bracket")
+    workspace.add_arguments(w)
+    w.set_defaults(func=lambda args: workspace.run(args))
+
     c = sub.add_parser("check", help="re-verify a certificate with the independent checker")
     c.add_argument("certificate")
     c.set_defaults(func=cmd_check)
