@@ -5,13 +5,13 @@ import json
 
 from mpmath import iv
 
-from . import fk, singularity
+from . import fk, singularity, trajectory
 from .models import MODELS, Robot
 from .report import Rejected, Report
 
 FORMAT = "certkin-certificate"
 VERSION = 1
-PROBLEMS = ("singularity", "forward-kinematics")
+PROBLEMS = ("singularity", "forward-kinematics", "trajectory")
 
 
 def check(cert, prec: int = 80) -> Report:
@@ -70,6 +70,9 @@ def _check(cert, counts):
         raise Rejected(f"robot.kind: {robot.get('kind')!r} does not fit model {model.name}")
     if cert.get("pose") != list(model.pose):
         raise Rejected(f"pose: expected {list(model.pose)} for model {model.name}")
+    if problem == "trajectory":
+        trajectory.check_claims(model, robot, claims, counts)
+        return
     singularity.check_claims(Robot(model, robot), claims, counts)
 
 

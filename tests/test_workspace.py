@@ -1,0 +1,448 @@
+"""Constant-orientation workspace (seed 004): sections, exact arcs, volumes, certificates, input errors.
+
+Reference values: spec §6.4 (micro-manipulator, ψ = θ = φ = 0), derived
+independently at 30-50 digits (exact arcs and slice integrals agree to
+1e-25); a printed value is taken as ± half a unit of its last digit.
+Closed-form cases (a disk, an annulus, a lens) are recomputed here with
+sympy/mpmath from the exact decimals of the robot.
+"""
+import argparse
+import copy
+from fractions import Fraction
+import json
+import random
+import time
+
+import mpmath
+import numpy as np
+import pytest
+import sympy as sp
+
+import certkin
+import proofs.workspace as checker
+from certkin import InputError, robot_from_dict
+from certkin.engine import EXCLUDED, PROVED
+from certkin.workspace import add_arguments, describe, run, workspace_section, workspace_volume
+
+MICRO = "examples/robots/seed004-micro-manipulator.toml"
+
+# z: (area, perimeter, arcs as a string of o/i in circle order of the exact boundary)
+TABLE = {
+    "20000.5": ("2.53940735719921", "5.94308368401", "iiiiii"),
+    "20001": ("10.4554175066593", "12.0493589637", "iiiiii"),
+    "20002": ("42.4135913952367", "24.2642699825", "iiiiii"),
+    "20003": ("95.8852663558835", "36.4823300008", "iiiiii"),
+    "20004": ("170.884809474850", "48.7035410851", "iiiiii"),
+    "20005": ("190.795788303254", "51.4552660537", "oooooo"),
+    "20006": ("111.016710114575", "39.2510914812", "oooooo"),
+    "20007": ("52.6963390944047", "27.0437762940", "oooooo"),
+    "20008": ("15.8489906791992", "14.8333184356", "oooooo"),
+    "20009": ("0.488993444834434", "2.61971584723", "oooooo"),
+}
+VOLUME = "697.318163011934"
+
+
+@pytest.fixture(scope="module")
+def micro():
+    return certkin.load_robot(MICRO)
+
+
+def printed(text):
+    """The interval of reals that print as ``text`` (± half a unit of the last digit)."""
+    q = Fraction(text)
+    decimals = len(text.split(".")[1]) if "." in text else 0
+    half = Fraction(1, 2 * 10 ** decimals)
+    return q - half, q + half
+
+
+def meets(iv_lo, iv_hi, text):
+    lo, hi = printed(text)
+    return Fraction(float(iv_lo)) <= hi and lo <= Fraction(float(iv_hi))
+
+
+def checked(result):
+    cert = json.loads(json.dumps(result.certificate()))
+    report = checker.check(cert)
+    assert report.ok, report.step
+    return cert
+
+
+# ----- the seed 004 table ------------------------------------------------------
+@pytest.mark.parametrize("z", sorted(TABLE))
+def test_micro_section_matches_the_reference_table(micro, z):
+    area, perimeter, arcs = TABLE[z]
+    r = workspace_section(micro, "0,0,0", z, min_width=4e-3)
+    assert r.status == "non-empty"
+    a, p = r.area, r.perimeter
+    assert meets(a.lo, a.hi, area), (z, a, area)
+    assert meets(p.lo, p.hi, perimeter), (z, p, perimeter)
+    assert float(a.hi - a.lo) < 1e-7 and float(p.hi - p.lo) < 1e-7
+    lo, hi = printed(area)
+    assert Fraction(r.inner) <= hi and lo <= Fraction(r.outer)
+    assert 0 < r.outer - r.inner < 0.05 * float(area) + 0.1
+    assert "".join(c["circle"][0] for c in r.boundary.arcs) == arcs and r.boundary.loops == 1
+    doc = r.to_json()
+    assert doc["area"]["exact"] == [float(a.lo), float(a.hi)] and doc["perimeter"] == [float(p.lo), float(p.hi)]
+
+
+def test_section_20005_is_fast_bracketed_and_checks(micro):
+    workspace_section(micro, "0,0,0", "20005")                     # warm-up (numpy, caches)
+    t0 = time.perf_counter()
+    r = workspace_section(micro, "0,0,0", "20005")
+    elapsed = time.perf_counter() - t0
+    assert elapsed < 1.0, elapsed
+    assert r.inner <= 190.795788303254 <= r.outer and r.outer - r.inner < 1.0
+    # bounding box of the exact arcs (spec §6.4): X in [-8.73699, 8.35859], Y in [-7.60889, 7.60889]
+    (xlo, ylo), (xhi, yhi) = r.domain
+    assert -8.73700 < xlo < -8.73699 and 8.35858 < xhi < 8.35860 and -7.60890 < ylo < -7.60888 < 7.60888 < yhi < 7.60890
+    doc = r.to_json()
+    json.dumps(doc)
+    assert doc["problem"] == "workspace-section" and doc["orientation"] == {"psi": "0", "theta": "0", "phi": "0"}
+    assert doc["z"] == "20005" and set(doc["paving"]) == {"inner_boxes", "boundary_boxes", "outside_boxes"}
+    assert [a["leg"] for a in doc["arcs"]] and all(a["circle"] == "outer" for a in doc["arcs"])
+    assert doc["ignored_limits"] == [] and doc["stats"]["bracket_width"] == r.outer - r.inner
+    coarse = workspace_section(micro, "0,0,0", "20005", min_width=1e-2)
+    cert = checked(coarse)
+    assert cert["claims"][0]["area"] == {"inner": coarse.inner, "outer": coarse.outer}
+
+
+def test_twelve_and_four_arc_structures(micro):
+    r = workspace_section(micro, "0,0,0", "20004.6", min_width=1e-2)
+    assert "".join(a["circle"][0] for a in r.boundary.arcs).count("o") == 6 and len(r.boundary.arcs) == 12
+    assert 222.70207 < float(r.area.lo) <= float(r.area.hi) < 222.70208   # micro_table.out: 222.7020727
+    r = workspace_section(micro, "0,0,0", "20009.2", min_width=1e-2)   # spec: 4 outer arcs above 20009.1691
+    assert [a["circle"] for a in r.boundary.arcs] == ["outer"] * 4
+
+
+def test_mirror_symmetry_of_the_exact_arcs(micro):
+    """The design is symmetric under y -> -y (legs 1<->6, 2<->5, 3<->4)."""
+    r = workspace_section(micro, "0,0,0", "20003", min_width=1e-2)
+    ends = sorted((round(a["from"][0], 9), round(a["from"][1], 9)) for a in r.boundary.arcs)
+    mirrored = sorted((x, round(-y, 9) + 0.0) for x, y in ends)
+    assert np.allclose(ends, mirrored, atol=1e-8)
+
+
+@pytest.mark.parametrize("z, min_width", [("20000", 1e-3), ("19999.9", 1e-3), ("20000.03", 1e-4),
+                                          ("20009.21", 1e-3), ("20009.25", 1e-3)])
+def test_sections_outside_the_z_range_are_proved_empty(micro, z, min_width):
+    """Non-empty z range: [20000.034629502, 20009.203160232] (spec §6.4)."""
+    r = workspace_section(micro, "0,0,0", z, min_width=min_width)
+    assert r.status == "empty" and r.outer == 0.0 and r.inner == 0.0
+    assert float(r.area.lo) == float(r.area.hi) == 0.0 and r.boundary.arcs == []
+    cert = checked(r)
+    claim = cert["claims"][0]
+    assert claim["area"] == {"inner": 0.0, "outer": 0.0}
+
+
+def test_just_inside_the_z_range_is_non_empty(micro):
+    r = workspace_section(micro, "0,0,0", "20000.04", min_width=1e-3)
+    assert r.status == "non-empty" and float(r.area.lo) > 0
+
+
+# ----- soundness of the paving against exact rational membership ----------------
+def test_paving_leaves_agree_with_exact_membership(micro):
+    r = workspace_section(micro, "0,0,0", "20004.6", min_width=3e-3)
+    base = [[Fraction(c) for c in p] for p in micro.base]
+    plat = [[Fraction(c) for c in p] for p in micro.platform]
+    lims = [(Fraction(a) ** 2, Fraction(b) ** 2) for a, b in micro.limits["leg_length"]]
+    z = Fraction("20004.6")
+
+    def member(x, y):
+        for (ax, ay, az), (bx, by, bz), (lo, hi) in zip(base, plat, lims):
+            d2 = (x + bx - ax) ** 2 + (y + by - ay) ** 2 + (z + bz - az) ** 2
+            if not lo <= d2 <= hi:
+                return False
+        return True
+
+    rng = random.Random(4)
+    for kind, want in ((PROVED, True), (EXCLUDED, False)):
+        lo, hi = r.paving.boxes(kind)
+        for k in rng.sample(range(len(lo)), 150):
+            for _ in range(2):
+                x = Fraction(rng.uniform(lo[k, 0], hi[k, 0]))
+                y = Fraction(rng.uniform(lo[k, 1], hi[k, 1]))
+                assert member(x, y) is want
+
+
+# ----- closed-form cases ----------------------------------------------------------
+def gough_with_limits(limits):
+    micro = certkin.load_robot(MICRO)
+    data = {"kind": "gough-stewart", "name": "micro, one active leg",
+            "base": [list(p) for p in micro.base], "platform": [list(p) for p in micro.platform],
+            "limits": {"leg_length": limits}}
+    return robot_from_dict(data)
+
+
+def rotated_b1z(psi, theta, phi, b):
+    """z of Rz(psi) Rx(theta) Rz(phi) b, at 50 digits."""
+    R = sp.rot_axis3(-psi) * sp.rot_axis1(-theta) * sp.rot_axis3(-phi)   # sympy's rot_axis are transposed
+    return (R * sp.Matrix(b))[2]
+
+
+@pytest.mark.parametrize("orientation", ["0,0,0", "10deg,20deg,30deg"])
+def test_one_active_leg_gives_a_disk_and_an_annulus(orientation):
+    """Leg 1 limited, the others far out of reach: a disk (rho_min = 0) or an annulus, area pi R^2."""
+    micro = certkin.load_robot(MICRO)
+    angles = [sp.Rational(int(a[:-3]), 180) * sp.pi if a.endswith("deg") else sp.Integer(a)
+              for a in orientation.split(",")]
+    b1 = [sp.Rational(c) for c in micro.platform[0]]
+    z = sp.Rational("20005")
+    h = z - (sp.Rational(micro.base[0][2]) - rotated_b1z(*angles, b1))     # z - u_1z
+    tenths = int(sp.ceiling(10 * abs(h))) + 1                              # rho_min > |h|: the plane cuts both spheres
+    rmin, rmax = sp.Rational(tenths, 10), sp.Rational(tenths + 5, 10)
+    big = ["0", "1000000"]
+    disk = gough_with_limits([["0", f"{tenths + 5}e-1"]] + [big] * 5)
+    ring = gough_with_limits([[f"{tenths}e-1", f"{tenths + 5}e-1"]] + [big] * 5)
+    expected_disk = sp.N(sp.pi * (rmax ** 2 - h ** 2), 40)
+    expected_ring = sp.N(sp.pi * (rmax ** 2 - rmin ** 2), 40)
+    expected_perimeter = sp.N(2 * sp.pi * (sp.sqrt(rmax ** 2 - h ** 2) + sp.sqrt(rmin ** 2 - h ** 2)), 40)
+    for robot, area in ((disk, expected_disk), (ring, expected_ring)):
+        r = workspace_section(robot, orientation, "20005", min_width=3e-2)
+        a = r.area
+        assert area > 0 and r.status == "non-empty"
+        assert Fraction(float(a.lo)) <= Fraction(str(area)) <= Fraction(float(a.hi)), (a, area)
+        assert float(a.hi - a.lo) < 1e-9 * float(area)
+        assert r.inner <= float(area) <= r.outer
+        checked(r)
+    p = r.perimeter
+    assert Fraction(float(p.lo)) <= Fraction(str(expected_perimeter)) <= Fraction(float(p.hi))
+    assert sorted(a["circle"] for a in r.boundary.arcs) == ["inner", "outer"] and r.boundary.loops == 2
+
+
+EX2 = {"name": "seed003 example 2 with limits", "kind": "planar-3rpr",
+       "base": [["3.78", "4.34"], ["34.47", "-3.78"], ["16.233", "34.76"]],
+       "platform": [["-4.83", "-3.19"], ["12.04", "-3.19"], ["8.23", "12.09"]],
+       "limits": {"leg_length": [["0", "9"], ["0", "10"], ["0", "100"]]}}
+
+
+@pytest.mark.parametrize("phi", ["0", "-0.3"])
+def test_planar_lens_of_two_disks(phi):
+    """Legs 1 and 2 active: the lens of two disks, area and perimeter in closed form."""
+    robot = robot_from_dict(EX2)
+    mpmath.mp.dps = 50
+    f = mpmath.mpf(phi)
+    c, s = mpmath.cos(f), mpmath.sin(f)
+    u = []
+    for (ax, ay), (bx, by) in zip(EX2["base"][:2], EX2["platform"][:2]):
+        ax, ay, bx, by = (mpmath.mpf(v) for v in (ax, ay, bx, by))
+        u.append((ax - (c * bx - s * by), ay - (s * bx + c * by)))
+    d = mpmath.sqrt((u[0][0] - u[1][0]) ** 2 + (u[0][1] - u[1][1]) ** 2)
+    r1, r2 = mpmath.mpf(9), mpmath.mpf(10)
+    a1 = 2 * mpmath.acos((d ** 2 + r1 ** 2 - r2 ** 2) / (2 * d * r1))   # angle seen from centre 1
+    a2 = 2 * mpmath.acos((d ** 2 + r2 ** 2 - r1 ** 2) / (2 * d * r2))
+    area = (r1 ** 2 * (a1 - mpmath.sin(a1)) + r2 ** 2 * (a2 - mpmath.sin(a2))) / 2
+    perimeter = r1 * a1 + r2 * a2
+    r = workspace_section(robot, phi, min_width=1e-2)
+    assert r.status == "non-empty" and len(r.boundary.arcs) == 2
+    for got, want in ((r.area, area), (r.perimeter, perimeter)):
+        assert mpmath.mpf(float(got.lo)) <= want <= mpmath.mpf(float(got.hi)), (got, want)
+        assert float(got.hi - got.lo) < 1e-10
+    assert r.inner <= float(area) <= r.outer
+    checked(r)
+
+
+def test_planar_disjoint_disks_are_empty():
+    r = workspace_section(robot_from_dict(EX2), "30deg", min_width=1e-2)
+    assert r.status == "empty" and r.domain is None and float(r.area.hi) == 0.0
+    assert checked(r)["claims"][0]["domain"] == "empty"
+
+
+# ----- volume ----------------------------------------------------------------------
+def test_volume_bracket_contains_the_reference(micro):
+    v = workspace_volume(micro, "0,0,0", "20000:20010", 200)
+    vin, vout = v.volume()
+    assert v.status == "non-empty"
+    assert vin <= float(VOLUME) <= vout and vout - vin < 0.12 * float(VOLUME)
+    doc = v.to_json()
+    json.dumps(doc)
+    assert doc["volume"] == {"inner": vin, "outer": vout} and doc["slab_bounds"][0] == 20000.0
+    assert doc["sections"][0]["inner"] == 0.0 < doc["sections"][0]["outer"]   # [20000, 20000.05] holds zlo
+    assert doc["sections"][-1]["outer"] == 0.0                                 # [20009.95, 20010]: above zhi
+
+
+def test_volume_of_a_spherical_cap():
+    """Leg 1 in [0, 100], the others out of reach, R = I, u_1z = 0: W is a ball of radius 100 around u_1;
+    between z = 90 and 101 its volume is the cap pi (R^2 z - z^3/3) from 90 to 100 (sympy)."""
+    data = {"kind": "gough-stewart", "base": [list(p) for p in certkin.load_robot(MICRO).base],
+            "platform": [list(p) for p in certkin.load_robot(MICRO).platform],
+            "limits": {"leg_length": [["0", "100"]] + [["0", "1000000"]] * 5}}
+    robot = robot_from_dict(data)
+    z = sp.Symbol("z")
+    cap = sp.integrate(sp.pi * (100 ** 2 - z ** 2), (z, 90, 100))
+    assert cap == sp.Rational(29000, 3) * sp.pi
+    v = workspace_volume(robot, "0,0,0", "90:101", 110, min_width=1e-2)
+    vin, vout = v.volume()
+    assert vin <= float(cap) <= vout and vout - vin < 0.2 * float(cap)
+    assert v.to_json()["sections"][-1]["outer"] == 0.0          # [100.9, 101]: above the ball
+    coarse = workspace_volume(robot, "0,0,0", "90:101", 22, min_width=1e-2)
+    assert coarse.volume()[0] <= float(cap) <= coarse.volume()[1]
+    checked(coarse)
+
+
+def test_volume_certificate_checks_and_rejects_a_raised_bound(micro):
+    v = workspace_volume(micro, "0,0,0", "20000:20010", 12, min_width=1 / 32)
+    vin, vout = v.volume()
+    assert vin <= float(VOLUME) <= vout
+    cert = checked(v)
+    bad = copy.deepcopy(cert)
+    bad["volume"]["inner"] = vin * 1.001
+    assert "volume.inner" in checker.check(bad).step
+    bad = copy.deepcopy(cert)
+    bad["claims"][3]["slab"][0] = np.nextafter(bad["claims"][3]["slab"][0], 0)
+    assert "does not start" in checker.check(bad).step
+    bad = copy.deepcopy(cert)
+    bad["requested"]["z"] = ["19999", "20010"]
+    assert "requested.z" in checker.check(bad).step
+
+
+# ----- tampering ---------------------------------------------------------------------
+def _leaves(node, path=()):
+    if "split" in node:
+        for k, child in enumerate(node["children"]):
+            yield from _leaves(child, path + (k,))
+    else:
+        yield path, node
+
+
+def _at(tree, path):
+    for k in path:
+        tree = tree["children"][k]
+    return tree
+
+
+@pytest.fixture(scope="module")
+def section_cert(micro):
+    return checked(workspace_section(micro, "0,0,0", "20005", min_width=1e-2))
+
+
+def test_outside_box_moved_inside_is_rejected(section_cert):
+    bad = copy.deepcopy(section_cert)
+    tree = bad["claims"][0]["tree"]
+    path, leaf = next((p, l) for p, l in _leaves(tree) if l["leaf"] == "outside")
+    leaf["leaf"] = "inside"
+    leaf.pop("leg")
+    report = checker.check(bad)
+    assert not report.ok and "inside not proved" in report.step and "/".join(map(str, path)) in report.step
+
+
+def test_boundary_box_called_inside_or_outside_is_rejected(section_cert):
+    for kind in ("inside", "outside"):
+        bad = copy.deepcopy(section_cert)
+        leaf = next(l for _, l in _leaves(bad["claims"][0]["tree"]) if l["leaf"] == "boundary")
+        leaf["leaf"] = kind
+        if kind == "outside":
+            leaf["leg"] = 1
+        assert f"{kind} not proved" in checker.check(bad).step
+
+
+def test_widened_box_is_rejected(section_cert):
+    bad = copy.deepcopy(section_cert)
+    leaf = next(l for _, l in _leaves(bad["claims"][0]["tree"]) if l["leaf"] == "inside")
+    leaf["box"][0][1] += 1e-3
+    assert "box does not match the derived box" in checker.check(bad).step
+    bad = copy.deepcopy(section_cert)
+    bad["claims"][0]["domain"][0][1] += 0.5                    # a wider domain: every derived box moves
+    assert not checker.check(bad).ok
+
+
+def test_cut_domain_wrong_leg_and_raised_area_are_rejected(section_cert):
+    bad = copy.deepcopy(section_cert)
+    bad["claims"][0]["domain"][1][1] = 7.0                     # cuts the section (y reaches 7.6089)
+    assert "domain: the hi bound of y may cut the section" in checker.check(bad).step
+    bad = copy.deepcopy(section_cert)
+    leaf = next(l for _, l in _leaves(bad["claims"][0]["tree"]) if l["leaf"] == "outside")
+    leaf["leg"] = leaf["leg"] % 6 + 1 if leaf["leg"] != 0 else 1
+    step = checker.check(bad).step
+    assert "outside not proved" in step or not step     # another leg may exclude it too: then it is still true
+    bad = copy.deepcopy(section_cert)
+    bad["claims"][0]["area"]["inner"] += 1.0
+    assert "area.inner" in checker.check(bad).step
+    bad = copy.deepcopy(section_cert)
+    bad["claims"][0]["area"]["outer"] -= 1.0
+    assert "area.outer" in checker.check(bad).step
+
+
+def test_removed_leaf_and_changed_geometry_are_rejected(section_cert):
+    bad = copy.deepcopy(section_cert)
+    tree = bad["claims"][0]["tree"]
+    path, _ = next((p, l) for p, l in _leaves(tree) if len(p) > 2)
+    parent = _at(tree, path[:-1])
+    keep = parent["children"][0]
+    parent.clear()
+    parent.update(keep)                                        # one half of a split disappears
+    assert not checker.check(bad).ok
+    bad = copy.deepcopy(section_cert)
+    bad["robot"]["limits"]["leg_length"][2] = ["23004.2", "23012.0"]
+    assert not checker.check(bad).ok
+    bad = copy.deepcopy(section_cert)
+    bad["orientation"]["psi"] = "1deg"
+    assert not checker.check(bad).ok
+    bad = copy.deepcopy(section_cert)
+    bad["claims"][0]["z"] = "20004"
+    assert not checker.check(bad).ok
+
+
+# ----- input, CLI hooks, outputs -------------------------------------------------------
+def parse(argv):
+    p = argparse.ArgumentParser()
+    add_arguments(p)
+    return p.parse_args(argv)
+
+
+@pytest.mark.parametrize("argv, option, fld", [
+    ([MICRO, "--z", "abc"], "--z", "z"),
+    ([MICRO, "--z", "nan"], "--z", "z"),
+    ([MICRO, "--z", "20005", "--orientation", "0,0"], "--orientation", ""),
+    ([MICRO, "--z", "20005", "--orientation", "0,x,0"], "--orientation", "theta"),
+    ([MICRO, "--z", "20005", "--z-range", "1:2"], "--z-range", ""),
+    ([MICRO, "--z-range", "20010:20000"], "--z-range", "z"),
+    ([MICRO, "--z-range", "20000:20010", "--slabs", "ten"], "--slabs", ""),
+    ([MICRO, "--z-range", "20000:20010", "--slabs", "0"], "--slabs", ""),
+    ([MICRO], "--z", "z"),
+    ([MICRO, "--z", "20005", "--min-width", "0"], "--min-width", ""),
+])
+def test_bad_input_raises_input_error_naming_the_field(argv, option, fld):
+    with pytest.raises(InputError) as exc:
+        run(parse(argv), out=open("/dev/null", "w"))
+    assert exc.value.source == option and exc.value.field == fld
+    assert "\n" not in str(exc.value)
+
+
+def test_api_input_errors(micro):
+    with pytest.raises(InputError) as exc:
+        workspace_section(micro, "0,0,0", "20005abc")
+    assert exc.value.field == "z"
+    with pytest.raises(InputError) as exc:
+        workspace_section(robot_from_dict(EX2), "0", "1")
+    assert exc.value.field == "z"
+    no_limits = dict(EX2, limits={})
+    with pytest.raises(InputError) as exc:
+        workspace_section(robot_from_dict(no_limits), "0")
+    assert exc.value.field == "limits.leg_length"
+    with pytest.raises(InputError):
+        workspace_volume(robot_from_dict(EX2), "0", "0:1")
+
+
+def test_run_prints_json_writes_certificate_and_plot(tmp_path, micro):
+    import io
+    out = io.StringIO()
+    cert, png = tmp_path / "w.json", tmp_path / "w.png"
+    args = parse([MICRO, "--orientation", "0,0,0", "--z", "20005", "--json", "--min-width", "0.01",
+                  "--certificate", str(cert), "--plot", str(png)])
+    assert run(args, out) == 0
+    doc = json.loads(out.getvalue())
+    assert doc["status"] == "non-empty" and doc["area"]["exact"][0] <= 190.795788303254 <= doc["area"]["exact"][1]
+    assert checker.check(json.loads(cert.read_text())).ok
+    pytest.importorskip("matplotlib")
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    out = io.StringIO()
+    run(parse([MICRO, "--z-range", "20000:20010", "--slabs", "10", "--min-width", "0.05"]), out)
+    assert "volume in [" in out.getvalue()
+
+
+def test_describe_mentions_ignored_joint_limits():
+    data = copy.deepcopy(EX2)
+    data["limits"]["leg_radius"] = "0.1"
+    r = workspace_section(robot_from_dict(data), "0", min_width=5e-2)
+    assert r.to_json()["ignored_limits"] == ["leg_radius"]
+    assert "ignored: leg_radius" in describe(r)
