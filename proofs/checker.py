@@ -5,13 +5,13 @@ import json
 
 from mpmath import iv
 
-from . import fk, singularity, trajectory
+from . import fk, singularity, trajectory, workspace
 from .models import MODELS, Robot
 from .report import Rejected, Report
 
 FORMAT = "certkin-certificate"
 VERSION = 1
-PROBLEMS = ("singularity", "forward-kinematics", "trajectory")
+PROBLEMS = ("singularity", "forward-kinematics", "trajectory") + workspace.PROBLEMS
 
 
 def check(cert, prec: int = 80) -> Report:
@@ -55,6 +55,9 @@ def _check(cert, counts):
     if not isinstance(claims, list) or not claims:
         raise Rejected("claims: expected a non-empty list")
     counts["claims"] = len(claims)
+    if problem in workspace.PROBLEMS:
+        workspace.check_claims(cert, counts)
+        return
     if problem == "forward-kinematics":
         model = cert.get("model")
         if not isinstance(model, str) or model not in fk.MODELS:
