@@ -25,6 +25,8 @@ than the tolerance.  Verdicts:
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from fractions import Fraction
+import math
 import time
 
 import numpy as np
@@ -273,8 +275,12 @@ def _conclude(r: TrajectoryResult) -> None:
 
 def _where(L, a, b) -> dict:
     """The t-range of leaves a..b: local t when in one segment, and the global s."""
-    s0 = float(L["segment"][a] + L["tlo"][a])
+    s0 = float(L["segment"][a] + L["tlo"][a])      # k + t may round: widen outward by one ulp if so
     s1 = float(L["segment"][b] + L["thi"][b])
+    if Fraction(s0) > Fraction(int(L["segment"][a])) + Fraction(float(L["tlo"][a])):
+        s0 = math.nextafter(s0, -math.inf)
+    if Fraction(s1) < Fraction(int(L["segment"][b])) + Fraction(float(L["thi"][b])):
+        s1 = math.nextafter(s1, math.inf)
     out = {"s": [s0, s1]}
     if L["segment"][a] == L["segment"][b]:
         out["segment"] = int(L["segment"][a])

@@ -12,6 +12,9 @@ search tree from the claimed box, and re-proves each leaf's rule
     models.py       the model equations
     rules.py        natural / centred / monotone, with bounded bisection
     singularity.py  claims: trees, witnesses, requested boxes
+    fk.py           forward-kinematics claims: Krawczyk, Gauss-Seidel, the tree, distinct postures
+    trajectory.py   trajectory claims: tiling of [0, 1], leaf states re-proved, verdict, violations
+    workspace.py    workspace claims: the paving of a section or of z slabs
     checker.py      header checks, precision, check / check_file
     __main__.py     python -m proofs CERT.json [--prec N]
 

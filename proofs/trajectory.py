@@ -62,6 +62,7 @@ from __future__ import annotations
 
 import bisect
 from fractions import Fraction
+import math
 import itertools
 
 from mpmath import iv
@@ -75,7 +76,6 @@ from .report import Rejected
 MAX_DEPTH = 12        # bisection levels inside one leaf
 MAX_PIECES = 400      # pieces tried inside one leaf before giving up
 STATUSES = ("feasible", "infeasible", "undecided")
-KINDS = ("leg-length", "joints", "interference", "singularity")
 
 # per model: (pose indices of the position, rotation angles as pose-index
 # combinations [(index, sign), ...], rotation axes); R = R_ax0(θ0) R_ax1(θ1) R_ax2(θ2)
@@ -229,10 +229,10 @@ class Geometry:
             if "axis" in table:
                 axis = self._vector(table["axis"], f"{w}.axis")
                 q, deg = _angle_text(table["half_angle"], f"{w}.half_angle")
-                cos_a = iv.cos(_radians(q, deg))
-                if q < 0 or not _ge0(cos_a):
-                    raise Rejected(f"{w}.half_angle: expected an angle in [0, 90deg) (cos α proved >= 0)")
-                c2 = _norm2(axis) * cos_a ** 2
+                alpha = _radians(q, deg)
+                if q < 0 or not ((deg and q <= 90) or (alpha <= iv.pi / 2) is True):
+                    raise Rejected(f"{w}.half_angle: expected an angle in [0, 90deg]")
+                c2 = _norm2(axis) * iv.cos(alpha) ** 2
                 self.instances.append(Instance(self, "joints", (i + 1,), f"{side} cone",
                                                (i, side, "cone", axis, _lift3(axis), c2)))
 
@@ -411,7 +411,8 @@ class Instance:
         self.json = {"constraint": constraint, "legs": list(legs)}
         if detail:
             self.json["detail"] = detail
-        self.label = f"{constraint} legs {'-'.join(map(str, legs))}" + (f" ({detail})" if detail else "")
+        self.label = (f"{constraint} leg{'s' if len(legs) > 1 else ''} {'-'.join(map(str, legs))}"
+                      + (f" ({detail})" if detail else ""))
 
     def prove(self, span: Span, ch: str) -> int:
         sat, viol = getattr(self, "_" + self.constraint.replace("-", "_"))(span, ch)
@@ -467,6 +468,8 @@ class Instance:
         if feet_in and _lt0(E):
             return False, True
         feet_out = _lt0(s0) or _gt0(s1) or _lt0(t0) or _gt0(t1)
+        if ch == "+" and not feet_out:
+            return False, False         # the end points cannot prove '+' here: bisect (cheaper)
 
         def ends(fr):
             u, v, w = fr.legs[i], fr.legs[j], (w0_l if fr.dual else w0)
@@ -637,8 +640,11 @@ def _violations(insts, segs, ts, states, value, where):
             if isinstance(k, bool) or not isinstance(k, int) or not isinstance(t, list) or len(t) != 2:
                 raise Rejected(f"{w}: 'segment' (an integer) and 't' ([lo, hi]) go together")
             t0, t1 = real(t[0], f"{w}.t"), real(t[1], f"{w}.t")
-            if not 0.0 <= t0 <= t1 <= 1.0 or float(k + t0) != s0 or float(k + t1) != s1:
-                raise Rejected(f"{w}: t must lie in [0, 1] and s must be the float value of segment + t")
+            e0, e1 = k + Fraction(t0), k + Fraction(t1)
+            outward = (Fraction(s0) <= e0 and Fraction(s1) >= e1
+                       and s0 >= math.nextafter(float(e0), -math.inf) and s1 <= math.nextafter(float(e1), math.inf))
+            if not 0.0 <= t0 <= t1 <= 1.0 or not outward:
+                raise Rejected(f"{w}: t must lie in [0, 1] and s must enclose segment + t (rounded outward)")
             region = (k + Fraction(t0), k + Fraction(t1))   # exact; s is its rounding
         if not isinstance(item.get("certain"), bool):
             raise Rejected(f"{w}.certain: expected true or false")

@@ -243,7 +243,8 @@ def test_polyline_reports_global_parameter(mel):
                                constraints=["interference"])
     assert result.status == "infeasible"
     v = [v for v in result.violations if tuple(v["legs"]) == (1, 2) and v["certain"]][0]
-    assert v["segment"] == 1 and 1.0 < v["s"][0] < 2.0 and v["s"][0] == 1.0 + v["t"][0]
+    assert v["segment"] == 1 and 1.0 < v["s"][0] < 2.0
+    assert Fraction(v["s"][0]) <= 1 + Fraction(v["t"][0]) and 1.0 + v["t"][0] - v["s"][0] <= 4.5e-16   # outward
     checked(result)
 
 
@@ -292,3 +293,12 @@ def test_cli_trajectory_json_certificate_and_errors(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "certkin", "trajectory", str(MEL), "--from", "1,2,3", "--to", GOAL],
                          capture_output=True, text=True, cwd=ROOT)
     assert bad.returncode == 2 and "--from" in bad.stderr and "Traceback" not in bad.stderr
+
+
+@pytest.mark.parametrize("angle", ["-70deg", "350deg", "90deg"])
+def test_cone_half_angle_outside_0_90_is_rejected(mel, angle):
+    from certkin import RobotFileError
+    data = {"kind": "gough-stewart", "base": [list(p) for p in mel.base], "platform": [list(p) for p in mel.platform],
+            "limits": {"base_joints": [{"axis": ["0", "0", "1"], "half_angle": angle}] * 6}}
+    with pytest.raises(RobotFileError, match="half_angle"):
+        robot_from_dict(data)

@@ -123,7 +123,9 @@ def _parse_joints(value, cls, source, field):
             entry["axis"] = [parse_number(c, source, f + ".axis")[1] for c in axis]
             if all(Fraction(c) == 0 for c in entry["axis"]):
                 raise RobotFileError(source, f + ".axis", "the cone axis cannot be zero")
-            entry["half_angle"] = parse_number(table["half_angle"], source, f + ".half_angle", angle=True)[1]
+            half, entry["half_angle"] = parse_number(table["half_angle"], source, f + ".half_angle", angle=True)
+            if not (half.lo >= 0 and half.hi < 1.5707963267948966):
+                raise RobotFileError(source, f + ".half_angle", "a cone half-angle must lie in [0, 90deg)")
         if not entry:
             raise RobotFileError(source, f, "expected 'normals' or 'axis' and 'half_angle'")
         for key in table:
