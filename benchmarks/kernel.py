@@ -22,9 +22,7 @@ at least 1 000 000 boxes/s for the batched certkin evaluator.
 from __future__ import annotations
 
 import argparse
-import statistics
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -35,7 +33,7 @@ from certkin.robots import Planar3RPR
 from intervals import Interval
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from machine import codac_version, describe  # noqa: E402
+from machine import codac_version, describe, median_time  # noqa: E402
 
 ROBOT = Path(__file__).resolve().parent.parent / "examples" / "robots" / "seed003-planar-example-2.toml"
 
@@ -47,15 +45,6 @@ def make_boxes(n, seed=0):
     return lo, hi
 
 
-def median_time(fn, repeat):
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
-
-
 def det_expression(robot):
     (x, y, phi), g = Planar3RPR.symbols()
     det = Planar3RPR.symbolic_model()["det"]
@@ -64,7 +53,6 @@ def det_expression(robot):
 
 
 def bench_mpmath(robot, lo, hi, n):
-    import mpmath
     from mpmath import iv
     (x, y, phi), expr = det_expression(robot)
     # lambdify prints rational constants as mpf(p)/mpf(q): map mpf to iv.mpf so that

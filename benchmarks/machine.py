@@ -39,3 +39,15 @@ def codac_version() -> str | None:
         return version("codac")
     except PackageNotFoundError:
         return "installed"
+
+
+def median_time(fn, repeat):
+    """Median wall time of ``repeat`` calls of ``fn()`` (the machine is noisy: quote medians)."""
+    import statistics
+    import time
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)

@@ -34,7 +34,6 @@ import sympy as sp
 
 from certkin import load_robot
 from certkin.engine import Budget
-from certkin.robots import Planar3RPR
 from certkin.singularity import certify_singularity_free, classify_cells
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))

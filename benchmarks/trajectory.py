@@ -14,8 +14,7 @@ Usage: ``taskset -c 0 python benchmarks/trajectory.py [--repeat 5] [--batch 200]
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -23,17 +22,11 @@ import numpy as np
 from certkin import load_robot, verify_trajectories, verify_trajectory
 from certkin.trajectory import parse_path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from machine import median_time  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
 START, GOAL = "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0"
-
-
-def median_time(fn, repeat):
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
 
 
 def sampled(robot, step=1e-4):

@@ -56,7 +56,7 @@ def cmd_singular(args):
     from . import load_robot
     from .certificates import singularity_certificate, write_json
     from .poses import parse_box
-    from .singularity import certify_singularity_free, classify_cells, largest_free_box
+    from .singularity import classify_cells, largest_free_box
     robot = _with_angles(load_robot(args.robot), args.angles)
     if args.around:
         result = largest_free_box(robot, args.around, scale=args.scale, budget=_budget(args))

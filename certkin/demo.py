@@ -13,7 +13,6 @@ from __future__ import annotations
 from pathlib import Path
 import time
 
-import numpy as np
 
 from .errors import InputError
 

@@ -36,7 +36,7 @@ import numpy as np
 
 from intervals import Interval, linalg, sqr
 
-from .engine import CONTRACTED, EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
+from .engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
 from .errors import InputError
 
 MARGIN = 2.0 ** -30      # uniqueness requires K inside X shrunk by this relative margin

@@ -28,7 +28,7 @@ import numpy as np
 
 from .engine import Budget
 from .poses import parse_pose
-from .trajectory import Path, parse_path, verify_trajectories
+from .trajectory import parse_path, verify_trajectories
 
 
 @dataclass

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import base64
 import html
-import io
 import tempfile
 from datetime import datetime, timezone
 from pathlib import Path

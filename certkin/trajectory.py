@@ -36,7 +36,7 @@ from intervals import Interval
 from .engine.search import OPEN, PROVED, EXCLUDED, Budget, search
 from .errors import InputError
 from .poses import parse_pose
-from .trajectory_constraints import KINDS, SATISFIED, UNKNOWN, VIOLATED, Constraints
+from .trajectory_constraints import SATISFIED, UNKNOWN, VIOLATED, Constraints
 
 PIECES = 16          # initial sub-intervals of each segment (one batch keeps numpy busy)
 MARGIN_RTOL = 1e-4   # relative tolerance of the certified minimum margins

@@ -55,6 +55,7 @@ from intervals.rounding import down, down_sum, up, up_sum
 from .engine.search import EXCLUDED, PROVED, UNDECIDED, Budget, search
 from .errors import InputError
 from .robots.base import parse_number
+from .plots import _pyplot as pyplot
 
 __all__ = ["workspace_section", "workspace_volume", "SectionResult", "VolumeResult", "section_domain",
            "exact_boundary", "parse_orientation", "describe", "add_arguments", "run"]
@@ -558,7 +559,6 @@ def exact_boundary(legs: Legs, Z: Interval, origin=(0.0, 0.0)) -> Boundary:
             return Boundary(reason=f"the intersection of the {names[a2[p]]} and the {names[b2[p]]} "
                                    "could not be verified (Krawczyk)")
         pts.append((x, y))
-    K = len(a2)
     # point id 2p + s (pair p, sign s); coordinates as (2K,) intervals
     Px = Interval._raw(np.stack([pts[0][0].lo, pts[1][0].lo], 1).ravel(), np.stack([pts[0][0].hi, pts[1][0].hi], 1).ravel())
     Py = Interval._raw(np.stack([pts[0][1].lo, pts[1][1].lo], 1).ravel(), np.stack([pts[0][1].hi, pts[1][1].hi], 1).ravel())
@@ -949,16 +949,6 @@ def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS,
 COLOURS = {"inside": "#55a868", "boundary": "#f2c14e", "outside": "#e6e6e6", "arc": "#1f3b73"}
 
 
-def _pyplot():
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise InputError("--plot", "", "matplotlib is not installed: pip install 'certkin[plot]'") from None
-    return plt
-
-
 def _rects(ax, lo, hi, colour, edge):
     from matplotlib.collections import PatchCollection
     from matplotlib.patches import Rectangle
@@ -970,7 +960,7 @@ def _rects(ax, lo, hi, colour, edge):
 
 def plot_section(result: SectionResult, path):
     """The paving (inside green, boundary yellow, outside grey) and the exact arcs (dark blue)."""
-    plt = _pyplot()
+    plt = pyplot()
     from matplotlib.patches import Patch
     fig, ax = plt.subplots(figsize=(6.4, 6.0))
     if result.paving is not None:
@@ -1007,7 +997,7 @@ def plot_section(result: SectionResult, path):
 
 def plot_volume(result: VolumeResult, path):
     """Inner and outer section areas per slab, against z."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
     ar = np.array(result.areas()).reshape(-1, 2)
     z = result.bounds
@@ -1079,19 +1069,6 @@ def add_arguments(parser) -> None:
                              f"(default {DEFAULT_MIN_WIDTH})")
 
 
-def _progress(enabled):
-    if not enabled:
-        return None
-    from tqdm import tqdm
-    bar = tqdm(desc="boxes", unit="box", file=sys.stderr, leave=False)
-
-    def update(processed, frontier):
-        bar.n = processed
-        bar.set_postfix(frontier=frontier, refresh=False)
-        bar.refresh()
-    return update
-
-
 def run(args, out=None) -> int:
     """``certkin workspace``: prints a summary (or ``--json``), writes ``--certificate``/``--plot``; returns 0.
 
@@ -1099,6 +1076,7 @@ def run(args, out=None) -> int:
     """
     from . import load_robot
     from .certificates import write_json
+    from .cli import _progress
     out = out or sys.stdout
     robot = load_robot(args.robot)
     _check_robot(robot)

@@ -40,6 +40,7 @@ from mpmath import iv
 
 from .numbers import enclose, exact, real
 from .report import Rejected, Report
+from .singularity import read_box
 
 MODELS = {"gough-stewart-workspace/1": ("gough-stewart", ("psi", "theta", "phi"), 6, 3),
           "planar-3rpr-workspace/1": ("planar-3rpr", ("phi",), 3, 2)}
@@ -47,26 +48,9 @@ PROBLEMS = ("workspace-section", "workspace-volume")
 
 
 def check(cert, prec: int = 80) -> Report:
-    """Re-verify a workspace certificate on its own (the header checks of ``checker.check``, then the claims)."""
-    from .checker import FORMAT, VERSION
-    counts = {"claims": 0, "undecided": 0, "leaves": 0, "pieces": 0, "witnesses": 0}
-    saved = iv.prec
-    iv.prec = prec
-    try:
-        if not isinstance(cert, dict):
-            raise Rejected("certificate: expected a JSON object")
-        if cert.get("format") != FORMAT:
-            raise Rejected(f"format: expected {FORMAT!r}, got {cert.get('format')!r}")
-        if type(cert.get("version")) is not int or cert.get("version") != VERSION:
-            raise Rejected(f"version: unknown version {cert.get('version')!r} (known: {VERSION})")
-        check_claims(cert, counts)
-    except Rejected as exc:
-        return Report(False, exc.step, counts)
-    except RecursionError:
-        return Report(False, "certificate: nested too deeply", counts)
-    finally:
-        iv.prec = saved
-    return Report(True, "", counts)
+    """Re-verify a workspace certificate: ``proofs.check`` (header, then these claims)."""
+    from .checker import check as check_certificate
+    return check_certificate(cert, prec)
 
 
 def check_claims(cert, counts: dict) -> None:
@@ -229,7 +213,7 @@ def _domain_ok(legs, h2, domain, where):
         if alive:
             raise Rejected(f"{where}.domain: 'empty' not proved (a candidate extreme point survives every disk)")
         return
-    box = _box(domain, f"{where}.domain")
+    box = read_box(domain, 2, f"{where}.domain")
     (xlo, xhi), (ylo, yhi) = box
     sides = [("x", 0, "lo", lambda p: p[0] is not None and p[0].a >= xlo, lambda i: (cx[i] - r[i]).a >= xlo),
              ("x", 0, "hi", lambda p: p[0] is not None and p[0].b <= xhi, lambda i: (cx[i] + r[i]).b <= xhi),
@@ -239,20 +223,6 @@ def _domain_ok(legs, h2, domain, where):
         if not (all(cand_ok(p) for p in alive) or any(disk_ok(i) for i in range(legs.n))):
             raise Rejected(f"{where}.domain: the {end} bound of {name} may cut the section")
     return box
-
-
-def _box(value, where):
-    if not isinstance(value, list) or len(value) != 2:
-        raise Rejected(f"{where}: expected [[xlo, xhi], [ylo, yhi]]")
-    out = []
-    for i, pair in enumerate(value):
-        if not isinstance(pair, list) or len(pair) != 2:
-            raise Rejected(f"{where}[{i}]: expected [lo, hi]")
-        lo, hi = real(pair[0], f"{where}[{i}]"), real(pair[1], f"{where}[{i}]")
-        if not lo <= hi:
-            raise Rejected(f"{where}[{i}]: lo > hi")
-        out.append((lo, hi))
-    return out
 
 
 # ----- one claim -----------------------------------------------------------------
@@ -267,7 +237,7 @@ def _claim(legs, claim, Z, where, counts):
         inside = outer = Fraction(0)
     else:
         if box is None:                            # a disk is empty: the stated box is just read
-            box = _box(domain, f"{where}.domain")
+            box = read_box(domain, 2, f"{where}.domain")
         inside, outer = _tree(legs, claim.get("tree"), box, h2, f"{where}.tree", counts)
     _bounds(claim.get("area"), inside, outer, f"{where}.area")
     return inside, outer
@@ -311,7 +281,7 @@ def _tree(legs, root, box, h2, where, counts):
         kind = node.get("leaf")
         if kind not in ("inside", "outside", "boundary"):
             raise Rejected(f"{at}: unknown leaf {kind!r} (inside, outside, boundary)")
-        if _box(node.get("box"), f"{at}: box") != nbox:
+        if read_box(node.get("box"), 2, f"{at}: box") != nbox:
             raise Rejected(f"{at}: box does not match the derived box")
         (xlo, xhi), (ylo, yhi) = nbox
         area = (Fraction(xhi) - Fraction(xlo)) * (Fraction(yhi) - Fraction(ylo))

@@ -85,7 +85,7 @@ class FKSystem:
             return _cat([_cat([c, -s]), _cat([s, c])], axis=-2)
         p = self.n_pos
         q0, q1, q2, q3 = (X[:, p + k] for k in range(4))
-        s0, s1, s2, s3 = sqr(q0), sqr(q1), sqr(q2), sqr(q3)
+        s1, s2, s3 = sqr(q1), sqr(q2), sqr(q3)
         rows = [[1.0 - 2.0 * (s2 + s3), 2.0 * (q1 * q2 - q0 * q3), 2.0 * (q1 * q3 + q0 * q2)],
                 [2.0 * (q1 * q2 + q0 * q3), 1.0 - 2.0 * (s1 + s3), 2.0 * (q2 * q3 - q0 * q1)],
                 [2.0 * (q1 * q3 - q0 * q2), 2.0 * (q2 * q3 + q0 * q1), 1.0 - 2.0 * (s1 + s2)]]
@@ -147,7 +147,6 @@ class FKSystem:
         """dR/dr for each rotation unknown r (each (N, dim, dim); linear in the unknowns)."""
         N = X.shape[0]
         if self.kind == "planar-3rpr":
-            c, s = X[:, 2], X[:, 3]
             one = Interval._raw(np.ones(N), np.ones(N))
             zero = Interval._raw(np.zeros(N), np.zeros(N))
             return [_cat([_cat([one, zero]), _cat([zero, one])], axis=-2),        # d/dc
