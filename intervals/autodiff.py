@@ -28,6 +28,7 @@ class Dual:
 
     __slots__ = ("value", "grad")
     __array_ufunc__ = None
+    takes_interval_operands = True
 
     def __init__(self, value: Interval, grad: Interval):
         self.value = value

@@ -119,9 +119,26 @@ class _Printer:
         raise NotImplementedError(f"cannot compile {type(e).__name__}: {e}")
 
 
-def _namespace(dual: bool):
+def _unsupported(name):
+    def fn(*args):
+        raise NotImplementedError(f"{name} of a polynomial in t is not supported")
+    return fn
+
+
+def _poly_namespace():
+    """Functions for ``polynomial.Poly`` variables (polynomials in t ∈ [0, 1])."""
+    from . import elementary as el
+    from . import polynomial as pl
+    ns = {name: _unsupported(name) for name in ("tan", "atan", "atan2", "exp", "log", "abs", "sqrt", "min", "max")}
+    ns.update(sin=pl.sin, cos=pl.cos, sqr=pl.sqr, pown=pl.pown, pi=el.pi)
+    return ns
+
+
+def _namespace(dual):
     from . import elementary as el
     from .interval import pown, sqr
+    if dual == "poly":
+        return _poly_namespace()
     src = autodiff if dual else el
     ns = {name: getattr(src, name) for name in ("sin", "cos", "tan", "atan", "atan2", "exp", "log", "abs", "sqrt")}
     ns.update(min=el.min, max=el.max, pi=el.pi)
@@ -151,7 +168,7 @@ class CompiledExprs:
         src += "    return [" + ", ".join(outs) + "]\n"
         self.source = src
         self._fns = {}
-        for dual in (False, True):
+        for dual in (False, True, "poly"):
             ns = _namespace(dual)
             ns.update(printer.constants)
             exec(compile(src, "<certkin-compiled>", "exec"), ns)
@@ -197,8 +214,13 @@ class CompiledExprs:
         return Interval._raw(np.concatenate([p.lo for p in parts]), np.concatenate([p.hi for p in parts]))
 
     def evaluate(self, variables, params=None) -> list:
-        """The m expressions at prebuilt variable values (``Interval`` or ``autodiff.Dual``, one per
-        variable, any common shape); returns a list of m values (constants come back unbroadcast)."""
+        """The m expressions at prebuilt variable values (``Interval``, ``autodiff.Dual`` or
+        ``polynomial.Poly``, one per variable, any common shape); returns a list of m values
+        (constants come back unbroadcast).  Polynomial variables support + − × and sin/cos of
+        degree-1 arguments (NotImplementedError otherwise)."""
+        from .polynomial import Poly
+        if any(isinstance(v, Poly) for v in variables):
+            return self._fns["poly"](list(variables), self._params(params))
         dual = any(isinstance(v, autodiff.Dual) for v in variables)
         return self._fns[dual](list(variables), self._params(params))
 

@@ -215,7 +215,7 @@ class Interval:
         return self
 
     def __add__(self, other):
-        if hasattr(other, "grad"):
+        if _defers(other):
             return NotImplemented
         o = _as_interval(other)
         return Interval._raw(down_sum(self.lo + o.lo), up_sum(self.hi + o.hi))
@@ -223,7 +223,7 @@ class Interval:
     __radd__ = __add__
 
     def __sub__(self, other):
-        if hasattr(other, "grad"):
+        if _defers(other):
             return NotImplemented
         o = _as_interval(other)
         return Interval._raw(down_sum(self.lo - o.hi), up_sum(self.hi - o.lo))
@@ -232,14 +232,14 @@ class Interval:
         return _as_interval(other) - self
 
     def __mul__(self, other):
-        if hasattr(other, "grad"):
+        if _defers(other):
             return NotImplemented
         return mul(self, _as_interval(other))
 
     __rmul__ = __mul__
 
     def __truediv__(self, other):
-        if hasattr(other, "grad"):
+        if _defers(other):
             return NotImplemented
         return div(self, _as_interval(other))
 
@@ -248,6 +248,12 @@ class Interval:
 
     def __pow__(self, n):
         return pown(self, n)
+
+
+def _defers(other) -> bool:
+    """True for the types that implement mixed operations with intervals themselves
+    (``autodiff.Dual``, ``polynomial.Poly``): Interval's operators return NotImplemented."""
+    return getattr(other, "takes_interval_operands", False)
 
 
 def _as_interval(x) -> Interval:

@@ -1,0 +1,352 @@
+"""Batched polynomials in one variable with interval coefficients, and their ranges.
+
+A ``Poly`` holds coefficient enclosures ``lo``, ``hi`` of shape S + (n + 1,):
+it stands for every polynomial p(t) = Σ_k c_k t^k with c_k in its intervals.
+Sums and products are computed coefficient-wise with outward rounding, so the
+result's intervals contain the coefficients of the exact sum or product of any
+members of the operands (inclusion property).  Mixed operations with
+``Interval`` (constants, broadcast over the batch shape) are supported.
+
+Truncation (``degree_limit``): inside ``with degree_limit(d):`` products keep
+degree ≤ d and move each higher term c_k t^k into the constant coefficient as
+c_k·[0, 1] (hull with 0), which encloses it for t ∈ [0, 1] only.  The
+coefficient intervals then mean "for each t ∈ [0, 1], the value is that of
+some member", a property kept by sums and products and by the range bound;
+truncated polynomials must only be bounded on sub-intervals of [0, 1].
+``cos``/``sin`` of a polynomial of degree ≤ 1 are such truncated expansions
+with a Lagrange remainder.
+
+``Poly.range(tlo, thi)`` encloses {p(t) : t ∈ [tlo, thi]} by the Bernstein
+form: with t = tlo + s h, s ∈ [0, 1], q(s) = p(tlo + s h) = Σ_j b_j B_j,n(s)
+where the Bernstein polynomials B_j,n are ≥ 0 on [0, 1] and sum to 1, so
+min_j b_j ≤ q(s) ≤ max_j b_j (Farouki & Rajan 1987; Garloff 1986,
+"Convergent bounds for the range of multivariate polynomials").  The bound
+converges quadratically in h and is exact when the b_j are monotone (then
+b_0 = p(tlo) and b_n = p(thi) are the extremes).
+
+>>> from intervals import Interval
+>>> p = Poly.from_coefficients([Interval(-1), Interval(0), Interval(1)])   # t² − 1
+>>> r = p.range(0.5, 2.0)
+>>> bool(r.lo <= -0.75 and r.hi >= 3.0 and r.hi - r.lo < 3.76)
+True
+"""
+from __future__ import annotations
+
+from contextlib import contextmanager
+from fractions import Fraction
+from math import comb, factorial
+
+import numpy as np
+
+from . import elementary as _el
+from .interval import Interval, _as_interval, mul
+from .rounding import down, down_sum, enclose_fraction, up, up_sum
+
+
+def _operand(x):
+    """(lo, hi) coefficient arrays of a Poly, or of a constant as a degree-0 polynomial."""
+    if isinstance(x, Poly):
+        return x.lo, x.hi
+    iv = _as_interval(x)
+    return np.asarray(iv.lo)[..., None], np.asarray(iv.hi)[..., None]
+
+
+def _pad(a, n):
+    """Coefficient array ``a`` padded with zeros to n + 1 coefficients."""
+    extra = n + 1 - a.shape[-1]
+    if extra == 0:
+        return a
+    return np.pad(a, [(0, 0)] * (a.ndim - 1) + [(0, extra)])
+
+
+_BERNSTEIN = {}
+_LIMIT = [None]          # degree limit of products (``degree_limit``), None: exact
+
+
+@contextmanager
+def degree_limit(d: int):
+    """Products made inside keep degree ≤ d (terms above folded into c_0, valid for t ∈ [0, 1])."""
+    previous = _LIMIT[0]
+    _LIMIT[0] = d
+    try:
+        yield
+    finally:
+        _LIMIT[0] = previous
+
+
+def _fold(lo, hi, d):
+    """Terms of degree > d folded into c_0: Σ_{k>d} c_k t^k ∈ Σ_{k>d} hull(0, c_k) for t ∈ [0, 1]."""
+    if lo.shape[-1] <= d + 1:
+        return lo, hi
+    extra_lo = np.minimum(lo[..., d + 1:], 0.0)
+    extra_hi = np.maximum(hi[..., d + 1:], 0.0)
+    lo, hi = lo[..., :d + 1].copy(), hi[..., :d + 1].copy()
+    for k in range(extra_lo.shape[-1]):
+        lo[..., 0] = down_sum(lo[..., 0] + extra_lo[..., k])
+        hi[..., 0] = up_sum(hi[..., 0] + extra_hi[..., k])
+    return lo, hi
+
+
+def _bernstein_matrix(n):
+    """Enclosure of T[j, k] = C(j, k) / C(n, k) (k ≤ j), the power-to-Bernstein map on [0, 1]."""
+    if n not in _BERNSTEIN:
+        lo = np.zeros((n + 1, n + 1))
+        hi = np.zeros((n + 1, n + 1))
+        for j in range(n + 1):
+            for k in range(j + 1):
+                lo[j, k], hi[j, k] = enclose_fraction(Fraction(comb(j, k), comb(n, k)))
+        _BERNSTEIN[n] = (lo, hi)
+    return _BERNSTEIN[n]
+
+
+class Poly:
+    """Polynomials in t with interval coefficients, batched over a shape S."""
+
+    __slots__ = ("lo", "hi")
+    __array_ufunc__ = None
+    takes_interval_operands = True      # Interval's operators defer to ours
+
+    def __init__(self, lo, hi):
+        self.lo = np.asarray(lo, dtype=np.float64)
+        self.hi = np.asarray(hi, dtype=np.float64)
+
+    @classmethod
+    def from_coefficients(cls, coefficients) -> "Poly":
+        """Σ_k coefficients[k] t^k (a list of Intervals or numbers of one batch shape)."""
+        ivs = [_as_interval(c) for c in coefficients]
+        shape = np.broadcast_shapes(*(np.shape(c.lo) for c in ivs))
+        return cls(np.stack([np.broadcast_to(c.lo, shape) for c in ivs], -1),
+                   np.stack([np.broadcast_to(c.hi, shape) for c in ivs], -1))
+
+    @property
+    def degree(self) -> int:
+        return self.lo.shape[-1] - 1
+
+    @property
+    def shape(self):
+        return self.lo.shape[:-1]
+
+    @property
+    def ndim(self):
+        return self.lo.ndim - 1
+
+    def __getitem__(self, index):
+        """Indexing over the batch axes (the coefficient axis is kept)."""
+        index = index if isinstance(index, tuple) else (index,)
+        if any(i is Ellipsis for i in index):
+            raise IndexError("Poly indexing takes batch indices only (no Ellipsis)")
+        return Poly(self.lo[index], self.hi[index])
+
+    def coefficient(self, k) -> Interval:
+        return Interval._raw(self.lo[..., k], self.hi[..., k])
+
+    def __repr__(self):
+        return f"Poly(degree={self.degree}, shape={self.shape})"
+
+    # ----- arithmetic (outward rounded) -----------------------------------------------
+    def __neg__(self):
+        return Poly(-self.hi, -self.lo)
+
+    def __pos__(self):
+        return self
+
+    def __add__(self, other):
+        blo, bhi = _operand(other)
+        n = max(self.degree, blo.shape[-1] - 1)
+        return Poly(down_sum(_pad(self.lo, n) + _pad(blo, n)), up_sum(_pad(self.hi, n) + _pad(bhi, n)))
+
+    __radd__ = __add__
+
+    def __sub__(self, other):
+        blo, bhi = _operand(other)
+        n = max(self.degree, blo.shape[-1] - 1)
+        return Poly(down_sum(_pad(self.lo, n) - _pad(bhi, n)), up_sum(_pad(self.hi, n) - _pad(blo, n)))
+
+    def __rsub__(self, other):
+        return (-self) + other
+
+    def __mul__(self, other):
+        blo, bhi = _operand(other)
+        p, q = self.lo.shape[-1], blo.shape[-1]
+        if p == 1 or q == 1:                     # a constant factor: coefficient-wise
+            r = mul(Interval._raw(self.lo, self.hi), Interval._raw(blo, bhi))
+            return Poly(r.lo, r.hi)
+        P = mul(Interval._raw(self.lo[..., :, None], self.hi[..., :, None]),
+                Interval._raw(blo[..., None, :], bhi[..., None, :]))          # (S, p, q): c_i d_j
+        shape = P.lo.shape[:-2] + (p + q - 1,)
+        lo = np.zeros(shape)
+        hi = np.zeros(shape)
+        lo[..., :q] = P.lo[..., 0, :]
+        hi[..., :q] = P.hi[..., 0, :]
+        for i in range(1, p):                    # Σ_{i+j=k} c_i d_j, each addition rounded outward
+            lo[..., i:i + q] = down_sum(lo[..., i:i + q] + P.lo[..., i, :])
+            hi[..., i:i + q] = up_sum(hi[..., i:i + q] + P.hi[..., i, :])
+        if _LIMIT[0] is not None:
+            lo, hi = _fold(lo, hi, _LIMIT[0])
+        return Poly(lo, hi)
+
+    __rmul__ = __mul__
+
+    # ----- range over an interval of t ------------------------------------------------
+    def range(self, tlo, thi) -> Interval:
+        """Enclosure of {p(t) : t ∈ [tlo, thi]} (``tlo``, ``thi`` broadcast against the batch)."""
+        b = self.bernstein(tlo, thi)
+        return Interval._raw(b.lo.min(axis=-1), b.hi.max(axis=-1))
+
+    def bernstein(self, tlo, thi, weights=None) -> Interval:
+        """Enclosures (…, n + 1) of the Bernstein coefficients of p on [tlo, thi].
+        ``weights``: ``bernstein_weights(tlo, thi, degree)`` when already computed (tlo ≥ 0)."""
+        n = self.degree
+        a = np.asarray(tlo, dtype=np.float64)
+        b = np.asarray(thi, dtype=np.float64)
+        shape = np.broadcast_shapes(self.shape, a.shape, b.shape)
+        lo = np.broadcast_to(self.lo, shape + (n + 1,))
+        hi = np.broadcast_to(self.hi, shape + (n + 1,))
+        if n == 0:
+            return Interval._raw(lo.copy(), hi.copy())
+        if weights is not None or np.all(a >= 0):
+            return _bernstein_nonnegative(lo, hi, a, b, n, weights)
+        return _bernstein_taylor(lo, hi, np.broadcast_to(a, shape), np.broadcast_to(b, shape), n)
+
+
+def _trig(x: Poly, kind: str, order: int) -> Poly:
+    """cos or sin of x(t) = c_0 + c_1 t for t ∈ [0, 1]: Taylor expansion at t = 1/2,
+    f(m + s) = Σ_{k≤order} f⁽ᵏ⁾(m) s^k / k! + R with s = c_1 (t − 1/2), m = c_0 + c_1/2 and
+    |R| ≤ |s|^(order+1)/(order+1)! ≤ (|c_1|/2)^(order+1)/(order+1)! (Lagrange; |f⁽ᵏ⁾| ≤ 1).
+    ``order`` None: the least order whose remainder bound is below 2⁻⁶⁰ (at most 12); the
+    bound actually added is computed in interval arithmetic either way."""
+    if x.degree > 1:
+        raise NotImplementedError("cos/sin of a polynomial of degree above 1")
+    c0 = x.coefficient(0)
+    c1 = x.coefficient(1) if x.degree == 1 else Interval._raw(np.zeros_like(x.lo[..., 0]), np.zeros_like(x.lo[..., 0]))
+    half = Interval(0.5)
+    m = c0 + c1 * half
+    s = Poly.from_coefficients([-(c1 * half), c1])
+    r = float(np.max(np.maximum(np.abs(c1.lo), np.abs(c1.hi)), initial=0.0)) / 2
+    if order is None:         # the least order whose remainder is below 2⁻⁶⁰ (at most 12)
+        order = next((k for k in range(1, 12) if r ** (k + 1) / factorial(k + 1) <= 2.0 ** -60), 12)
+    cm, sm = _el.cos(m), _el.sin(m)
+    derivs = [cm, -sm, -cm, sm] if kind == "cos" else [sm, cm, -sm, -cm]
+    total = Poly.from_coefficients([derivs[0]])
+    power = Poly.from_coefficients([Interval(1.0)])
+    for k in range(1, order + 1):
+        power = power * s
+        total = total + power * (derivs[k % 4] / float(factorial(k)))
+    mag = Interval._raw(np.maximum(np.abs(c1.lo), np.abs(c1.hi)), np.maximum(np.abs(c1.lo), np.abs(c1.hi)))
+    rem = (mag * half) ** (order + 1) / Interval(factorial(order + 1))
+    return total + Interval._raw(-rem.hi, rem.hi)
+
+
+def cos(x: Poly, order: int | None = None) -> Poly:
+    """cos of a polynomial of degree ≤ 1, as a polynomial valid for t ∈ [0, 1] (see ``_trig``)."""
+    return _trig(x, "cos", order)
+
+
+def sin(x: Poly, order: int | None = None) -> Poly:
+    """sin of a polynomial of degree ≤ 1, as a polynomial valid for t ∈ [0, 1] (see ``_trig``)."""
+    return _trig(x, "sin", order)
+
+
+def sqr(x: Poly) -> Poly:
+    return x * x
+
+
+def pown(x: Poly, n: int) -> Poly:
+    out = Poly.from_coefficients([Interval(1.0)]) if n == 0 else x
+    for _ in range(n - 1):
+        out = out * x
+    return out
+
+
+def ratio_range(p: Interval, q: Interval) -> Interval:
+    """Enclosure of the range of p/q over an interval from the Bernstein coefficients
+    (…, n + 1) of p and q on it (same degree): when every coefficient of q is > 0,
+    p/q = Σ_j w_j (p_j / q_j) with weights w_j = q_j B_j / Σ_k q_k B_k ≥ 0 summing
+    to 1, so p/q lies between the extreme ratios (Narkawicz, Garloff, Smith & Muñoz
+    2012, "Bounding the range of a rational function over a box").  Elsewhere the
+    quotient of the two ranges."""
+    r = p / q
+    positive = np.all(q.lo > 0, axis=-1)
+    ranged = Interval._raw(p.lo.min(axis=-1), p.hi.max(axis=-1)) / Interval._raw(q.lo.min(axis=-1), q.hi.max(axis=-1))
+    lo = np.where(positive, r.lo.min(axis=-1), ranged.lo)
+    hi = np.where(positive, r.hi.max(axis=-1), ranged.hi)
+    return Interval._raw(lo, hi)
+
+
+_U = 2.0 ** -53          # unit roundoff
+
+
+def bernstein_weights(a, b, n):
+    """Enclosures (W_lo, W_hi), both ≥ 0, shape (..., n+1, n+1), of the map c -> Bernstein
+    coefficients on [a, b] (a ≥ 0): W[i, j] = Σ_k T[i, k] h^k C(j, k) a^(j−k), h = b − a.
+    Every factor is ≥ 0, so products and sums of lower (upper) bounds are lower (upper) bounds."""
+    shape = a.shape
+    d = b - a
+    h_lo, h_hi = np.maximum(down_sum(d), 0.0), up_sum(d)
+    apow_lo, apow_hi = [np.ones(shape)], [np.ones(shape)]
+    hpow_lo, hpow_hi = [np.ones(shape)], [np.ones(shape)]
+    for _ in range(n):
+        apow_lo.append(np.maximum(down(apow_lo[-1] * a), 0.0))
+        apow_hi.append(up(apow_hi[-1] * a))
+        hpow_lo.append(np.maximum(down(hpow_lo[-1] * h_lo), 0.0))
+        hpow_hi.append(up(hpow_hi[-1] * h_hi))
+    S_lo = np.zeros(shape + (n + 1, n + 1))
+    S_hi = np.zeros(shape + (n + 1, n + 1))
+    for k in range(n + 1):                    # S[k, j] = h^k C(j, k) a^(j−k)
+        for j in range(k, n + 1):
+            S_lo[..., k, j] = np.maximum(down(down(comb(j, k) * apow_lo[j - k]) * hpow_lo[k]), 0.0)
+            S_hi[..., k, j] = up(up(comb(j, k) * apow_hi[j - k]) * hpow_hi[k])
+    Tlo, Thi = _bernstein_matrix(n)
+    d = 4.0 * (n + 1) * _U          # sums of n + 1 nonnegative products: |fl − exact| ≤ γ_{n+1} exact
+    return np.maximum(down((Tlo @ S_lo) * (1.0 - d)), 0.0), up((Thi @ S_hi) * (1.0 + d))
+
+
+def _bernstein_nonnegative(lo, hi, a, b, n, weights=None):
+    """Bernstein range on [a, b] ⊂ [0, ∞): b_j = Σ_k W[j, k] c_k with W ≥ 0, so
+    b_j ≥ Σ_k (W_lo c_lo⁺ + W_hi c_lo⁻) and b_j ≤ Σ_k (W_hi c_hi⁺ + W_lo c_hi⁻); each
+    sum has terms of one sign, so its float value is within γ_{n+1} = (n+1)u/(1 − (n+1)u)
+    relative of the exact one (Higham 2002, §3.1, any order of summation, with or without
+    FMA); the bound is applied as a factor 1 ∓ 4(n+1)u and the result rounded outward."""
+    if weights is None:
+        a, b = np.broadcast_arrays(a, b)
+        weights = bernstein_weights(a, b, n)           # (t's shape, n+1, n+1): broadcast like t
+    Wlo, Whi = weights
+    Wl, Wh = np.swapaxes(Wlo, -1, -2), np.swapaxes(Whi, -1, -2)
+    cl_p, cl_n = np.maximum(lo, 0.0), np.minimum(lo, 0.0)
+    ch_p, ch_n = np.maximum(hi, 0.0), np.minimum(hi, 0.0)
+    d = 4.0 * (n + 1) * _U          # sums of n + 1 products of one sign: |fl − exact| ≤ γ_{n+1} |exact|
+    blo = down_sum(down(_vecmat(cl_p, Wl) * (1.0 - d)) + down(_vecmat(cl_n, Wh) * (1.0 + d)))
+    bhi = up_sum(up(_vecmat(ch_p, Wh) * (1.0 + d)) + up(_vecmat(ch_n, Wl) * (1.0 - d)))
+    return Interval._raw(blo, bhi)
+
+
+def _vecmat(c, W):
+    """c (…, n+1) times W (…, n+1, n+1), broadcast over the leading axes."""
+    if W.ndim >= 3 and W.ndim == c.ndim + 1 and W.shape[-3] == 1 and c.shape[:-2] == W.shape[:-3]:
+        return np.matmul(c, W[..., 0, :, :])          # one W per row of polynomials: a batched product
+    return np.matmul(c[..., None, :], W)[..., 0, :]
+
+
+def _bernstein_taylor(lo, hi, a, b, n):
+    """Bernstein range on any [a, b], in interval arithmetic: Taylor shift by a (Horner's
+    synthetic division), scaling by h^k, then the Bernstein map."""
+    c = [Interval._raw(lo[..., k], hi[..., k]) for k in range(n + 1)]
+    A = Interval._raw(a, a)
+    for i in range(n):
+        for j in range(n - 1, i - 1, -1):
+            c[j] = c[j] + A * c[j + 1]
+    d = b - a
+    h = Interval._raw(np.maximum(down_sum(d), 0.0), up_sum(d))
+    hk = h
+    for k in range(1, n + 1):
+        c[k] = c[k] * hk
+        if k < n:
+            hk = hk * h
+    Tlo, Thi = _bernstein_matrix(n)
+    blo = np.repeat(c[0].lo[..., None], n + 1, axis=-1)
+    bhi = np.repeat(c[0].hi[..., None], n + 1, axis=-1)
+    for k in range(1, n + 1):
+        t = mul(Interval._raw(Tlo[k:, k], Thi[k:, k]), Interval._raw(c[k].lo[..., None], c[k].hi[..., None]))
+        blo[..., k:] = down_sum(blo[..., k:] + t.lo)
+        bhi[..., k:] = up_sum(bhi[..., k:] + t.hi)
+    return Interval._raw(blo, bhi)
