@@ -11,7 +11,14 @@ Workloads (DESIGN.md "Performance targets"):
 - Gough-Stewart, seed 002 general 6-6 robot (24 real postures): tracking
   (``track=`` a pose fitted to posture 1 of Table VI.2, as in
   tests/test_fk.py), and optionally (``--gough-full SECONDS``) the
-  full-domain search for all 24 postures under a time cap.
+  full-domain search for all 24 postures under a time cap;
+- tracking sequences (``--steps`` steps, ``certkin.fk.track_sequence``):
+  Gough from that posture out and back along a smooth motion (up to 2 cm
+  and 0.6 deg), planar from mode 1 of the 6-mode instance around a smooth
+  closed motion (x ± 0.5, y up to +0.6, phi ± 0.05 rad); and the planar
+  steps one call at a time (``forward_kinematics(track=)`` from the
+  previous pose).  Peer: numpy Newton from the previous pose, step after
+  step.  ``--only tracking`` runs the tracking rows alone.
 
 Peers, on the same equations (platform origin + rotation as unit complex
 number / unit quaternion, ``certkin.robots.fk_systems``) and the same domain:
@@ -23,7 +30,7 @@ number / unit quaternion, ``certkin.robots.fk_systems``) and the same domain:
   are an outer enclosure of the solution set (no existence or uniqueness
   proof); runs are capped by ``--codac-cap`` seconds.
 
-Usage: ``taskset -c 0 python benchmarks/fk.py [--repeat 5] [--batch 1000]``.
+Usage: ``taskset -c 0 python benchmarks/fk.py [--repeat 5] [--batch 1000] [--only tracking]``.
 Prints one table: workload, certkin median, peer median, ratio
 (certkin / peer: below 1 means certkin is faster), target, met?
 """
@@ -348,29 +355,109 @@ class Table:
             print(f"{workload:42s} {ms(c):>11s} {ms(cpu):>11s} {peer:44s} {ms(p):>11s} {ratio:>7s} {ms(target):>9s} {met:>5s}  {note}")
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeat", type=int, default=5, help="repeats per measurement (median)")
-    ap.add_argument("--batch", type=int, default=1000, help="planar leg-length sets in the batch")
-    ap.add_argument("--batch-repeat", type=int, default=5, help="repeats of the batch (it takes ~15 s)")
-    ap.add_argument("--starts", type=int, default=256, help="Newton starts per instance (numpy peer)")
-    ap.add_argument("--codac-cap", type=float, default=60.0, help="seconds allowed to each codac pave")
-    ap.add_argument("--codac-eps", type=float, default=1e-3, help="codac pave resolution")
-    ap.add_argument("--codac-sample", type=int, default=20, help="batch instances run through codac (extrapolated)")
-    ap.add_argument("--gough-full", type=float, default=0.0, metavar="SECONDS",
-                    help="also run the Gough full-domain search (all 24 postures) with this time budget; 0: skip")
-    args = ap.parse_args()
-    rng = np.random.default_rng(0)
-    has_codac = codac_available()
-    table = Table()
-    if has_codac:
-        from importlib.metadata import version
-        codac_text = f"codac {version('codac')}"
-    else:
-        codac_text = "codac not installed (pip install 'certkin[bench]'): codac rows skipped"
-    print(f"# FK benchmark; {describe()}; {codac_text}")
+# ----- tracking ----------------------------------------------------------------------------------
+def planar_motion(planar, steps):
+    """Poses along a smooth closed motion from mode 1 of the 6-mode instance (x ± 0.5, y up to +0.6,
+    phi ± 0.05 rad: steps of up to 0.03 in x for 100 steps; the robot is ~35 across)."""
+    res = forward_kinematics(planar, PLANAR_LENGTHS)
+    home = np.array([float(0.5 * (v.lo + v.hi)) for v in res.solutions[0]["pose"].values()])
+    t = 2 * np.pi * np.linspace(0.0, 1.0, steps + 1)[:, None]
+    return home + np.array([0.5, 0.3, 0.05]) * np.hstack([np.sin(t), 1 - np.cos(t), np.sin(t)])
+
+
+def gough_motion(gough, steps):
+    """Poses from posture 1 of Table VI.2 out and back along a smooth motion (up to 2 cm, 0.6 deg)."""
+    pose = np.array(pose_from_points(gough, table_vi2()[0]))
+    t = np.linspace(0.0, 1.0, steps + 1)[:, None]
+    return pose + np.sin(np.pi * t) * np.array([0.02, -0.01, 0.015, 0.01, 0.005, -0.01])
+
+
+def float_unknowns(fk, pose):
+    """The FK unknowns of a pose (planar: x, y, cos phi, sin phi; Gough: position and quaternion)."""
+    if fk.kind == "planar-3rpr":
+        return np.array([pose[0], pose[1], np.cos(pose[2]), np.sin(pose[2])])
+    return np.concatenate([pose[:3], quaternion_of_pose(pose)])
+
+
+def newton_steps(fk, x0, L2rows, iters=8):
+    """The peer of a tracked sequence: float Newton step after step from the last root (uncertified)."""
+    x, ok = x0[None, :], True
+    for L2 in L2rows:
+        x, conv = newton(fk, x, L2, iters=iters)
+        ok &= bool(conv[0])
+    return x, ok
+
+
+def tracking_rows(table, args):
+    """Tracking: Gough (one call; a sequence) and planar (one call; a sequence of ``--steps``)."""
+    from certkin.fk import track_sequence
+    text = lambda pose: ",".join(repr(float(v)) for v in pose)  # noqa: E731
+    # (c) Gough tracking, one call: the pose fitted to posture 1 of Table VI.2 and its own lengths
+    gough = load_robot(GOUGH_FILE)
+    pose = pose_from_points(gough, table_vi2()[0])
+    pose_text = text(pose)
+    forward_kinematics(gough, GOUGH_LENGTHS, track=pose_text)
+    t_g, res_g = timed(lambda: forward_kinematics(gough, GOUGH_LENGTHS, track=pose_text), args.repeat)
+    table.cpu = timed.cpu
+    assert res_g.tracked and len(res_g.solutions) == 1
+    gfk = FloatFK(gough)
+    Lg = np.array([float(v) for v in GOUGH_LENGTHS.split(",")])
+    x0 = np.concatenate([pose[:3], quaternion_of_pose(pose)])[None, :]
+    t_gn, (xg, conv) = timed(lambda: newton(gfk, x0, Lg ** 2, iters=8), args.repeat)
+    w = "Gough 24-solution robot, tracking 1 pose"
+    table.add(w, t_g, "numpy Newton from the pose (uncertified)", t_gn, 0.010,
+              f"certkin proved unique; Newton converged: {bool(conv[0])}")
     sys.stdout.flush()
 
+    # (c'') Gough tracking, a sequence of steps
+    n = args.steps
+    poses = gough_motion(gough, n)
+    L = gough.leg_lengths_float(poses[1:])
+    track_sequence(gough, L[:2], text(poses[0]), fallback=False)
+    t_s, out = timed(lambda: track_sequence(gough, L, text(poses[0]), fallback=False), args.repeat)
+    cpu = timed.cpu / n
+    t_p, (_, ok) = timed(lambda: newton_steps(gfk, float_unknowns(gfk, poses[0]), L ** 2), args.repeat)
+    table.add(f"Gough tracking, sequence of {n}, per step", t_s / n, "numpy Newton step after step", t_p / n, 0.010,
+              f"certkin: {sum(r.tracked for r in out)}/{n} steps proved unique; Newton converged: {ok}", cpu=cpu)
+    sys.stdout.flush()
+
+    # (d) planar tracking: one call per step, then the whole sequence
+    planar = robot_from_dict(PLANAR)
+    pfk = FloatFK(planar)
+    poses = planar_motion(planar, n)
+    L = planar.leg_lengths_float(poses[1:])
+    rows = [[repr(float(v)) for v in row] for row in L]
+    starts = [text(p) for p in poses[:-1]]
+    forward_kinematics(planar, rows[0], track=starts[0])
+    wall, cpu, tracked = [], [], 0
+    for _ in range(args.repeat):
+        for k in range(n):
+            t, c = time.perf_counter(), time.process_time()
+            r = forward_kinematics(planar, rows[k], track=starts[k])
+            wall.append(time.perf_counter() - t)
+            cpu.append(time.process_time() - c)
+            tracked += r.tracked
+    peer = []
+    for _ in range(args.repeat):
+        for k in range(n):
+            x = float_unknowns(pfk, poses[k])[None, :]
+            t = time.perf_counter()
+            newton(pfk, x, L[k] ** 2, iters=8)
+            peer.append(time.perf_counter() - t)
+    table.add("planar 6-mode, tracking 1 step (one call)", statistics.median(wall), "numpy Newton from the pose",
+              statistics.median(peer), 0.001, f"median over {n} steps x {args.repeat}; "
+              f"certkin {tracked}/{n * args.repeat} proved unique", cpu=statistics.median(cpu))
+    track_sequence(planar, L[:2], starts[0], fallback=False)
+    t_s, out = timed(lambda: track_sequence(planar, L, starts[0], fallback=False), args.repeat)
+    cpu = timed.cpu / n
+    t_p, (_, ok) = timed(lambda: newton_steps(pfk, float_unknowns(pfk, poses[0]), L ** 2), args.repeat)
+    table.add(f"planar tracking, sequence of {n}, per step", t_s / n, "numpy Newton step after step", t_p / n, 0.001,
+              f"certkin: {sum(r.tracked for r in out)}/{n} steps proved unique; Newton converged: {ok}", cpu=cpu)
+    sys.stdout.flush()
+
+
+def search_rows(table, args, rng, has_codac):
+    """The full-search workloads: planar one instance and batch, spherical one instance."""
     # (a) planar, one instance ----------------------------------------------------------------
     planar = robot_from_dict(PLANAR)
     forward_kinematics(planar, PLANAR_LENGTHS)   # compile once (excluded)
@@ -445,25 +532,41 @@ def main():
                       + ("" if out[3] else f"; did not finish in {args.codac_cap:.0f} s"))
     sys.stdout.flush()
 
-    # (c) Gough tracking --------------------------------------------------------------------------
-    gough = load_robot(GOUGH_FILE)
-    pose = pose_from_points(gough, table_vi2()[0])
-    pose_text = ",".join(repr(float(v)) for v in pose)
-    forward_kinematics(gough, GOUGH_LENGTHS, track=pose_text)
-    t_g, res_g = timed(lambda: forward_kinematics(gough, GOUGH_LENGTHS, track=pose_text), args.repeat)
-    table.cpu = timed.cpu
-    assert res_g.tracked and len(res_g.solutions) == 1
-    gfk = FloatFK(gough)
-    Lg = np.array([float(v) for v in GOUGH_LENGTHS.split(",")])
-    x0 = np.concatenate([pose[:3], quaternion_of_pose(pose)])[None, :]
-    t_gn, (xg, conv) = timed(lambda: newton(gfk, x0, Lg ** 2, iters=8), args.repeat)
-    w = "Gough 24-solution robot, tracking 1 pose"
-    table.add(w, t_g, "numpy Newton from the pose (uncertified)", t_gn, 0.010,
-              f"certkin proved unique; Newton converged: {bool(conv[0])}")
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=5, help="repeats per measurement (median)")
+    ap.add_argument("--batch", type=int, default=1000, help="planar leg-length sets in the batch")
+    ap.add_argument("--batch-repeat", type=int, default=5, help="repeats of the batch (it takes ~15 s)")
+    ap.add_argument("--starts", type=int, default=256, help="Newton starts per instance (numpy peer)")
+    ap.add_argument("--codac-cap", type=float, default=60.0, help="seconds allowed to each codac pave")
+    ap.add_argument("--codac-eps", type=float, default=1e-3, help="codac pave resolution")
+    ap.add_argument("--codac-sample", type=int, default=20, help="batch instances run through codac (extrapolated)")
+    ap.add_argument("--gough-full", type=float, default=0.0, metavar="SECONDS",
+                    help="also run the Gough full-domain search (all 24 postures) with this time budget; 0: skip")
+    ap.add_argument("--only", choices=("all", "tracking"), default="all",
+                    help="'tracking': only the tracking rows (Gough and planar, one call and a sequence)")
+    ap.add_argument("--steps", type=int, default=100, help="steps of the tracked sequences")
+    args = ap.parse_args()
+    rng = np.random.default_rng(0)
+    has_codac = codac_available()
+    table = Table()
+    if has_codac:
+        from importlib.metadata import version
+        codac_text = f"codac {version('codac')}"
+    else:
+        codac_text = "codac not installed (pip install 'certkin[bench]'): codac rows skipped"
+    print(f"# FK benchmark; {describe()}; {codac_text}")
     sys.stdout.flush()
 
+    if args.only == "all":
+        search_rows(table, args, rng, has_codac)
+    tracking_rows(table, args)
+    gough = load_robot(GOUGH_FILE)
+    gfk = FloatFK(gough)
+
     # (c') Gough full domain (optional) ------------------------------------------------------------
-    if args.gough_full > 0:
+    if args.gough_full > 0 and args.only == "all":
         w = "Gough 24-solution robot, full domain"
         t, c = time.perf_counter(), time.process_time()
         r = forward_kinematics(gough, GOUGH_LENGTHS, budget=Budget(max_boxes=10 ** 9, max_seconds=args.gough_full,

@@ -4,6 +4,10 @@ The equations (``robots.fk_systems``: platform origin and frame axes as
 unknowns, quadratic, covering every real posture) are solved by the shared
 engine; each box is decided by
 
+0. ``hc4``: one forward-backward pass over every equation (``fk_hc4``), then
+   ``position``: a Gauss-Seidel sweep on the position, which is linear given
+   the rotation; either may empty the box (``hc4-empty``, ``position-empty``)
+   or shrink it (a contraction, recorded in the tree);
 1. ``equation``: the enclosure of one equation over the box misses 0 — no
    solution in the box;
 2. ``krawczyk-empty``: K(X) ∩ X = ∅ — no solution (Krawczyk 1969; Moore 1977);
@@ -13,7 +17,8 @@ engine; each box is decided by
 4. ``krawczyk`` contraction: the solutions in X lie in K(X) ∩ X, which
    replaces X (widened by a relative 2⁻²⁰ so that an independent
    re-computation still fits inside) when it is substantially smaller;
-5. otherwise X is bisected.
+5. otherwise X is bisected, along the rotation unknown where the equations
+   vary most (the position follows from the rotation by steps 0 and 4).
 
 K(X) = c − C f(c) + (I − C J(X))(X − c) with c the midpoint and C the
 float inverse of the midpoint Jacobian (Neumaier 1990, ch. 5).
@@ -38,12 +43,19 @@ from intervals import Interval, linalg, sqr
 
 from .engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
 from .errors import InputError
+from .fk_hc4 import hc4
 
 MARGIN = 2.0 ** -30      # uniqueness requires K inside X shrunk by this relative margin
 WIDEN = 2.0 ** -20       # contracted boxes are widened by this fraction of the parent's width
 SHRINK = 0.05            # a contraction is kept when some side shrinks by this fraction
 INFLATE_BELOW = 2.0 ** -12  # scaled width under which ε-inflation around a Newton iterate is tried
 POSITION_SCALE = 8.0     # position sides count this much less than rotation sides when bisecting
+KRAWCZYK_BELOW = 0.1     # the Krawczyk step is tried on boxes whose rotation sides are below this (scaled)
+AGAIN = 0.5              # a Krawczyk contraction this strong is followed by a second Krawczyk step,
+AGAIN_MIN = 64           # when at least this many boxes of the batch had one
+SMALL_BATCH = 512        # batches of at most this many boxes use the stacked evaluation (fk_stacked)
+INITIAL_SPLITS = 6       # every domain is halved this often before the first batch (it is never decided whole)
+ROTATION_FIRST = 16.0    # only rotation unknowns are bisected while the position is at most this much wider (scaled)
 
 
 def _inner(lo, hi, rel=MARGIN):
@@ -51,13 +63,32 @@ def _inner(lo, hi, rel=MARGIN):
     return lo + w, hi - w
 
 
-def krawczyk_boxes(system, X: Interval, L: Interval, C=None, with_jacobian=False):
-    """(K, C[, J]) for the boxes X (N, n) with squared leg lengths L (N, legs); c = midpoint."""
-    J = system.jacobian(X)
+def krawczyk_boxes(system, X: Interval, L: Interval, C=None, with_jacobian=False, rb=None, compact=False):
+    """(K, C[, J]) for the boxes X (N, n) with squared leg lengths L (N, legs); c = midpoint
+    (``rb``: the enclosures R b_i over X, if known; ``compact``: C rounded to float32 values,
+    which any C may be, so that the search tree stores it in half the memory)."""
+    J = system.jacobian(X, rb=rb)
+    if C is None and compact:
+        C = _compact(linalg.mid_inverse(J)[0])
     c = X.mid()
     fc = system.equations(Interval._raw(c, c.copy()), L)
     res = linalg.krawczyk(fc, J, X, c, C)
     return (res.K, res.C, J) if with_jacobian else (res.K, res.C)
+
+
+def _for_batch(system, n_box):
+    """The equations for a batch of n_box boxes: the stacked twin for small batches (the same
+    enclosures, bit for bit, in fewer and larger operations: ``robots/fk_stacked.py``)."""
+    if n_box > SMALL_BATCH:
+        return system
+    from .robots.fk_stacked import StackedFKSystem
+    return StackedFKSystem.of(system)
+
+
+def _compact(M):
+    """M rounded to float32 values (held as float64): evidence matrices are stored as float32."""
+    with np.errstate(over="ignore"):
+        return np.where(np.abs(M) < 2.0 ** 127, M, 0.0).astype(np.float32).astype(np.float64)
 
 
 def unique_in(K: Interval, lo, hi):
@@ -66,7 +97,7 @@ def unique_in(K: Interval, lo, hi):
     return np.all((K.lo > ilo) & (K.hi < ihi), axis=-1)
 
 
-def contract_position(system, X: Interval, L: Interval):
+def contract_position(system, X: Interval, L: Interval, rb=None):
     """Preconditioned Gauss-Seidel on the position, linear given the rotation.
 
     The differences of leg equations give D(X) p = g(X) (``FKSystem.position_system``);
@@ -75,7 +106,7 @@ def contract_position(system, X: Interval, L: Interval):
     (``linalg.gauss_seidel``).  Returns (new lo, new hi, empty mask, P).
     """
     p = system.n_pos
-    D, g = system.position_system(X, L)
+    D, g = system.position_system(X, L, rb=rb)
     Dm = 0.5 * D.lo + 0.5 * D.hi
     Dt = np.swapaxes(Dm, -1, -2)
     with np.errstate(all="ignore"):  # P = (Dᵀ D)⁻¹ Dᵀ: a heuristic; any float P keeps the solutions
@@ -84,7 +115,7 @@ def contract_position(system, X: Interval, L: Interval):
             P = np.linalg.solve(G, Dt)
         except np.linalg.LinAlgError:
             P = np.linalg.pinv(Dm)
-    P = np.where(np.isfinite(P), P, 0.0)
+    P = _compact(np.where(np.isfinite(P), P, 0.0))   # float32 values: any float P keeps the solutions
     A = linalg.matmul(P, D)
     b = linalg.matvec(P, g)
     box = Interval._raw(X.lo[:, :p], X.hi[:, :p])
@@ -99,48 +130,74 @@ def contract_position(system, X: Interval, L: Interval):
 class FKProblem:
     """Decides boxes of FK unknowns for a batch of instances (one root box per instance)."""
 
-    reasons = ("equation", "krawczyk-empty", "krawczyk-unique", "krawczyk", "position-empty", "position")
+    reasons = ("equation", "krawczyk-empty", "krawczyk-unique", "krawczyk", "position-empty", "position",
+               "hc4-empty", "hc4")
 
     def __init__(self, system, L: Interval, scale):
         self.system = system
         self.L = L                          # (M, legs) squared leg lengths, one row per instance
         self.scale = scale
+        self._stacked = None
+
+    def _system(self, n_box):
+        if n_box > SMALL_BATCH:
+            return self.system
+        if self._stacked is None:
+            self._stacked = _for_batch(self.system, 0)
+        return self._stacked
 
     def _L(self, roots):
         return Interval._raw(self.L.lo[roots], self.L.hi[roots])
 
     def decide(self, lo, hi, roots) -> Decisions:
         n_box, n = lo.shape
+        system = self._system(n_box)
         L = self._L(roots)
         status = np.full(n_box, OPEN, dtype=np.int8)
         reason = np.zeros(n_box, dtype=np.int64)
         creason = np.zeros(n_box, dtype=np.int64)
         cev = {}
         lo, hi = lo.copy(), hi.copy()
-        # 1. the position is linear given the rotation: Gauss-Seidel contraction
+        # 0. forward-backward (HC4) contraction of every equation (fk_hc4), kept when it shrinks a side
+        hlo, hhi, hempty = hc4(system, lo, hi, L)
+        status[hempty], reason[hempty] = EXCLUDED, 6
+        w = (hi - lo) * WIDEN  # room for an independent re-computation
+        hlo, hhi = np.maximum(lo, hlo - w), np.minimum(hi, hhi + w)
+        hc4_moved = ~hempty & (_shrink(lo, hi, hlo, hhi) >= SHRINK)
+        lo[hc4_moved], hi[hc4_moved] = hlo[hc4_moved], hhi[hc4_moved]
+        creason[hc4_moved] = 7
+        # 1. the position is linear given the rotation: Gauss-Seidel contraction (after HC4: one
+        #    "hc4" contraction with the evidence P)
         position_moved = np.zeros(n_box, dtype=bool)
-        if self.system.n_pos:
-            plo, phi_, pempty, P = contract_position(self.system, Interval._raw(lo, hi), L)
+        rb = system.rotated(system.rotation(Interval._raw(lo, hi)))  # the rotation is final now
+        if system.n_pos:
+            plo, phi_, pempty, P = contract_position(system, Interval._raw(lo, hi), L, rb=rb)
+            pempty &= status == OPEN
             status[pempty] = EXCLUDED
             reason[pempty] = 4
             shrink = _shrink(lo, hi, plo, phi_)
-            position_moved = ~pempty & (shrink >= SHRINK)
+            position_moved = ~pempty & (shrink >= SHRINK) & (status == OPEN)
             lo[position_moved], hi[position_moved] = plo[position_moved], phi_[position_moved]
-            creason[position_moved] = 5
-            cev["P"] = (position_moved, P[position_moved])
+            creason[position_moved & ~hc4_moved] = 5
+            cev["P"] = (position_moved, P[position_moved].astype(np.float32))
             P_empty = P
         # 2. exclusion by one equation
         X = Interval._raw(lo, hi)
-        F = self.system.equations(X, L)
+        F = system.equations(X, L, rb=rb)
         out = (F.lo > 0) | (F.hi < 0)
         excluded = out.any(axis=1) & (status == OPEN)
         status[excluded] = EXCLUDED
         reason[excluded] = 0
-        evidence = {"equation": np.argmax(out, axis=1).astype(np.int64)}
-        if self.system.n_pos and pempty.any():
-            evidence["P"] = (pempty, P_empty[pempty])
-        # 3. Krawczyk: empty, unique, or a contraction
+        evidence = {"equation": (excluded, np.argmax(out[excluded], axis=1).astype(np.int8))}
+        if system.n_pos and pempty.any():
+            evidence["P"] = (pempty, P_empty[pempty].astype(np.float32))
+        # 3. Krawczyk: empty, unique, or a contraction (not on boxes still wide in the rotation,
+        #    where it never succeeds: those are bisected)
         rest = np.nonzero(status == OPEN)[0]
+        pn = system.n_pos
+        wide = np.max((hi[rest, pn:] - lo[rest, pn:]) / self.scale[pn:], axis=1) > KRAWCZYK_BELOW
+        rest = rest[~wide]
+        lo2, hi2, cev2, cev3 = lo.copy(), hi.copy(), {}, {}
         C_rows = np.zeros((n_box, n, n))
         C_mask = np.zeros(n_box, dtype=bool)
         star_mask = np.zeros(n_box, dtype=bool)
@@ -148,12 +205,20 @@ class FKProblem:
         split = np.full(n_box, -1)
         if len(rest):
             rlo, rhi = lo[rest], hi[rest]
-            K, C, J = krawczyk_boxes(self.system, Interval._raw(rlo, rhi), Interval._raw(L.lo[rest], L.hi[rest]),
-                                     with_jacobian=True)
+            K, C, J = krawczyk_boxes(system, Interval._raw(rlo, rhi), Interval._raw(L.lo[rest], L.hi[rest]),
+                                     with_jacobian=True, rb=rb[rest], compact=True)
             C_rows[rest] = C
-            # bisect where the equations vary most: the largest sum_i |J_ij| w_j ("smear", Kearfott 1996)
+            # bisect where the equations vary most: the largest sum_i |J_ij| w_j ("smear", Kearfott 1996),
+            # among the rotation unknowns (HC4 and Gauss-Seidel then narrow the position) unless the
+            # position is much wider (scaled) than the rotation
             smear = np.sum(J.mag(), axis=1) * (rhi - rlo)
-            split[rest] = np.argmax(np.where(np.isfinite(smear), smear, np.inf), axis=1)
+            smear = np.where(np.isfinite(smear), smear, np.inf)
+            pn = system.n_pos
+            if pn:
+                scaled = (rhi - rlo) / self.scale
+                rot_first = np.max(scaled[:, :pn], axis=1) <= ROTATION_FIRST * np.max(scaled[:, pn:], axis=1)
+                smear[:, :pn] = np.where(rot_first[:, None], -1.0, smear[:, :pn])
+            split[rest] = np.argmax(smear, axis=1)
             finite = np.all(np.isfinite(K.lo) & np.isfinite(K.hi), axis=1)
             empty = np.any((K.hi < rlo) | (K.lo > rhi), axis=1) & finite
             unique = unique_in(K, rlo, rhi) & ~empty
@@ -161,18 +226,39 @@ class FKProblem:
             status[rest[unique]], reason[rest[unique]] = PROVED, 2
             C_mask[rest[empty | unique]] = True
             open_ = ~(empty | unique)
-            # contraction K(X) ∩ X, widened, kept inside X (one contraction per box and call)
+            # contraction K(X) ∩ X, widened, kept inside X: a second contraction, after the first
             w = (rhi - rlo) * WIDEN
             nlo = np.maximum(rlo, np.where(np.isfinite(K.lo), K.lo - w, -np.inf))
             nhi = np.minimum(rhi, np.where(np.isfinite(K.hi), K.hi + w, np.inf))
-            keep = open_ & np.all(nlo <= nhi, axis=1) & (_shrink(rlo, rhi, nlo, nhi) >= SHRINK) \
-                & ~position_moved[rest]
+            keep = open_ & np.all(nlo <= nhi, axis=1) & (_shrink(rlo, rhi, nlo, nhi) >= SHRINK)
             k = rest[keep]
-            lo[k], hi[k] = nlo[keep], nhi[keep]
-            creason[k] = 3
+            lo2[k], hi2[k] = nlo[keep], nhi[keep]
+            lo3, hi3 = lo2.copy(), hi2.copy()
             kmask = np.zeros(n_box, dtype=bool)
             kmask[k] = True
-            cev["C"] = (kmask, C[keep])
+            cev2["C"] = (kmask, C[keep].astype(np.float32))
+            # boxes that Krawczyk shrank by half or more (near a root: quadratic convergence) get a second
+            # Krawczyk step on the contracted box: empty, unique, or a third contraction (when they are
+            # many: an evaluation costs about as much for a few boxes as for a hundred)
+            strong = k[_shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN]
+            if len(strong) >= AGAIN_MIN:
+                X2 = Interval._raw(lo2[strong], hi2[strong])
+                K2, C2 = krawczyk_boxes(system, X2, Interval._raw(L.lo[strong], L.hi[strong]), compact=True)
+                finite2 = np.all(np.isfinite(K2.lo) & np.isfinite(K2.hi), axis=1)
+                empty2 = np.any((K2.hi < X2.lo) | (K2.lo > X2.hi), axis=1) & finite2
+                unique2 = unique_in(K2, X2.lo, X2.hi) & ~empty2
+                status[strong[empty2]], reason[strong[empty2]] = EXCLUDED, 1
+                status[strong[unique2]], reason[strong[unique2]] = PROVED, 2
+                C_rows[strong[empty2 | unique2]] = C2[empty2 | unique2]
+                C_mask[strong[empty2 | unique2]] = True
+                w2 = (X2.hi - X2.lo) * WIDEN
+                nlo2 = np.maximum(X2.lo, np.where(np.isfinite(K2.lo), K2.lo - w2, -np.inf))
+                nhi2 = np.minimum(X2.hi, np.where(np.isfinite(K2.hi), K2.hi + w2, np.inf))
+                keep2 = ~(empty2 | unique2) & np.all(nlo2 <= nhi2, axis=1) & (_shrink(X2.lo, X2.hi, nlo2, nhi2) >= SHRINK)
+                lo3[strong[keep2]], hi3[strong[keep2]] = nlo2[keep2], nhi2[keep2]
+                k3 = np.zeros(n_box, dtype=bool)
+                k3[strong[keep2]] = True
+                cev3["C"] = (k3, C2[keep2].astype(np.float32))
             # small open boxes: ε-inflation around a Newton iterate
             width = np.max((rhi - rlo) / self.scale, axis=1)
             small = open_ & ~keep & (width < INFLATE_BELOW)
@@ -184,31 +270,39 @@ class FKProblem:
                 stars[sm[proved]] = np.stack([slo[proved], shi[proved]], axis=-1)
                 C_rows[sm[proved]] = Cs[proved]
                 C_mask[sm[proved]] = True
-        evidence["C"] = (C_mask, C_rows[C_mask])
+        evidence["C"] = (C_mask, C_rows[C_mask].astype(np.float32))
         if star_mask.any():
             evidence["star"] = (star_mask, stars[star_mask])
-        return Decisions(status, reason, evidence, contracted=(lo, hi), contraction_reason=creason,
-                         contraction_evidence=cev, split=split)
+        stages = [(lo, hi), (lo2, hi2)]
+        reasons, stage_evidence = [creason, np.full(n_box, 3)], [cev, cev2]
+        if cev3:
+            stages.append((lo3, hi3))
+            reasons.append(np.full(n_box, 3))
+            stage_evidence.append(cev3)
+        return Decisions(status, reason, evidence, contracted=stages, contraction_reason=reasons,
+                         contraction_evidence=stage_evidence, split=split)
 
     def _inflate(self, lo, hi, roots):
         """Try X* = Newton iterate ± r (⊇ X); returns (proved mask, X* lo, X* hi, C)."""
+        system = self._system(len(lo))
         L = self._L(roots)
         x = 0.5 * (lo + hi)
-        J = self.system.jacobian(Interval._raw(lo, hi))
+        J = system.jacobian(Interval._raw(lo, hi))
         C, _ = linalg.mid_inverse(J)
         for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
-            f = self.system.equations(Interval._raw(x, x.copy()), L)
+            f = system.equations(Interval._raw(x, x.copy()), L)
             x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
         r = np.maximum(np.abs(x - 0.5 * (lo + hi)), hi - lo) + 1e-12 * self.scale
         slo, shi = np.minimum(lo, x - r), np.maximum(hi, x + r)
-        K, Cs = krawczyk_boxes(self.system, Interval._raw(slo, shi), L)
+        K, Cs = krawczyk_boxes(system, Interval._raw(slo, shi), L, compact=True)
         return unique_in(K, slo, shi), slo, shi, Cs
 
 
 def _shrink(lo, hi, nlo, nhi):
     """The largest fraction of a side removed by a contraction, per box."""
     w = np.maximum(hi - lo, 1e-300)
-    return np.max(((nlo - lo) + (hi - nhi)) / w, axis=1)
+    with np.errstate(all="ignore"):  # rows of boxes proved empty may hold inf
+        return np.max(((nlo - lo) + (hi - nhi)) / w, axis=1)
 
 
 def enclose_roots(system, star_lo, star_hi, L: Interval, steps: int = 8):
@@ -234,6 +328,52 @@ def enclose_roots(system, star_lo, star_hi, L: Interval, steps: int = 8):
     if not good.all():
         K2, C2 = krawczyk_boxes(system, Interval._raw(star_lo, star_hi), L)
         rlo[~good], rhi[~good], C[~good] = star_lo[~good], star_hi[~good], C2[~good]
+    return rlo, rhi, C
+
+
+def root_boxes(system, star_lo, star_hi, L: Interval, newton_steps: int = 6):
+    """Tight boxes R ⊆ X*, each proved to hold a root (hence X*'s unique root), and their C.
+
+    A guess x* from float Newton iterations started at the midpoint of X*
+    (``FKSystem.float_system``: plain floats, never a proof), the box
+    R = x* ± r with r twice a float estimate of how far the Krawczyk image of
+    R reaches (|C| (|f(x*)| + the rounding of the interval evaluation of f)),
+    cut to X*, and one Krawczyk test K(R) ⊂ int R (outward rounded: the proof).
+    Rows that fail get ``enclose_roots`` (Krawczyk iterations from X*).  Batched.
+    """
+    N, n = star_lo.shape
+    if not N:
+        return star_lo.copy(), star_hi.copy(), np.zeros((0, n, n))
+    L2 = 0.5 * L.lo + 0.5 * L.hi
+    x = 0.5 * star_lo + 0.5 * star_hi
+    with np.errstate(all="ignore"):
+        size = np.maximum(np.abs(star_hi - star_lo), 1e-300)
+        for _ in range(newton_steps):
+            f, J = system.float_system(x, L2)
+            ok = np.all(np.isfinite(J), axis=(1, 2)) & (np.abs(np.linalg.det(J)) > 0)
+            step = np.linalg.solve(np.where(ok[:, None, None], J, np.eye(n)), f[..., None])[..., 0]
+            step = np.where(ok[:, None] & np.isfinite(step), step, 0.0)
+            x = x - step
+            if np.all(np.abs(step) <= 2.0 ** -40 * size):   # converged (a guess: the proof is below)
+                break
+        f, J = system.float_system(x, L2)
+        C, failed = linalg.mid_inverse(J)
+        a, b = system.float_geometry()
+        p = system.n_pos
+        # each leg equation sums terms of magnitude <= 3 (|p|² + |a_i|² + |b_i|²) + ρ_i²
+        p2 = np.sum(x[:, :p] ** 2, -1, keepdims=True) if p else 0.0
+        terms = np.concatenate([3.0 * (p2 + np.sum(a * a, -1) + np.sum(b * b, -1)) + L2, np.full((N, 1), 2.0)], -1)
+        r = 2.0 * (np.abs(C) @ (np.abs(f) + 2.0 ** -49 * terms)[..., None])[..., 0] + 2.0 ** -50 * np.abs(x) + 1e-300
+        good = ~failed & np.all(np.isfinite(r) & np.isfinite(x), axis=1)
+        good &= np.all((x >= star_lo) & (x <= star_hi), axis=1)
+    rlo = np.where(good[:, None], np.maximum(x - r, star_lo), star_lo)
+    rhi = np.where(good[:, None], np.minimum(x + r, star_hi), star_hi)
+    K, C = krawczyk_boxes(_for_batch(system, N), Interval._raw(rlo, rhi), L)
+    good &= unique_in(K, rlo, rhi)
+    if not good.all():
+        bad = ~good
+        Lb = Interval._raw(L.lo[bad], L.hi[bad])
+        rlo[bad], rhi[bad], C[bad] = enclose_roots(_for_batch(system, int(bad.sum())), star_lo[bad], star_hi[bad], Lb)
     return rlo, rhi, C
 
 
@@ -317,10 +457,14 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     variables (``"x=a:b,..."``); position ranges narrow the search, angle
     ranges filter the solutions.  ``track``: a previous pose; the unique
     posture near it is proved directly when possible (``result.tracked``),
-    else the full search runs.  Each solution is proved unique in its box;
-    ``complete`` means the rest of the domain is proved empty.
+    else the full search runs; with a 2-D ``lengths`` the rows are a
+    sequence, tracked one after another from ``track`` (``track_sequence``).
+    Each solution is proved unique in its box; ``complete`` means the rest of
+    the domain is proved empty.
     """
     from .robots.fk_systems import FKSystem
+    if track is not None and not isinstance(lengths, str) and np.asarray(lengths, dtype=object).ndim == 2:
+        return track_sequence(robot, lengths, track, budget=budget)
     system = FKSystem(robot)
     rows, texts, batch_input = _parse_lengths(robot, lengths)
     M = len(rows)
@@ -343,8 +487,8 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
     problem = FKProblem(system, Interval._raw(L.lo[idx], L.hi[idx]), scale)
-    res = search(problem, lo[idx], hi[idx], scale=scale, budget=budget, batch=max(4096, 256 * len(idx)),
-                 progress=progress) if len(idx) else None
+    res = search(problem, lo[idx], hi[idx], scale=scale, budget=budget, batch=max(8192, 256 * len(idx)),
+                 progress=progress, initial_splits=INITIAL_SPLITS) if len(idx) else None
     out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter)
     for r in out:
         r.user_domain = domain is not None
@@ -376,7 +520,7 @@ def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
     inst = idx[tree.root[proved]]
     Lp = Interval._raw(L.lo[inst], L.hi[inst])
     if len(proved):
-        rlo, rhi, rC = enclose_roots(system, slo, shi, Lp)
+        rlo, rhi, rC = root_boxes(system, slo, shi, Lp)
     else:
         rlo, rhi, rC = slo, shi, np.zeros((0, system.n, system.n))
     undecided = tree.leaves(kind=UNDECIDED)
@@ -385,18 +529,27 @@ def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
     starts = np.searchsorted(tree.root[proved][by_root], np.arange(len(idx) + 1))
     und_sorted = undecided[np.argsort(tree.root[undecided], kind="stable")]
     und_starts = np.searchsorted(tree.root[und_sorted], np.arange(len(idx) + 1))
+    pendings = []
     for k, i in enumerate(idx):
         r = results[i]
         r.tree, r.node, r.boxes = tree, k, int(nodes[k])
         sel = by_root[starts[k]:starts[k + 1]]
         pending = [(tree.lo[j], tree.hi[j]) for j in und_sorted[und_starts[k]:und_starts[k + 1]]]
         _merge(r, system, proved[sel], slo[sel], shi[sel], rlo[sel], rhi[sel], rC[sel], lo[i], hi[i], pending)
-        _finish(r, system, pending, angle_filter)
+        pendings.append(pending)
+    # poses and platform points of every solution of every instance in one evaluation
+    counts = [len(results[i].solutions) for i in idx]
+    computed = [None] * len(idx)
+    if sum(counts):
+        boxes = [s["box"] for i in idx for s in results[i].solutions]
+        B = Interval._raw(np.stack([b.lo for b in boxes]), np.stack([b.hi for b in boxes]))
+        poses, pts = system.pose(B), system.points(B)
+        first = np.concatenate([[0], np.cumsum(counts)])
+        computed = [({name: v[first[k]:first[k + 1]] for name, v in poses.items()}, pts[first[k]:first[k + 1]])
+                    for k in range(len(idx))]
+    for k, i in enumerate(idx):
+        _finish(results[i], system, pendings[k], angle_filter, computed[k])
     return results
-
-
-def _inside(alo, ahi, blo, bhi):
-    return bool(np.all(alo >= blo) and np.all(ahi <= bhi))
 
 
 def _meets(alo, ahi, blo, bhi):
@@ -414,32 +567,45 @@ def _merge(result, system, leaves, slo, shi, rlo, rhi, rC, dlo, dhi, pending):
     """
     spatial = system.kind != "planar-3rpr"
     p = system.n_pos
-    neg = lambda lo_, hi_: (np.concatenate([lo_[:p], -hi_[p:]]), np.concatenate([hi_[:p], -lo_[p:]]))  # noqa: E731
     groups = []                              # (lo, hi, C) of each group's root box
     member = []                              # per leaf: (group, twin)
-    for a in range(len(leaves)):
+    n_leaves = len(leaves)
+    glo_all, ghi_all = np.empty((n_leaves, system.n)), np.empty((n_leaves, system.n))  # rows of the groups so far
+    for a in range(n_leaves):
         found = None
-        for g, (glo, ghi, _) in enumerate(groups):
-            if _inside(glo, ghi, slo[a], shi[a]):
-                found = (g, False)
-            elif spatial and _inside(*neg(glo, ghi), slo[a], shi[a]):
-                found = (g, True)
-            if found:
-                break
+        g_n = len(groups)
+        if g_n:
+            Glo, Ghi = glo_all[:g_n], ghi_all[:g_n]
+            direct = np.all((Glo >= slo[a]) & (Ghi <= shi[a]), axis=1)
+            hit = direct
+            if spatial:
+                Nlo = np.concatenate([Glo[:, :p], -Ghi[:, p:]], axis=1)
+                Nhi = np.concatenate([Ghi[:, :p], -Glo[:, p:]], axis=1)
+                hit = direct | np.all((Nlo >= slo[a]) & (Nhi <= shi[a]), axis=1)
+            if hit.any():                    # the first group holding the leaf's root (direct before twin)
+                g = int(np.argmax(hit))
+                found = (g, not bool(direct[g]))
         if found is None:
             groups.append((rlo[a], rhi[a], rC[a]))
-            found = (len(groups) - 1, False)
+            glo_all[g_n], ghi_all[g_n] = rlo[a], rhi[a]
+            found = (g_n, False)
         member.append(found)
     status = []                              # per group: "solution", "outside" or "ambiguous"
-    for g, (glo, ghi, _) in enumerate(groups):
-        if np.any(ghi < dlo) or np.any(glo > dhi):
+    G = len(groups)
+    Glo, Ghi = glo_all[:G], ghi_all[:G]
+    meets = np.all((Glo[:, None, :] <= Ghi[None, :, :]) & (Glo[None, :, :] <= Ghi[:, None, :]), axis=-1)
+    if spatial:
+        Nlo = np.concatenate([Glo[:, :p], -Ghi[:, p:]], axis=1)
+        Nhi = np.concatenate([Ghi[:, :p], -Glo[:, p:]], axis=1)
+        meets |= np.all((Glo[:, None, :] <= Nhi[None, :, :]) & (Nlo[None, :, :] <= Ghi[:, None, :]), axis=-1)
+    np.fill_diagonal(meets, False)
+    outside = np.any(Ghi < dlo, axis=1) | np.any(Glo > dhi, axis=1)
+    inside = np.all(Glo >= dlo, axis=1) & np.all(Ghi <= dhi, axis=1)
+    for g in range(G):
+        if outside[g]:
             status.append("outside")
-            continue
-        clash = not _inside(glo, ghi, dlo, dhi)
-        for h, (hlo, hhi, _) in enumerate(groups):
-            if h != g and (_meets(glo, ghi, hlo, hhi) or (spatial and _meets(glo, ghi, *neg(hlo, hhi)))):
-                clash = True
-        status.append("ambiguous" if clash else "solution")
+        else:
+            status.append("ambiguous" if (not inside[g] or meets[g].any()) else "solution")
     index = {}
     for g, st in enumerate(status):
         glo, ghi, gC = groups[g]
@@ -467,13 +633,17 @@ def leaf_box(result, leaf):
     return result.tree.lo[leaf], result.tree.hi[leaf]
 
 
-def _finish(result, system, pending, angle_filter):
-    """Poses and platform points of the solutions; undecided boxes clustered; the angle filter."""
+def _finish(result, system, pending, angle_filter, computed=None):
+    """Poses and platform points of the solutions; undecided boxes clustered; the angle filter.
+
+    ``computed``: (poses, points) of the solution boxes, if already evaluated (batched)."""
     result.all_solutions = list(result.solutions)
     if result.solutions:
-        R = Interval._raw(np.stack([s["box"].lo for s in result.solutions]), np.stack([s["box"].hi for s in result.solutions]))
-        poses = system.pose(R)
-        pts = system.points(R)
+        if computed is None:
+            R = Interval._raw(np.stack([s["box"].lo for s in result.solutions]),
+                              np.stack([s["box"].hi for s in result.solutions]))
+            computed = system.pose(R), system.points(R)
+        poses, pts = computed
         kept = []
         for j, s in enumerate(result.solutions):
             s["pose"] = _pose_names(result.robot, {k: v[j] for k, v in poses.items()})
@@ -539,42 +709,22 @@ def _apply_domain(robot, system, spec, lo, hi):
 def _track(robot, system, texts, L, previous):
     """Prove the unique posture near a previous pose (seed 002 §4), or None to fall back.
 
-    Float Newton iterations from the previous pose give a guess x*; the box
-    around the previous pose and x*, inflated, must pass the Krawczyk test
-    K(X) ⊂ int X: it then holds exactly one posture, which is reported.
+    Float Newton iterations from the previous pose give a guess x*; a box
+    around the previous pose and x* must pass the Krawczyk test K(X) ⊂ int X
+    (exactly one posture there), and a narrow box around x* inside it too (the
+    posture is there); see ``certkin.tracking``.
     """
-    from .poses import parse_pose
-    pose, _ = parse_pose(previous, robot, "--track")
-    t0 = time.perf_counter()
-    x0 = system.unknowns_of_pose(pose.mid())[None, :]
-    x = x0.copy()
-    for _ in range(8):  # a guess only; the proof is the Krawczyk test below
-        J = system.jacobian(Interval._raw(x, x.copy()))
-        f = system.equations(Interval._raw(x, x.copy()), L)
-        with np.errstate(all="ignore"):
-            try:
-                step = np.linalg.solve(J.mid(), (0.5 * (f.lo + f.hi))[..., None])[..., 0]
-            except np.linalg.LinAlgError:
-                return None
-        if not np.all(np.isfinite(step)):
-            return None
-        x = x - step
-    # a box around x0 and x*, no thinner in any unknown than the move in units of the robot's size
-    size = np.concatenate([np.full(system.n_pos, system.size), np.ones(system.n - system.n_pos)])
-    move = np.max(np.abs(x - x0) / size) + 1e-12
-    for grow in (0.5, 0.25, 0.125):  # the box must hold x0 and x*; smaller boxes prove more easily
-        r = grow * np.abs(x - x0) + 0.5 * grow * move * size
-        lo, hi = np.minimum(x0, x) - r, np.maximum(x0, x) + r
-        K, C = krawczyk_boxes(system, Interval._raw(lo, hi), L)
-        if unique_in(K, lo, hi)[0]:
-            rlo, rhi, rC = enclose_roots(system, lo, hi, L)
-            res = FKResult(robot, system, texts, (lo[0], hi[0]), tracked=True, complete=True)
-            res.solutions.append({"status": "unique", "box": Interval._raw(rlo[0], rhi[0]), "C": rC[0]})
-            res.track_C = C[0]
-            _finish(res, system, [], None)
-            res.seconds = time.perf_counter() - t0
-            return res
-    return None
+    from .tracking import track_one
+    return track_one(robot, system, texts, L, previous)
+
+
+def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budget: Budget | None = None):
+    """Track the posture through a sequence of leg-length sets from ``start_pose``: one result per
+    row, each step proved unique near the previous step's posture (``result.tracked``), all proofs
+    in one batched evaluation; steps that are not proved get the full search (``fallback``) or are
+    reported not proved.  See ``certkin.tracking.track_sequence``."""
+    from .tracking import track_sequence as _track_sequence
+    return _track_sequence(robot, lengths_rows, start_pose, fallback=fallback, budget=budget)
 
 
 def _parse_lengths(robot, lengths):

@@ -21,15 +21,16 @@ A claim lists ``solutions`` (boxes R_j of unknowns, each with a float
 matrix C_j such that the Krawczyk image K(R_j) lies in the interior of R_j:
 exactly one root in R_j), pairwise disjoint, inside the ``domain``; and a
 ``tree`` covering the domain whose leaves are excluded (``equation``,
-``krawczyk-empty``, ``position-empty``) or proved (``krawczyk-unique``:
+``krawczyk-empty``, ``position-empty``, ``hc4-empty``) or proved (``krawczyk-unique``:
 K(X*) ⊂ int X* for X* ⊇ leaf, and the solution it names lies in X*, so the
 leaf's only possible root is that solution — or, with ``twin``, the
 solution with q negated, the same posture; or ``outside``: a box proved to
 hold X*'s root misses the leaf, which then holds no root).  Solutions are
 distinct postures: their boxes, and (spatial robots) their boxes with the
 quaternion negated, are pairwise disjoint.  Contractions (``krawczyk``:
-K(X) ∩ X, ``position``: one Gauss-Seidel sweep of (P D) p = P g) must land
-inside the child box.  With ``complete`` true, no leaf is undecided, so the
+K(X) ∩ X, ``position``: one Gauss-Seidel sweep of (P D) p = P g, ``hc4``:
+one forward-backward pass, ``System.hc4``, then the sweep if P is given) must
+land inside the child box.  With ``complete`` true, no leaf is undecided, so the
 solutions are all the roots in the domain; with ``covers`` =
 ``all-postures`` the domain is checked to hold every real posture.  The
 Krawczyk midpoint c is the float fl(0.5 lo + 0.5 hi) of each box.
@@ -124,7 +125,7 @@ class System:
         return rows
 
     def position_system(self, box):
-        z = [iv.mpf([lo, hi]) for lo, hi in box]
+        z = _intervals(box)
         rb = self.rotated(self.rotation(z), self.b)
         a = self.a
         arb = [sum((a[i][k] * rb[i][k] for k in range(1, self.dim)), a[i][0] * rb[i][0]) for i in range(self.legs)]
@@ -156,13 +157,15 @@ class System:
         return K
 
     def gauss_seidel(self, box, P):
-        """One Gauss-Seidel sweep on (P D) p = P g; returns the new position intervals or None (empty)."""
+        """One Gauss-Seidel sweep on (P D) p = P g; returns the new position intervals or None (empty).
+
+        ``box``: (lo, hi) pairs of floats, or ``iv`` intervals (the result of ``hc4``)."""
         D, g = self.position_system(box)
         m = len(D)
         A = [[sum((iv.mpf(P[i][r]) * D[r][j] for r in range(1, m)), iv.mpf(P[i][0]) * D[0][j])
               for j in range(self.n_pos)] for i in range(self.n_pos)]
         rhs = [sum((iv.mpf(P[i][r]) * g[r] for r in range(1, m)), iv.mpf(P[i][0]) * g[0]) for i in range(self.n_pos)]
-        x = [iv.mpf([lo, hi]) for lo, hi in box[:self.n_pos]]
+        x = _intervals(box)[:self.n_pos]
         for i in range(self.n_pos):
             num = rhs[i]
             for j in range(self.n_pos):
@@ -173,6 +176,130 @@ class System:
                 return None
             x[i] = new
         return x
+
+    def hc4(self, box):
+        """One forward-backward (HC4-revise) pass over the box; the contracted box, or None when the
+        box holds no root.  The same operations, in the same order, as certkin/fk_hc4.py (its
+        docstring lists them; docs/soundness.md §8 proves that each keeps every root)."""
+        z = _intervals(box)
+        p, n, dim, legs = self.n_pos, self.n, self.dim, self.legs
+        # 1. the norm equation
+        for k in range(p, n):
+            others = None
+            for j in range(p, n):
+                if j != k:
+                    others = _sqr(z[j]) if others is None else others + _sqr(z[j])
+            z[k] = _root(z[k], 1 - others)
+            if z[k] is None:
+                return None
+        # 2. forward: R, u_i = R b_i, e_i = (u_i − a_i) + p
+        R = self.rotation(z)
+        u = self.rotated(R, self.b)
+        a, b = self.a, self.b
+        e = [[(u[i][k] - a[i][k]) + z[k] if p else u[i][k] - a[i][k] for k in range(dim)] for i in range(legs)]
+        # 3. backward through each leg equation
+        for i in range(legs):
+            s = [_sqr(v) for v in e[i]]
+            for k in range(dim):
+                others = None
+                for kk in range(dim):
+                    if kk != k:
+                        others = s[kk] if others is None else others + s[kk]
+                e[i][k] = _root(e[i][k], self.L[i] - others)
+                if e[i][k] is None:
+                    return None
+                s[k] = _sqr(e[i][k])
+        # 4. the position
+        for k in range(p):
+            for i in range(legs):
+                z[k] = _meet(z[k], (e[i][k] - u[i][k]) + a[i][k])
+                if z[k] is None:
+                    return None
+        # 5. u_ik from e_ik
+        for i in range(legs):
+            for k in range(dim):
+                back = e[i][k] - z[k] if p else e[i][k]
+                u[i][k] = _meet(u[i][k], back + a[i][k])
+                if u[i][k] is None:
+                    return None
+        # 6. entries of R from u_i = R b_i (all candidates from the R of step 2)
+        newR = [row[:] for row in R]
+        for i in range(legs):
+            for k in range(dim):
+                T = [R[k][j] * b[i][j] for j in range(dim)]
+                for j in range(dim):
+                    if not ((b[i][j] > 0) is True or (b[i][j] < 0) is True):
+                        continue
+                    rest = None
+                    for jj in range(dim):
+                        if jj != j:
+                            rest = T[jj] if rest is None else rest + T[jj]
+                    newR[k][j] = _meet(newR[k][j], (u[i][k] - rest) / b[i][j])
+                    if newR[k][j] is None:
+                        return None
+        R = newR
+        # 7. the rotation unknowns from R
+        if self.planar:
+            for k, parts in ((2, (R[0][0], R[1][1])), (3, (R[1][0], -R[0][1]))):
+                for v in parts:
+                    z[k] = _meet(z[k], v)
+                    if z[k] is None:
+                        return None
+            return z
+        q = z[p:]
+        for k, ia, ib in HC4_DIAGONAL:
+            t = (1 - R[k][k]) * 0.5
+            for x, y in ((ia, ib), (ib, ia)):
+                q[x] = _root(q[x], t - _sqr(q[y]))
+                if q[x] is None:
+                    return None
+        for (k, j), (ia, ib), (ic, id_), sigma in HC4_OFF_DIAGONAL:
+            h = R[k][j] * 0.5
+            g = h - q[ic] * q[id_] if sigma > 0 else h + q[ic] * q[id_]
+            for x, y in ((ia, ib), (ib, ia)):
+                q[x] = _divide_by(q[x], g, q[y])
+                if q[x] is None:
+                    return None
+            g2 = h - q[ia] * q[ib]
+            if sigma < 0:
+                g2 = -g2
+            for x, y in ((ic, id_), (id_, ic)):
+                q[x] = _divide_by(q[x], g2, q[y])
+                if q[x] is None:
+                    return None
+        return z[:p] + q
+
+
+# R_kj = 2(q_a q_b + σ q_c q_d): ((k, j), (a, b), (c, d), σ); R_kk = 1 − 2(q_a² + q_b²): (k, a, b)
+HC4_OFF_DIAGONAL = (((0, 1), (1, 2), (0, 3), -1), ((1, 0), (1, 2), (0, 3), 1),
+                    ((0, 2), (1, 3), (0, 2), 1), ((2, 0), (1, 3), (0, 2), -1),
+                    ((1, 2), (2, 3), (0, 1), -1), ((2, 1), (2, 3), (0, 1), 1))
+HC4_DIAGONAL = ((0, 2, 3), (1, 1, 3), (2, 1, 2))
+
+
+def _intervals(box):
+    """``iv`` intervals from (lo, hi) float pairs (``iv`` intervals are kept)."""
+    return [v if isinstance(v, iv.mpf) else iv.mpf([v[0], v[1]]) for v in box]
+
+
+def _root(x, t):
+    """hull(x ∩ {y : y² ∈ t}), or None when empty: the pieces x ∩ [−√t̄, −√t̲] and x ∩ [√t̲, √t̄]."""
+    if (t.b < 0) is True:
+        return None
+    rhi = iv.sqrt(t.b).b
+    rlo = iv.sqrt(t.a).a if (t.a > 0) is True else iv.mpf(0)
+    neg = _meet(x, iv.mpf([-rhi, -rlo]))
+    pos = _meet(x, iv.mpf([rlo, rhi]))
+    if neg is None or pos is None:
+        return neg if pos is None else pos
+    return iv.mpf([neg.a, pos.b])
+
+
+def _divide_by(x, num, den):
+    """x ∩ num / den when 0 ∉ den (None if empty); x itself otherwise."""
+    if (den > 0) is True or (den < 0) is True:
+        return _meet(x, num / den)
+    return x
 
 
 def _divide_into(num, den, x):
@@ -383,6 +510,18 @@ def _contraction(system, node, box, child, at):
                 continue  # K ∩ X is empty: no root in X at all
             if not ((low >= clo) is True and (high <= chi) is True):
                 raise Rejected(f"{at}: krawczyk contraction: K ∩ X not inside the child box on dim {k}")
+    elif rule == "hc4":
+        z = system.hc4(box)
+        if z is not None and "P" in node:  # then one Gauss-Seidel sweep on the position
+            if not system.n_pos:
+                raise Rejected(f"{at}: a position contraction needs a position")
+            x = system.gauss_seidel(z, _matrix(node.get("P"), system.n_pos, system.legs - 1, f"{at}: P"))
+            z = None if x is None else x + z[system.n_pos:]
+        if z is None:
+            return  # no root in X at all
+        for k in range(system.n):
+            if not ((z[k].a >= child[k][0]) is True and (z[k].b <= child[k][1]) is True):
+                raise Rejected(f"{at}: hc4 contraction: result not inside the child box on dim {k}")
     elif rule == "position":
         if not system.n_pos:
             raise Rejected(f"{at}: a position contraction needs a position")
@@ -397,7 +536,7 @@ def _contraction(system, node, box, child, at):
             if child[k] != box[k]:
                 raise Rejected(f"{at}: a position contraction changes only the position")
     else:
-        raise Rejected(f"{at}: unknown contraction {rule!r} (known: krawczyk, position)")
+        raise Rejected(f"{at}: unknown contraction {rule!r} (known: krawczyk, position, hc4)")
 
 
 def _leaf(system, node, box, solutions, complete, at):
@@ -419,6 +558,10 @@ def _leaf(system, node, box, solutions, complete, at):
         K = system.krawczyk(box, _matrix(node.get("C"), n, n, f"{at}: C"))
         if not any((K[k] < lo) is True or (K[k] > hi) is True for k, (lo, hi) in enumerate(box)):
             raise Rejected(f"{at}: Krawczyk image meets the box: emptiness not proved")
+        return
+    if rule == "hc4-empty":
+        if system.hc4(box) is not None:
+            raise Rejected(f"{at}: forward-backward contraction does not prove the box empty")
         return
     if rule == "position-empty":
         if not system.n_pos:

@@ -379,3 +379,237 @@ def test_cli_fk_json_certificate_and_errors(tmp_path):
         assert r.returncode == 2 and r.stderr.count("\n") == 1 and field in r.stderr and "Traceback" not in r.stderr
     r = _cli("fk", tmp_path / "missing.toml", "--lengths", "1,2,3")
     assert r.returncode == 2 and "missing.toml" in r.stderr
+
+
+# ----- tracking ----------------------------------------------------------------------------------
+def _unknowns(robot, pose):
+    from certkin.robots.fk_systems import FKSystem
+    return FKSystem(robot).unknowns_of_pose(np.asarray(pose, dtype=float))
+
+
+def _planar_motion(steps, amplitude=(0.5, 0.3, 0.05)):
+    """The SIX_MODES[0] robot and poses along a smooth closed motion from one of its modes."""
+    base, plat, lengths = SIX_MODES[0]
+    robot = planar(base, plat)
+    mode = forward_kinematics(robot, lengths).solutions[0]
+    home = np.array([0.5 * (float(v.lo) + float(v.hi)) for v in mode["pose"].values()])
+    t = np.linspace(0.0, 1.0, steps + 1)[:, None]
+    poses = home + np.asarray(amplitude) * np.hstack([np.sin(2 * np.pi * t), 1 - np.cos(2 * np.pi * t),
+                                                      np.sin(2 * np.pi * t)])
+    return robot, plat, poses
+
+
+def _pose_text(pose):
+    return ",".join(repr(float(v)) for v in pose)
+
+
+def _generating_pose_in_box(robot, plat, result, pose, tol=1e-9):
+    """The pose that generated the lengths (IK) lies in the solution box: its unknowns (up to the
+    rounding of the float lengths, tol) and, planar, its world platform points."""
+    s = result.solutions[0]
+    x = _unknowns(robot, pose)
+    if robot.kind != "planar-3rpr" and np.dot(x[3:], 0.5 * (s["box"].lo + s["box"].hi)[3:]) < 0:
+        x[3:] = -x[3:]   # q and -q: the same rotation
+    assert np.all(s["box"].lo - tol <= x) and np.all(x <= s["box"].hi + tol)
+    if robot.kind == "planar-3rpr":
+        c, sn = np.cos(pose[2]), np.sin(pose[2])
+        gen = [(pose[0] + c * p[0] - sn * p[1], pose[1] + sn * p[0] + c * p[1]) for p in plat]
+        assert all(b[0] - tol <= g <= b[1] + tol for bp, gp in zip(_points(s), gen) for b, g in zip(bp, gp))
+
+
+def test_stacked_fk_system_gives_the_same_enclosures():
+    """StackedFKSystem performs FKSystem's interval operations stacked: bit-identical enclosures;
+    the float evaluation (Newton guesses) agrees with the interval one at points."""
+    from certkin import load_robot
+    from certkin.robots.fk_stacked import StackedFKSystem
+    from certkin.robots.fk_systems import FKSystem
+    from intervals import Interval
+    robots = [planar(*SIX_MODES[0][:2]),
+              robot_from_dict({"kind": "spherical-3dof", "base": [["1.6", "0", "-1.2"], ["-1.1", "1.2", "-1.2"],
+                                                                   ["-0.9", "-1", "-1.2"]],
+                               "platform": [["1", "0", "0"], ["-0.6", "1", "0"], ["-0.2", "-0.5", "0"]]}),
+              load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")]
+    rng = np.random.default_rng(5)
+    for robot in robots:
+        s = FKSystem(robot)
+        t = StackedFKSystem.of(s)
+        c = rng.uniform(-2, 2, (40, s.n))
+        w = rng.uniform(0, 0.3, (40, s.n)) * (rng.random((40, 1)) < 0.8)
+        X = Interval._raw(c - w, c + w)
+        Llo = rng.uniform(1, 20, (40, s.legs))
+        L = Interval._raw(Llo, Llo + 0.01)
+        for name, a, b in (("rotation", s.rotation(X), t.rotation(X)),
+                           ("equations", s.equations(X, L), t.equations(X, L)),
+                           ("jacobian", s.jacobian(X), t.jacobian(X)), ("points", s.points(X), t.points(X))):
+            assert np.array_equal(a.lo, b.lo) and np.array_equal(a.hi, b.hi), \
+                f"{robot.kind} {name}: StackedFKSystem (certkin/robots/fk_stacked.py) must mirror FKSystem's operations"
+        f, J, mid = t.krawczyk_data(X, L)
+        f0 = s.equations(Interval._raw(X.mid(), X.mid()), L)
+        assert np.array_equal(mid, X.mid()) and np.array_equal(f.lo, f0.lo) and np.array_equal(f.hi, f0.hi)
+        assert np.array_equal(J.lo, s.jacobian(X).lo) and np.array_equal(J.hi, s.jacobian(X).hi)
+        ff, Jf = s.float_system(c, Llo)
+        point = Interval._raw(c, c.copy())
+        fi, Ji = s.equations(point, Interval._raw(Llo, Llo.copy())), s.jacobian(point)
+        assert np.all(fi.lo - 1e-9 <= ff) and np.all(ff <= fi.hi + 1e-9)
+        assert np.all(Ji.lo - 1e-9 <= Jf) and np.all(Jf <= Ji.hi + 1e-9)
+
+
+def test_track_sequence_planar_every_step_proved_and_certified():
+    """A smooth motion in 60 steps: each step is tracked (proved unique in a box around the previous
+    posture), its root box lies in that box, the generating pose lies in the root box, and the
+    certificates of all steps re-check; forward_kinematics(2-D lengths, track=) is the same path."""
+    from certkin.certificates import fk_certificate
+    from certkin.fk import track_sequence
+    robot, plat, poses = _planar_motion(60)
+    L = robot.leg_lengths_float(poses[1:])
+    out = track_sequence(robot, L, _pose_text(poses[0]))
+    assert len(out) == 60 and all(r.tracked and r.complete and len(r.solutions) == 1 for r in out)
+    for k, r in enumerate(out):
+        box, (dlo, dhi) = r.solutions[0]["box"], r.domain
+        assert np.all(box.lo >= dlo) and np.all(box.hi <= dhi)          # root box inside the tracking box
+        assert np.all(box.hi - box.lo < 1e-9)
+        prev = _unknowns(robot, poses[k])                                # the previous posture is in it
+        assert np.all(dlo - 1e-9 <= prev) and np.all(prev <= dhi + 1e-9)
+        _generating_pose_in_box(robot, plat, r, poses[k + 1])
+        assert r.to_json()["tracked"] is True
+    report = proofs.check(fk_certificate(out))
+    assert report.ok, report.step
+    assert report.checked["claims"] == 60 and report.checked["solutions"] == 60
+    again = forward_kinematics(robot, L, track=_pose_text(poses[0]))
+    assert isinstance(again, list) and len(again) == 60 and all(r.tracked for r in again)
+    for a, b in zip(out, again):
+        assert np.array_equal(a.solutions[0]["box"].lo, b.solutions[0]["box"].lo)
+    one = forward_kinematics(robot, [repr(float(v)) for v in L[0]], track=_pose_text(poses[0]))
+    a, b = one.solutions[0]["box"], out[0].solutions[0]["box"]   # the same posture (lengths enclosed alike or
+    assert one.tracked and np.all(a.lo <= b.hi) and np.all(b.lo <= a.hi)   # one ulp wider)
+
+
+def test_track_sequence_gough_seed002():
+    """Seed 002 robot: a small motion from posture 1 of Table VI.2, tracked step by step."""
+    from certkin import load_robot
+    from certkin.certificates import fk_certificate
+    from certkin.fk import track_sequence
+    robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
+    pose = np.array(_pose_from_points(robot, table_vi2()[0]))
+    t = np.linspace(0.0, 1.0, 13)[:, None]
+    poses = pose + np.sin(np.pi * t) * np.array([0.02, -0.01, 0.015, 0.01, 0.005, -0.01])
+    L = robot.leg_lengths_float(poses[1:])
+    out = track_sequence(robot, L, _pose_text(poses[0]), fallback=False)   # no 24-posture search here
+    assert all(r.tracked and len(r.solutions) == 1 for r in out)
+    for r, p in zip(out, poses[1:]):
+        _generating_pose_in_box(robot, None, r, p)
+    report = proofs.check(fk_certificate(out))
+    assert report.ok and report.checked["claims"] == 12, report.step
+
+
+def test_tracking_step_that_cannot_be_proved_is_not_reported_tracked():
+    """Unreachable leg lengths in the middle of a sequence, and steps too large to prove: never a
+    tracked guess.  With the fallback the full search answers those steps (tracked false); without,
+    they are reported not proved (complete false, no solution).  Tracking resumes after them."""
+    from certkin.certificates import fk_certificate
+    from certkin.fk import track_sequence
+    robot, plat, poses = _planar_motion(40)
+    L = robot.leg_lengths_float(poses[1:6]).copy()
+    L[2] = [1.0, 1.0, 1.0]                   # no posture at all
+    start = _pose_text(poses[0])
+    out = track_sequence(robot, L, start)
+    assert [r.tracked for r in out] == [True, True, False, True, True]
+    assert out[2].complete and out[2].solutions == [] and out[2].unresolved == []
+    quiet = track_sequence(robot, L, start, fallback=False)
+    assert [r.tracked for r in quiet] == [True, True, False, True, True]
+    assert not quiet[2].complete and quiet[2].solutions == [] and quiet[2].to_json()["complete"] is False
+    for results in (out, quiet):
+        report = proofs.check(fk_certificate(results))
+        assert report.ok, report.step
+    # the single-call API: unreachable lengths fall back to the full search
+    r = forward_kinematics(robot, "1,1,1", track=start)
+    assert not r.tracked and r.complete and r.solutions == []
+    # steps of several per cent of the robot's size: the proofs fail; the full search answers
+    robot, plat, poses = _planar_motion(4)
+    L = robot.leg_lengths_float(poses[1:3])
+    out = track_sequence(robot, L, _pose_text(poses[0]))
+    assert not any(r.tracked for r in out)
+    for r, p in zip(out, poses[1:3]):
+        assert r.complete and len(r.solutions) >= 1
+        gen = [(p[0] + np.cos(p[2]) * q[0] - np.sin(p[2]) * q[1], p[1] + np.sin(p[2]) * q[0] + np.cos(p[2]) * q[1])
+               for q in plat]
+        near = [s for s in r.solutions
+                if all(b[0] - 1e-9 <= g <= b[1] + 1e-9 for bp, gp in zip(_points(s), gen) for b, g in zip(bp, gp))]
+        assert len(near) == 1                # the generating posture is one of the modes found
+    report = proofs.check(fk_certificate(out))
+    assert report.ok, report.step
+
+
+def test_tracking_retries_keep_certificates_valid(monkeypatch):
+    """The second-chance paths (a wider root box, other tracking boxes, the tracking box itself as
+    the root box) give certificates that re-check."""
+    import certkin.tracking as tracking
+    from certkin.certificates import fk_certificate
+    from certkin.fk import track_sequence
+    robot, plat, poses = _planar_motion(80)
+    L = robot.leg_lengths_float(poses[1:9])
+    start = _pose_text(poses[0])
+    for slack, retry, grows in ((1e-9, 2.0 ** 10, tracking.GROWS), (1e-9, 1.0, tracking.GROWS),
+                                (2.0, 2.0 ** 10, (1e-9, 1.0, 0.25))):
+        monkeypatch.setattr(tracking, "ROOT_SLACK", slack)
+        monkeypatch.setattr(tracking, "ROOT_RETRY", retry)
+        monkeypatch.setattr(tracking, "GROWS", grows)
+        out = track_sequence(robot, L, start, fallback=False)
+        assert sum(r.tracked for r in out) >= 4
+        for r, p in zip(out, poses[1:9]):
+            if r.tracked:
+                box, (dlo, dhi) = r.solutions[0]["box"], r.domain
+                assert np.all(box.lo >= dlo) and np.all(box.hi <= dhi)
+                _generating_pose_in_box(robot, plat, r, p)
+        report = proofs.check(fk_certificate(out))
+        assert report.ok, report.step
+
+
+def test_tampered_tracking_certificates_are_rejected():
+    robot, plat, poses = _planar_motion(60)
+    L = robot.leg_lengths_float(poses[1:2])[0]
+    r = forward_kinematics(robot, [repr(float(v)) for v in L], track=_pose_text(poses[0]))
+    assert r.tracked
+    cert = r.certificate()
+    assert proofs.check(cert).ok
+    claim = lambda c: c["claims"][0]  # noqa: E731
+
+    moved = copy.deepcopy(cert)      # the root box shifted out of the tracking box
+    w = claim(moved)["domain"][0][1] - claim(moved)["domain"][0][0]
+    claim(moved)["solutions"][0]["box"][0] = [v + 2 * w for v in claim(moved)["solutions"][0]["box"][0]]
+    assert not proofs.check(moved).ok
+
+    widened = copy.deepcopy(cert)    # a wider tracking box than the one proved
+    claim(widened)["domain"][0][0] -= 5.0
+    claim(widened)["tree"]["box"][0][0] -= 5.0
+    assert not proofs.check(widened).ok
+
+    length = copy.deepcopy(cert)
+    claim(length)["lengths"][0] = str(float(claim(length)["lengths"][0]) + 0.01)
+    assert not proofs.check(length).ok
+
+
+def test_tracked_steps_agree_with_the_full_search():
+    """Random robots and motions: every tracked step's tracking box meets exactly one of the full
+    search's (complete) solutions, the one that meets its root box."""
+    from certkin.fk import track_sequence
+    rng = np.random.default_rng(42)
+    tracked = 0
+    for _ in range(3):
+        base = rng.uniform(-10, 10, (3, 2)).round(2)
+        plat = rng.uniform(-4, 4, (3, 2)).round(2)
+        robot = planar(base, plat)
+        p0 = np.array([rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-np.pi, np.pi)])
+        t = np.linspace(0, 1, 16)[:, None]
+        poses = p0 + np.hstack([np.sin(3 * t), np.cos(2 * t) - 1, 0.3 * np.sin(5 * t)]) * rng.uniform(0.1, 0.5, 3)
+        L = robot.leg_lengths_float(poses[1:])
+        out = track_sequence(robot, L, _pose_text(poses[0]), fallback=False)
+        for r, full in zip(out, forward_kinematics(robot, L)):
+            assert full.complete
+            if not r.tracked:
+                continue
+            tracked += 1
+            (blo, bhi), s = r.domain, r.solutions[0]["box"]
+            near = [g["box"] for g in full.solutions if np.all(g["box"].hi >= blo) and np.all(g["box"].lo <= bhi)]
+            assert len(near) == 1 and np.all(near[0].hi >= s.lo) and np.all(near[0].lo <= s.hi)
+    assert tracked >= 30

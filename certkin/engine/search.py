@@ -19,6 +19,12 @@ than ``min_width``, or a budget (boxes, seconds) runs out.  When few boxes
 are open, each is halved several times at once (up to ``d`` times) so that
 one batch keeps numpy busy; the tree still records binary splits.
 
+A problem may return several successive contractions of a box (each inside
+the previous one, e.g. a forward-backward pass then a Krawczyk step): they
+become a chain of children, each with its own reason and evidence.
+``initial_splits`` halves each root box that many times before the first
+batch (a root box that certainly needs bisection costs one batch less).
+
 Nothing is dropped: every box of the domain ends in exactly one leaf of the
 returned ``Tree`` with status ``proved``, ``excluded`` or ``undecided`` (and
 why).  All bookkeeping is done on arrays, never per box in Python.  The
@@ -52,12 +58,17 @@ class Decisions:
     status: np.ndarray                      # (N,) int8: OPEN | PROVED | EXCLUDED
     reason: np.ndarray                      # (N,) int: index into problem.reasons (decided boxes)
     evidence: dict = field(default_factory=dict)   # name -> array (N, ...), rows of decided boxes
-    contracted: tuple | None = None         # optional (lo, hi) (N, d): the boxes after contraction; the
+    contracted: tuple | list | None = None  # optional (lo, hi) (N, d): the boxes after contraction (or a
+                                            # list of them: successive contractions, each inside the one
+                                            # before, with lists of reasons and evidence); the
                                             # statuses above are about these contracted boxes
     contraction_reason: np.ndarray | None = None   # (N,) int, for the contracted boxes
     contraction_evidence: dict = field(default_factory=dict)  # name -> array (N, ...)
     finished: np.ndarray | None = None      # roots whose answer is known: stop working on them
     split: np.ndarray | None = None         # optional (N,) preferred dimension to bisect each open box
+    split_at: np.ndarray | None = None      # optional (N,) preferred cut on that dimension (NaN: none);
+                                            # a box cut there is not halved again in the same round
+    keep_narrow_evidence: bool = False      # also record the evidence of open boxes too narrow to split
 
 
 @dataclass
@@ -71,24 +82,31 @@ _COLUMNS = ("lo", "hi", "root", "parent", "kind", "reason", "split_dim", "split_
 
 
 class _Store:
-    """Growable columns of the tree (amortised doubling)."""
+    """Growable columns of the tree (amortised growth by half, one column copied at a time).
+
+    Compact types: node ids and roots are int32 (fewer than 2³¹ nodes), kinds,
+    reasons and split dimensions int8 (reason codes are small, engine codes
+    -1..-3); the boxes and split points stay float64.  16 d + 33 bytes per node.
+    """
 
     def __init__(self, d: int, capacity: int = 1024):
         self.n = 0
         self.lo = np.empty((capacity, d))
         self.hi = np.empty((capacity, d))
-        self.root = np.empty(capacity, dtype=np.int64)
-        self.parent = np.empty(capacity, dtype=np.int64)
+        self.root = np.empty(capacity, dtype=np.int32)
+        self.parent = np.empty(capacity, dtype=np.int32)
         self.kind = np.empty(capacity, dtype=np.int8)
-        self.reason = np.empty(capacity, dtype=np.int64)
-        self.split_dim = np.empty(capacity, dtype=np.int64)
+        self.reason = np.empty(capacity, dtype=np.int8)
+        self.split_dim = np.empty(capacity, dtype=np.int8)
         self.split_at = np.empty(capacity)
-        self.first_child = np.empty(capacity, dtype=np.int64)
+        self.first_child = np.empty(capacity, dtype=np.int32)
 
     def add(self, lo, hi, root, parent) -> np.ndarray:
         k = len(lo)
         if self.n + k > len(self.root):
-            cap = max(self.n + k, 2 * len(self.root))
+            cap = max(self.n + k, len(self.root) + len(self.root) // 2)
+            if cap >= 2 ** 31:
+                raise MemoryError("search tree larger than 2**31 nodes")
             for name in _COLUMNS:
                 old = getattr(self, name)
                 arr = np.empty((cap,) + old.shape[1:], dtype=old.dtype)
@@ -131,9 +149,10 @@ class _Evidence:
 
     def finish(self, n_nodes):
         values, rows = {}, {}
-        for name, parts in self.parts.items():
+        for name in list(self.parts):
+            parts = self.parts.pop(name)           # freed as we go: evidence is not held twice
             values[name] = np.concatenate([r for _, r in parts])
-            index = np.full(n_nodes, -1, dtype=np.int64)
+            index = np.full(n_nodes, -1, dtype=np.int32 if len(values[name]) < 2 ** 31 else np.int64)
             first = 0
             for ids, r in parts:
                 index[ids] = np.arange(first, first + len(r))
@@ -239,12 +258,16 @@ def choose_split(lo, hi, scale):
 
 
 def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int = 4096,
-           progress=None, min_batch: int = 256, max_rounds: int | None = None) -> SearchResult:
+           progress=None, min_batch: int = 256, max_rounds: int | None = None,
+           initial_splits: int = 0) -> SearchResult:
     """Branch and bound from the boxes ``[lo, hi]`` (arrays (M, d), one per root).
 
     ``progress(processed_boxes, frontier_size)`` is called after each batch.
     ``min_batch``: when fewer boxes than this are open after a batch, each
     is halved several times at once (up to ``max_rounds`` times, default d).
+    ``initial_splits``: each root box wide enough is first halved this many
+    times without being decided (a root box of a search that needs
+    bisection anyway costs one batch less).
     """
     budget = budget or Budget()
     lo = np.atleast_2d(np.asarray(lo, dtype=np.float64))
@@ -257,6 +280,12 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     evidence = _Evidence()
     roots = store.add(lo, hi, np.arange(m), np.full(m, -1))
     frontier = [roots[::-1]]                # a stack of id arrays; the end is processed first
+    if initial_splits > 0:
+        wide = np.max((hi - lo) / scale, axis=1) > budget.min_width * 2.0 ** initial_splits
+        if wide.any():
+            pieces = _split(store, roots[wide], lo[wide], hi[wide], scale, budget.min_width,
+                            int(wide.sum()) << initial_splits, None, initial_splits)
+            frontier = [np.concatenate([pieces, roots[~wide]])[::-1]]
     finished = np.zeros(m, dtype=bool)
     processed = 0
     t0 = time.perf_counter()
@@ -277,18 +306,22 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
         dec = problem.decide(blo, bhi, store.root[ids])
         processed += len(ids)
         if dec.contracted is not None:   # contracted boxes become children; the decisions apply to them
-            clo, chi = dec.contracted
-            changed = np.nonzero(np.any((clo != blo) | (chi != bhi), axis=1))[0]
-            if len(changed):
-                parents = ids[changed]
-                kids = store.add(clo[changed], chi[changed], store.root[parents], parents)
-                store.kind[parents] = CONTRACTED
-                store.first_child[parents] = kids
-                store.reason[parents] = np.asarray(dec.contraction_reason)[changed]
-                evidence.add(parents, dec.contraction_evidence, changed)
-                ids = ids.copy()
-                ids[changed] = kids
-                blo, bhi = clo, chi
+            if isinstance(dec.contracted, list):     # successive contractions: a chain of children
+                stages = zip(dec.contracted, dec.contraction_reason, dec.contraction_evidence)
+            else:
+                stages = [(dec.contracted, dec.contraction_reason, dec.contraction_evidence)]
+            for (clo, chi), creason, cev in stages:
+                changed = np.nonzero(np.any((clo != blo) | (chi != bhi), axis=1))[0]
+                if len(changed):
+                    parents = ids[changed]
+                    kids = store.add(clo[changed], chi[changed], store.root[parents], parents)
+                    store.kind[parents] = CONTRACTED
+                    store.first_child[parents] = kids
+                    store.reason[parents] = np.asarray(creason)[changed]
+                    evidence.add(parents, cev, changed)
+                    ids = ids.copy()
+                    ids[changed] = kids
+                    blo, bhi = clo, chi
         status = np.asarray(dec.status)
         decided = status != OPEN
         store.kind[ids[decided]] = np.where(status[decided] == PROVED, PROVED, EXCLUDED)
@@ -303,7 +336,12 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
         oids, olo, ohi = ids[open_], blo[open_], bhi[open_]
         if len(oids):
             prefer = None if dec.split is None else np.asarray(dec.split)[open_]
-            new = _split(store, oids, olo, ohi, scale, budget.min_width, min_batch, prefer, max_rounds or d)
+            cut = None if dec.split_at is None else np.asarray(dec.split_at, dtype=np.float64)[open_]
+            new = _split(store, oids, olo, ohi, scale, budget.min_width, min_batch, prefer, max_rounds or d, cut)
+            if dec.keep_narrow_evidence:
+                narrow = store.kind[oids] == UNDECIDED
+                if narrow.any():
+                    evidence.add(oids[narrow], dec.evidence, np.nonzero(open_)[0][narrow])
             if len(new):
                 frontier.append(new[::-1])
         if progress:
@@ -333,11 +371,13 @@ def _pop(frontier, batch):
     return np.concatenate(out[::-1]) if len(out) > 1 else out[0]
 
 
-def _split(store, ids, lo, hi, scale, min_width, min_batch, prefer=None, max_rounds=None):
+def _split(store, ids, lo, hi, scale, min_width, min_batch, prefer=None, max_rounds=None, cut=None):
     """Bisect the open boxes (several times each when they are few); returns the new open ids.
 
     ``prefer``: the problem's choice of dimension per box for the first halving
     (-1: the widest scaled side), used when that side is wider than ``min_width``.
+    ``cut``: the problem's choice of cut on that dimension (NaN: none), used when
+    strictly inside the side; such boxes are cut once.
     """
     d = lo.shape[1]
     rounds = 1
@@ -355,6 +395,10 @@ def _split(store, ids, lo, hi, scale, min_width, min_batch, prefer=None, max_rou
             dims = np.where(use, prefer, dims)
         a, b = lo[rows, dims], hi[rows, dims]
         at = a + SPLIT_RATIO * (b - a)
+        hinted = None
+        if r == 0 and cut is not None:
+            hinted = np.isfinite(cut) & (a < cut) & (cut < b)
+            at = np.where(hinted, cut, at)
         ok = (a < at) & (at < b) & (widths > min_width)
         if not ok.all():
             if r == 0:  # an evaluated box too narrow to split: an undecided leaf
@@ -363,6 +407,7 @@ def _split(store, ids, lo, hi, scale, min_width, min_batch, prefer=None, max_rou
             else:       # a fresh piece, not evaluated yet: it stays open
                 kept.append(ids[~ok])
             ids, lo, hi, dims, at = ids[ok], lo[ok], hi[ok], dims[ok], at[ok]
+            hinted = None if hinted is None else hinted[ok]
             rows = np.arange(len(ids))
         clo = np.repeat(lo, 2, axis=0)
         chi = np.repeat(hi, 2, axis=0)
@@ -374,6 +419,10 @@ def _split(store, ids, lo, hi, scale, min_width, min_batch, prefer=None, max_rou
         store.split_at[ids] = at
         store.first_child[ids] = kids[0::2]
         ids, lo, hi = kids, clo, chi
+        if hinted is not None and hinted.any():       # boxes cut at the problem's point: not halved again
+            twice = np.repeat(hinted, 2)
+            kept.append(ids[twice])
+            ids, lo, hi = ids[~twice], lo[~twice], hi[~twice]
     if kept:
         ids = np.concatenate(kept + [ids])
     return ids

@@ -100,10 +100,11 @@ class FKSystem:
         return out
 
     # ----- equations -----------------------------------------------------------
-    def equations(self, X: Interval, L: Interval, R: Interval | None = None) -> Interval:
-        """Enclosures of the n equations over the boxes: (N, n)."""
-        R = self.rotation(X) if R is None else R
-        ell = self.rotated(R) - self.a[None, :, :]
+    def equations(self, X: Interval, L: Interval, R: Interval | None = None, rb: Interval | None = None) -> Interval:
+        """Enclosures of the n equations over the boxes: (N, n) (``R``, ``rb``: R and R b_i if known)."""
+        if rb is None:
+            rb = self.rotated(self.rotation(X) if R is None else R)
+        ell = rb - self.a[None, :, :]
         if self.n_pos:
             ell = ell + X[:, None, :self.n_pos]
         legs = sqr(ell[..., 0])
@@ -118,11 +119,11 @@ class FKSystem:
         return Interval._raw(np.concatenate([legs.lo, norm.lo[:, None]], axis=1),
                              np.concatenate([legs.hi, norm.hi[:, None]], axis=1))
 
-    def jacobian(self, X: Interval, R: Interval | None = None) -> Interval:
+    def jacobian(self, X: Interval, R: Interval | None = None, rb: Interval | None = None) -> Interval:
         """Enclosure of the Jacobian over the boxes: (N, n, n)."""
         N = X.shape[0]
-        R = self.rotation(X) if R is None else R
-        rb = self.rotated(R)
+        if rb is None:
+            rb = self.rotated(self.rotation(X) if R is None else R)
         ell = rb - self.a[None, :, :]
         p = self.n_pos
         if p:
@@ -161,10 +162,10 @@ class FKSystem:
                 m([[-2.0 * q3, -q0, q1], [q0, -2.0 * q3, q2], [q1, q2, z]])]
 
     # ----- the position is linear given the rotation ----------------------------
-    def position_system(self, X: Interval, L: Interval, R: Interval | None = None):
+    def position_system(self, X: Interval, L: Interval, R: Interval | None = None, rb: Interval | None = None):
         """(D, g): the differences of leg equations, D p = g, D (N, legs−1, n_pos), g (N, legs−1)."""
-        R = self.rotation(X) if R is None else R
-        rb = self.rotated(R)                                  # (N, legs, dim)
+        if rb is None:
+            rb = self.rotated(self.rotation(X) if R is None else R)   # (N, legs, dim)
         a = self.a[None, :, :]
         D = 2.0 * ((rb[:, 1:, :] - rb[:, :1, :]) - (a[:, 1:, :] - a[:, :1, :]))
         arb = a * rb
@@ -240,6 +241,85 @@ class FKSystem:
         from .spherical import rotation_float
         q = quaternion_float(rotation_float(self.kind, pose))
         return np.concatenate([pose[..., :3], q], -1) if self.n_pos else q
+
+    # ----- float evaluation (guesses only: Newton iterates and box sizes, never proofs) ----
+    def float_geometry(self):
+        """(a, b): float midpoints of the base and platform point enclosures, computed once."""
+        geometry = self.__dict__.get("_float_geometry")
+        if geometry is None:
+            geometry = self._float_geometry = (self.a.mid(), self.b.mid())
+        return geometry
+
+    def _rotation_float(self, x) -> np.ndarray:
+        """R at float unknowns ``x`` (..., n): (..., dim, dim) (not certified)."""
+        x = np.asarray(x, dtype=np.float64)
+        if self.kind == "planar-3rpr":
+            c, s = x[..., 2], x[..., 3]
+            return np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)
+        q0, q1, q2, q3 = (x[..., self.n_pos + k] for k in range(4))
+        rows = [[1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
+                [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
+                [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)]]
+        return np.stack([np.stack(r, -1) for r in rows], -2)
+
+    def _float_tables(self):
+        """(c0, D0, H) with R(u) b_i = c0_i + D0_i u + ½ uᵀ H_i u for the rotation unknowns u
+        (R is at most quadratic in u): d(R b_i)/du = D0_i + H_i u.  Float midpoints, computed once."""
+        tables = self.__dict__.get("_float_tables_")
+        if tables is None:
+            a, b = self.float_geometry()
+            r = self.n - self.n_pos
+            x = np.zeros((r + 1, self.n))
+            x[1:, self.n_pos:] = np.eye(r)                                  # u = 0, e_1, ..., e_r
+            rb = b @ np.swapaxes(self._rotation_float(x[:1]), -1, -2)          # (1, legs, dim)
+            d = np.moveaxis(b @ np.swapaxes(self._rotation_derivatives_float(x), -1, -2), 1, -1)  # (r+1, legs, dim, r)
+            D0 = d[0]
+            H = np.moveaxis(d[1:] - D0, 0, -1)                                 # (legs, dim, r, r)
+            tables = self._float_tables_ = (rb[0], D0, H)
+        return tables
+
+    def float_system(self, x, L2):
+        """(f, J): the n equations and their Jacobian at float unknowns ``x`` (..., n), squared leg
+        lengths ``L2`` (..., legs) — floats, not certified (Newton guesses, box sizes)."""
+        a, _ = self.float_geometry()
+        c0, D0, H = self._float_tables()
+        x = np.asarray(x, dtype=np.float64)
+        p, legs, r = self.n_pos, self.legs, self.n - self.n_pos
+        lead = x.shape[:-1]
+        dim = c0.shape[-1]
+        u = x[..., p:]
+        uu = (u[..., :, None] * u[..., None, :]).reshape(lead + (r * r,))
+        # plain 2-D matrix products (numpy's stacked products of tiny matrices are slow)
+        ell = ((c0 - a).reshape(-1) + u @ D0.reshape(-1, r).T + uu @ (0.5 * H).reshape(-1, r * r).T
+               ).reshape(lead + (legs, dim))                                 # p + R b_i − a_i, less p
+        if p:
+            ell = ell + x[..., None, :p]
+        dRb = D0 + (u @ H.reshape(-1, r).T).reshape(lead + (legs, dim, r))    # d(R b_i)/du
+        f = np.empty(x.shape)
+        f[..., :legs] = np.add.reduce(ell * ell, -1) - L2
+        f[..., legs] = np.add.reduce(u * u, -1) - 1.0
+        J = np.zeros(lead + (self.n, self.n))
+        J[..., :legs, :p] = 2.0 * ell[..., :p]
+        J[..., :legs, p:] = np.add.reduce((2.0 * ell)[..., None] * dRb, -2)
+        J[..., legs, p:] = 2.0 * u
+        return f, J
+
+    def _rotation_derivatives_float(self, x) -> np.ndarray:
+        """dR/dr for each rotation unknown r at float unknowns: (..., r, dim, dim)."""
+        if self.kind == "planar-3rpr":
+            d = np.array([[[1.0, 0.0], [0.0, 1.0]], [[0.0, -1.0], [1.0, 0.0]]])
+            return np.broadcast_to(d, x.shape[:-1] + d.shape)
+        q = 2.0 * x[..., self.n_pos:]
+        cand = np.concatenate([np.zeros(x.shape[:-1] + (1,)), q, -q, -2.0 * q], -1)
+        return cand[..., _DQ_INDEX]
+
+
+# dR/dq_r of the quaternion rotation (see FKSystem._rotation_derivatives) as indices into
+# [0, 2q0..2q3, -2q0..-2q3, -4q0..-4q3]
+_DQ_INDEX = np.array([[[0, 8, 3], [4, 0, 6], [7, 2, 0]],
+                      [[0, 3, 4], [3, 10, 5], [4, 1, 10]],
+                      [[11, 2, 1], [2, 0, 4], [5, 4, 11]],
+                      [[12, 5, 2], [1, 12, 3], [2, 3, 0]]])
 
 
 def _sum2(v: Interval) -> Interval:

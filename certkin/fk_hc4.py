@@ -1,0 +1,203 @@
+"""Forward-backward (HC4-revise) contraction of the FK equations, batched over boxes.
+
+One pass, in this fixed order (``docs/soundness.md`` §8 proves each step keeps
+every root of the box; the checker, ``proofs/fk.py``, repeats exactly these
+operations in mpmath interval arithmetic, so it finds a box inside ours):
+
+1. norm equation, for k = 1..m in turn (r = the m rotation unknowns):
+   r_k ← root(r_k, 1 − Σ_{j≠k} r_j²)   (sum over j in increasing order);
+2. R = R(z) and, per leg i, u_i = R b_i (``FKSystem.rotation``/``rotated``),
+   e_i = (u_i − a_i) + p;
+3. leg equation i, for coordinates k = 1..dim in turn:
+   e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²);
+4. position: p_k ← p_k ∩ ⋂_i ((e_ik − u_ik) + a_ik);
+5. u_ik ← u_ik ∩ ((e_ik − p_k) + a_ik)   (no p for the spherical robot);
+6. entries of R, all from the R of step 2: for every leg i and column j with
+   0 ∉ b_ij, R_kj ← R_kj ∩ (u_ik − Σ_{j'≠j} R_kj' b_ij') / b_ij (computed here as
+   × an outward enclosure of 1/b_ij: the same exact operation, enclosed);
+7. rotation unknowns from R: planar c ← c ∩ R_00 ∩ R_11, s ← s ∩ R_10 ∩ (−R_01);
+   quaternion, in this order:
+   (R_00, q2, q3), (R_11, q1, q3), (R_22, q1, q2), with t = (1 − R_kk)·0.5:
+   q_a ← root(q_a, t − q_b²), then q_b ← root(q_b, t − q_a²);
+   then for each off-diagonal entry R_kj = 2(q_a q_b + σ q_c q_d) of ``OFF_DIAGONAL``,
+   with h = R_kj·0.5: g = h − σ(q_c q_d), q_a ← q_a ∩ g / q_b, q_b ← q_b ∩ g / q_a;
+   g' = σ(h − q_a q_b), q_c ← q_c ∩ g' / q_d, q_d ← q_d ∩ g' / q_c
+   (a division only where 0 ∉ divisor; elsewhere the variable is kept).
+
+root(x, t) = hull(x ∩ {y : y² ∈ t}): x ∩ [−√t̄, −√t̲] and x ∩ [√t̲, √t̄] (t̲ clipped
+at 0), the hull of the pieces that are not empty; nothing if t̄ < 0.
+
+Every step is an intersection of a variable with a set that holds its value at
+every root of the box, so no root is lost; a variable left empty proves that the
+box holds no root.  Every operation is monotone for inclusion (the divisions are
+skipped only where the divisor holds 0, and a divisor that is a subset of one
+without 0 has no 0), and each of ours encloses the exact image of its operands,
+which is why a re-computation of the same exact operations with correctly
+rounded, tighter arithmetic (the checker's) finds a box inside this one.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from intervals import Interval, sqr
+from intervals.interval import div
+from intervals.rounding import down, up
+
+# R_kj = 2(q_a q_b + σ q_c q_d) for the quaternion rotation (see robots/fk_systems.py):
+# ((k, j), (a, b), (c, d), σ), quaternion indices 0..3
+OFF_DIAGONAL = (((0, 1), (1, 2), (0, 3), -1), ((1, 0), (1, 2), (0, 3), 1),
+                ((0, 2), (1, 3), (0, 2), 1), ((2, 0), (1, 3), (0, 2), -1),
+                ((1, 2), (2, 3), (0, 1), -1), ((2, 1), (2, 3), (0, 1), 1))
+DIAGONAL = ((0, 2, 3), (1, 1, 3), (2, 1, 2))     # R_kk = 1 − 2(q_a² + q_b²): (k, a, b)
+
+
+def root(x: Interval, t: Interval) -> Interval:
+    """hull(x ∩ {y : y² ∈ t}); empty (lo > hi) where there is no such y.
+
+    √t̲ and √t̄ are bounded by the correctly rounded square root widened by one
+    ``down``/``up`` step (docs/soundness.md §1).
+    """
+    with np.errstate(invalid="ignore"):
+        rlo = np.maximum(down(np.sqrt(np.maximum(t.lo, 0.0))), 0.0)
+        rhi = up(np.sqrt(np.maximum(t.hi, 0.0)))
+        nlo, nhi = np.maximum(x.lo, -rhi), np.minimum(x.hi, -rlo)
+        plo, phi = np.maximum(x.lo, rlo), np.minimum(x.hi, rhi)
+        neg = (nlo <= nhi) & (t.hi >= 0)
+        pos = (plo <= phi) & (t.hi >= 0)
+        lo = np.where(neg, nlo, np.where(pos, plo, np.inf))
+        hi = np.where(pos, phi, np.where(neg, nhi, -np.inf))
+    return Interval._raw(lo, hi)
+
+
+def divide_into(x: Interval, num: Interval, den: Interval) -> Interval:
+    """x ∩ num / den where 0 ∉ den; x itself elsewhere."""
+    with np.errstate(all="ignore"):
+        ok = (den.lo > 0) | (den.hi < 0)
+        q = div(num, Interval._raw(np.where(ok, den.lo, 1.0), np.where(ok, den.hi, 1.0)))
+        return Interval._raw(np.where(ok, np.maximum(x.lo, q.lo), x.lo), np.where(ok, np.minimum(x.hi, q.hi), x.hi))
+
+
+def _inverse(system) -> Interval:
+    """Enclosures of 1/b_ij (legs, dim), computed once per system (1 where 0 ∈ b_ij: unused)."""
+    inverse = system.__dict__.get("_hc4_inverse")
+    if inverse is None:
+        b = system.b
+        ok = (b.lo > 0) | (b.hi < 0)
+        one = np.ones(b.shape)
+        inverse = div(Interval._raw(one, one), Interval._raw(np.where(ok, b.lo, 1.0), np.where(ok, b.hi, 1.0)))
+        system._hc4_inverse = inverse
+    return inverse
+
+
+def _meet(x: Interval, y: Interval) -> Interval:
+    return Interval._raw(np.maximum(x.lo, y.lo), np.minimum(x.hi, y.hi))
+
+
+def hc4(system, lo, hi, L: Interval):
+    """One forward-backward pass over the boxes [lo, hi] (N, n), squared leg lengths L (N, legs).
+
+    Returns (lo, hi, empty): the contracted boxes (inside the given ones) and the
+    mask of boxes proved to hold no root (their rows are meaningless).
+    """
+    lo, hi = np.array(lo, dtype=np.float64), np.array(hi, dtype=np.float64)
+    N, n = lo.shape
+    p = system.n_pos
+    empty = np.zeros(N, dtype=bool)
+    with np.errstate(all="ignore"):
+        z = [Interval._raw(lo[:, k], hi[:, k]) for k in range(n)]
+
+        def put(k, v):
+            nonlocal empty
+            z[k] = v
+            empty |= v.lo > v.hi
+
+        # 1. the norm equation
+        squares = {j: sqr(z[j]) for j in range(p, n)}
+        for k in range(p, n):
+            others = None
+            for j in range(p, n):
+                if j != k:
+                    others = squares[j] if others is None else others + squares[j]
+            put(k, root(z[k], 1.0 - others))
+            squares[k] = sqr(z[k])
+        X = Interval._raw(np.stack([v.lo for v in z], 1), np.stack([v.hi for v in z], 1))
+        # 2. forward: R, u_i = R b_i, e_i = (u_i − a_i) + p
+        R = system.rotation(X)                               # (N, dim, dim)
+        u = system.rotated(R)                                # (N, legs, dim)
+        a = system.a[None, :, :]
+        e = u - a
+        if p:
+            e = e + X[:, None, :p]
+        dim = e.shape[-1]
+        # 3. backward through each leg equation
+        s = sqr(e)
+        for k in range(dim):
+            others = None
+            for kk in range(dim):
+                if kk != k:
+                    others = s[..., kk] if others is None else others + s[..., kk]
+            ek = root(e[..., k], L - others)
+            e[..., k] = ek
+            s[..., k] = sqr(ek)
+            empty |= np.any(ek.lo > ek.hi, axis=1)
+        # 4. the position
+        if p:
+            for k in range(p):
+                cand = (e[..., k] - u[..., k]) + a[..., k]   # (N, legs)
+                put(k, Interval._raw(np.maximum(z[k].lo, np.max(cand.lo, axis=1)),
+                                     np.minimum(z[k].hi, np.min(cand.hi, axis=1))))
+        # 5. u_ik from e_ik
+        for k in range(dim):
+            back = e[..., k] - z[k][:, None] if p else e[..., k]
+            u[..., k] = _meet(u[..., k], back + a[..., k])
+        # 6. entries of R from u_i = R b_i (all candidates from the R of step 2)
+        b = system.b
+        nonzero = (b.lo > 0) | (b.hi < 0)                  # (legs, dim)
+        inverse = _inverse(system)                           # enclosures of 1/b_ij
+        T = R[:, None, :, :] * b[None, :, None, :]           # (N, legs, k, j): R_kj b_ij
+        Rlo, Rhi = R.lo.copy(), R.hi.copy()
+        for j in range(dim):
+            legs_j = np.nonzero(nonzero[:, j])[0]
+            if not len(legs_j):
+                continue
+            rest = None
+            for jj in range(dim):
+                if jj != j:
+                    rest = T[..., jj] if rest is None else rest + T[..., jj]
+            num = u - rest                                   # (N, legs, k)
+            cand = num[:, legs_j] * inverse[legs_j, j][None, :, None]   # ÷ b_ij, as × an enclosure of 1/b_ij
+            Rlo[:, :, j] = np.maximum(Rlo[:, :, j], np.max(cand.lo, axis=1))
+            Rhi[:, :, j] = np.minimum(Rhi[:, :, j], np.min(cand.hi, axis=1))
+        empty |= np.any(Rlo > Rhi, axis=(1, 2))
+        R = Interval._raw(Rlo, Rhi)
+        # 7. the rotation unknowns from R
+        if system.kind == "planar-3rpr":
+            put(2, _meet(_meet(z[2], R[:, 0, 0]), R[:, 1, 1]))
+            put(3, _meet(_meet(z[3], R[:, 1, 0]), -R[:, 0, 1]))
+        else:
+            q = z[p:]
+
+            def setq(m, v):
+                q[m] = v
+                put(p + m, v)
+            for k, ia, ib in DIAGONAL:
+                t = (1.0 - R[:, k, k]) * 0.5
+                setq(ia, root(q[ia], t - sqr(q[ib])))
+                setq(ib, root(q[ib], t - sqr(q[ia])))
+            for (k, j), (ia, ib), (ic, id_), sigma in OFF_DIAGONAL:
+                h = R[:, k, j] * 0.5
+                cd = q[ic] * q[id_]
+                g = h - cd if sigma > 0 else h + cd
+                setq(ia, divide_into(q[ia], g, q[ib]))
+                setq(ib, divide_into(q[ib], g, q[ia]))
+                g2 = h - q[ia] * q[ib]
+                if sigma < 0:
+                    g2 = -g2
+                setq(ic, divide_into(q[ic], g2, q[id_]))
+                setq(id_, divide_into(q[id_], g2, q[ic]))
+        nlo = np.stack([v.lo for v in z], 1)
+        nhi = np.stack([v.hi for v in z], 1)
+        bad = np.any(np.isnan(nlo) | np.isnan(nhi), axis=1) & ~empty   # never expected: keep the box
+        nlo[bad], nhi[bad] = lo[bad], hi[bad]
+        nlo, nhi = np.maximum(nlo, lo), np.minimum(nhi, hi)
+    return nlo, nhi, empty

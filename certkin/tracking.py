@@ -1,0 +1,319 @@
+"""Forward-kinematics tracking: the posture near a previous one, proved unique (seed 002 §4).
+
+For new leg lengths and a previous posture x0 (unknowns of ``robots.fk_systems``):
+
+1. a guess x* from float Newton iterations started at x0 (``FKSystem.float_system``:
+   plain float64, never used as a proof);
+2. two boxes, tested together in one stacked interval evaluation
+   (``StackedFKSystem.krawczyk_data``, outward rounded, then the Krawczyk operator
+   of ``intervals.linalg``):
+
+   - the *tracking box* B = hull(x0, x*) widened by a fraction of the move:
+     K(B) ⊂ int B proves that B holds exactly one posture;
+   - the *root box* R ⊂ B, x* ± ε with ε a float estimate of the error of x* and
+     of the rounding of f(x*): K(R) ⊂ int R proves that R holds a posture — the
+     one of B; R is the reported enclosure;
+
+3. rows that fail get up to two more rounds, each one stacked evaluation of
+   the failed rows only: the tracking box ε-inflated around its Krawczyk image
+   (Rump 1983: hull(x0, x*, K(B)) widened by a quarter of its width; this
+   adapts the box's shape to the Jacobian) and, in the first retry, a smaller
+   box (another posture may be near); the root box widened by 2¹⁰ per round,
+   kept inside a proved B.  A proved B whose R still fails reports R = B.  A
+   step that is still not proved is never reported as tracked: the full search
+   runs instead (or, on request, the step is reported not proved).
+
+The certificate of a tracked step is the one of ``forward_kinematics(track=)``:
+the domain B with one ``krawczyk-unique`` leaf (its matrix C) and the solution
+R with its own matrix; ``proofs`` re-checks both Krawczyk inclusions.
+
+``track_sequence`` follows a sequence of leg-length sets (a trajectory of FK
+queries): the float Newton iterations run step after step, each started from
+the previous step's posture (extrapolated linearly), then every step's proof
+runs in one batched evaluation, so the interval work per step is small.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+import time
+
+import numpy as np
+
+from intervals import Interval, linalg, sqr
+
+from .robots.fk_stacked import StackedFKSystem
+
+GROWS = (0.5, 0.25)          # tracking box: hull(x0, x*) widened by grow × the move (first try, smaller retry)
+INFLATE = 0.25               # retries: hull(x0, x*, K(B)) widened by this fraction of its width
+ROUNDS = 3                   # stacked evaluations at most (the first and two retries)
+NEWTON_STEPS = 12            # float Newton iterations per step at most
+CONVERGED = 2.0 ** -26       # a (scaled) Newton step below this ends the iteration: by quadratic convergence
+                             # the error left is near rounding; the root box is sized from the residual anyway
+ROOT_SLACK = 2.0             # root box radius: this many times the float error estimate of x*
+ROOT_RETRY = 2.0 ** 10       # the root box is widened by this factor when its first test fails
+
+
+def _scale(system):
+    """Size of each unknown: the robot's size for positions, 1 for rotation unknowns."""
+    return np.concatenate([np.full(system.n_pos, system.size), np.ones(system.n - system.n_pos)])
+
+
+def newton(system, x, L2, scale, steps: int = NEWTON_STEPS):
+    """Float Newton iterations from ``x`` (n,) for float squared lengths ``L2`` (legs,).
+
+    Returns ``(x*, converged)``; a guess only (the proof is the Krawczyk test).
+    """
+    with np.errstate(all="ignore"):
+        for _ in range(steps):
+            f, J = system.float_system(x, L2)
+            try:
+                dx = np.linalg.solve(J, f)
+            except np.linalg.LinAlgError:
+                return x, False
+            size = (np.abs(dx) / scale).max()
+            if not size < np.inf:          # inf or NaN
+                return x, False
+            x = x - dx
+            if size <= CONVERGED:
+                return x, True
+    return x, False
+
+
+def _root_radius(system, x, L2):
+    """Float estimate (N, n) of how far the Krawczyk image of x* ± r reaches: |C| (|f(x*)| + the
+    rounding of the interval evaluation of f), C ≈ J(x*)⁻¹, times ``ROOT_SLACK``.  Not a bound: a
+    wrong estimate only makes the Krawczyk test fail (infinite where J(x*) is singular)."""
+    a, b = system.float_geometry()
+    p = system.n_pos
+    with np.errstate(all="ignore"):
+        f, J = system.float_system(x, L2)
+        C, failed = linalg.mid_inverse(J)
+        # each leg equation sums terms of magnitude <= 3 (|p|² + |a_i|² + |b_i|²) + ρ_i²
+        p2 = np.sum(x[:, :p] ** 2, -1, keepdims=True) if p else 0.0
+        legs = 3.0 * (p2 + np.sum(a * a, -1) + np.sum(b * b, -1)) + L2
+        terms = np.concatenate([legs, np.full((len(x), 1), 2.0)], -1)
+        err = np.abs(f) + 2.0 ** -49 * terms
+        rad = ROOT_SLACK * (np.abs(C) @ err[..., None])[..., 0] + 2.0 ** -50 * np.abs(x) + 1e-300
+    rad[failed] = np.inf
+    return np.where(np.isfinite(rad), rad, np.inf)
+
+
+def krawczyk(system: StackedFKSystem, lo, hi, L: Interval):
+    """(K, C) for the boxes [lo, hi] (N, n): one stacked evaluation of f at the midpoints and of J
+    over the boxes, then the Krawczyk operator (C = inverse of the midpoint Jacobian)."""
+    X = Interval._raw(lo, hi)
+    f, J, c = system.krawczyk_data(X, L)
+    res = linalg.krawczyk(f, J, X, c)
+    return res.K, res.C
+
+
+@dataclass
+class Proofs:
+    """Per step: ``ok``, the tracking box B (``blo``, ``bhi``, ``bC``) and the root box R ⊂ B
+    (``rlo``, ``rhi``, ``rC``); both passed K ⊂ int (with the margin of ``fk.unique_in``) where ok."""
+
+    ok: np.ndarray
+    blo: np.ndarray
+    bhi: np.ndarray
+    bC: np.ndarray
+    rlo: np.ndarray
+    rhi: np.ndarray
+    rC: np.ndarray
+
+
+def prove(system: StackedFKSystem, x0, x, L: Interval, L2) -> Proofs:
+    """Krawczyk proofs for the steps x0 -> x* (rows of (N, n)); L (N, legs) squared leg lengths
+    (enclosures), L2 their float midpoints.  Every round is one stacked evaluation of the boxes of
+    the rows not yet proved (see the module docstring)."""
+    from .fk import unique_in
+    N, n = x.shape
+    scale = _scale(system)
+    tiny = 1e-12 * scale
+    core_lo, core_hi = np.minimum(x0, x), np.maximum(x0, x)
+    move = np.max((core_hi - core_lo) / scale, axis=1, keepdims=True) + 1e-12
+
+    def grown(grow, rows):
+        r = grow * (core_hi[rows] - core_lo[rows]) + 0.5 * grow * move[rows] * scale
+        return (np.minimum(core_lo[rows] - r, rlo[rows]), np.maximum(core_hi[rows] + r, rhi[rows]))
+
+    rad = _root_radius(system, x, L2)
+    rlo, rhi = x - rad, x + rad
+    blo, bhi = grown(GROWS[0], slice(None))
+    bC, rC = np.zeros((N, n, n)), np.zeros((N, n, n))
+    okB, okR = np.zeros(N, dtype=bool), np.zeros(N, dtype=bool)
+    every = np.arange(N)
+    b_tries = [(every, blo.copy(), bhi.copy())]        # (rows, lo, hi): tracking boxes to test, in order
+    r_tries = (every, rlo.copy(), rhi.copy())          # root boxes to test
+    for round_ in range(ROUNDS):
+        tries = b_tries + [r_tries]
+        idx = np.concatenate([t[0] for t in tries])
+        if not len(idx):
+            break
+        los, his = np.concatenate([t[1] for t in tries]), np.concatenate([t[2] for t in tries])
+        K, C = krawczyk(system, los, his, Interval._raw(L.lo[idx], L.hi[idx]))
+        good = unique_in(K, los, his)
+        at = 0
+        first_K = None
+        for t, (rows, tlo, thi) in enumerate(b_tries):   # the first proved box of each row, in order
+            sel = slice(at, at + len(rows))
+            at += len(rows)
+            take = good[sel] & ~okB[rows]
+            blo[rows[take]], bhi[rows[take]], bC[rows[take]] = tlo[take], thi[take], C[sel][take]
+            okB[rows[take]] = True
+            if t == 0:
+                first_K = (rows, K.lo[sel], K.hi[sel])
+        rows, tlo, thi = r_tries
+        take = good[at:]
+        rlo[rows[take]], rhi[rows[take]], rC[rows[take]] = tlo[take], thi[take], C[at:][take]
+        okR[rows[take]] = True
+        # the next round: ε-inflation of the tracking box around its Krawczyk image (Rump 1983),
+        # at first also a smaller box (another posture may be near); a root box widened, inside B
+        rows, klo, khi = first_K
+        keep = ~okB[rows] & np.all(np.isfinite(klo) & np.isfinite(khi), axis=1)
+        rows, klo, khi = rows[keep], klo[keep], khi[keep]
+        hlo = np.minimum(np.minimum(core_lo[rows], klo), rlo[rows])
+        hhi = np.maximum(np.maximum(core_hi[rows], khi), rhi[rows])
+        w = INFLATE * (hhi - hlo) + tiny
+        b_tries = [(rows, hlo - w, hhi + w)]
+        if round_ == 0:
+            small = np.nonzero(~okB)[0]
+            b_tries.append((small, *grown(GROWS[1], small)))
+        rows = np.nonzero(~okR)[0]
+        wide = ROOT_RETRY ** (round_ + 1) * rad[rows]
+        inside = okB[rows, None]
+        r_tries = (rows, np.maximum(x[rows] - wide, np.where(inside, blo[rows], -np.inf)),
+                   np.minimum(x[rows] + wide, np.where(inside, bhi[rows], np.inf)))
+    # the root box must lie in the tracking box; otherwise the proved tracking box is the root box
+    use_b = okB & ~(okR & np.all(rlo >= blo, axis=1) & np.all(rhi <= bhi, axis=1))
+    rlo[use_b], rhi[use_b], rC[use_b] = blo[use_b], bhi[use_b], bC[use_b]
+    return Proofs(okB, blo, bhi, bC, rlo, rhi, rC)
+
+
+def _tracked_results(robot, system, texts, proofs: Proofs, rows):
+    """FKResults (tracked) for the proved rows: pose and platform points of every root box in one
+    evaluation (as ``fk._finish`` does for one result)."""
+    from .fk import FKResult, _pose_names
+    if not len(rows):
+        return []
+    X = Interval._raw(proofs.rlo[rows], proofs.rhi[rows])
+    poses = system.pose(X)
+    pts = system.points(X)
+    legs, dim = pts.shape[1], pts.shape[2]
+    out = []
+    for j, k in enumerate(rows):
+        res = FKResult(robot, system, texts[k], (proofs.blo[k], proofs.bhi[k]), tracked=True, complete=True)
+        res.solutions.append({"status": "unique", "box": Interval._raw(proofs.rlo[k], proofs.rhi[k]),
+                              "C": proofs.rC[k],
+                              "pose": _pose_names(robot, {name: v[j] for name, v in poses.items()}),
+                              "platform_points": [[pts[j, i, c] for c in range(dim)] for i in range(legs)]})
+        res.all_solutions = list(res.solutions)
+        res.track_C = proofs.bC[k]
+        out.append(res)
+    return out
+
+
+def track_one(robot, system, texts, L: Interval, previous):
+    """The tracked result for one set of leg lengths (``L``: (1, legs) squared), or None when the
+    posture near ``previous`` (a pose, text or sequence) is not proved."""
+    from .poses import parse_pose
+    pose, _ = parse_pose(previous, robot, "--track")
+    t0 = time.perf_counter()
+    system = StackedFKSystem.of(system)
+    x0 = system.unknowns_of_pose(pose.mid())
+    L2 = L.mid()
+    x, converged = newton(system, x0, L2[0], _scale(system))
+    if not converged:
+        return None
+    proofs = prove(system, x0[None], x[None], L, L2)
+    if not proofs.ok[0]:
+        return None
+    res = _tracked_results(robot, system, [texts], proofs, [0])[0]
+    res.seconds = time.perf_counter() - t0
+    return res
+
+
+def _float_rows(robot, lengths):
+    """(enclosures (M, legs), texts) of a 2-D float array of leg lengths, or None for other input
+    (``fk._parse_lengths`` then parses it and reports bad values).
+
+    As in ``forward_kinematics``, a float's text is its ``repr``: the shortest decimal that rounds
+    to it, so that decimal lies within half a spacing of the float, between the float's two
+    neighbours — the enclosure used here (no decimal-to-rational conversion per value).
+    """
+    if not isinstance(lengths, np.ndarray) or lengths.dtype.kind != "f" or lengths.ndim != 2 \
+            or lengths.shape[1] != robot.n_legs or not len(lengths):
+        return None
+    v = lengths.astype(np.float64)
+    if not (np.all(np.isfinite(v)) and np.all(v >= 0)):
+        return None
+    texts = [[repr(t) for t in row] for row in v.tolist()]
+    lo = np.where(v > 0, np.nextafter(v, -np.inf), 0.0)
+    return Interval._raw(lo, np.nextafter(v, np.inf)), texts
+
+
+def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budget=None):
+    """Track the posture through a sequence of leg-length sets, starting near ``start_pose``.
+
+    ``lengths_rows``: one row per step (2-D array or list of rows; exact decimals or floats, as
+    ``forward_kinematics``); ``start_pose``: the pose before the first step (text or sequence).
+    Step k starts its Newton iterations from step k−1's posture (extrapolated from the last two)
+    and is proved unique in a box around both (``result.tracked``); all proofs of the sequence
+    run in one batched evaluation.  A step that is not proved is not guessed: with ``fallback``
+    its leg lengths get the full search (all postures, ``tracked`` false; the steps needing it
+    are searched together as one batch, with ``budget``); without, its result has no solution,
+    ``complete`` false and ``tracked`` false.  Returns one ``FKResult`` per row.
+    """
+    from .fk import FKResult, _parse_lengths, forward_kinematics
+    from .poses import parse_pose
+    t0 = time.perf_counter()
+    parsed = _float_rows(robot, lengths_rows)
+    if parsed is None:
+        rows, texts, _ = _parse_lengths(robot, lengths_rows)
+        rho = Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]),
+                            np.array([[float(v.hi) for v in r] for r in rows]))
+    else:
+        rho, texts = parsed
+    pose, _ = parse_pose(start_pose, robot, "start_pose")
+    system = StackedFKSystem(robot)
+    M, n = len(texts), system.n
+    L = sqr(rho)
+    L2 = L.mid()
+    scale = _scale(system)
+    starts, xs = np.empty((M, n)), np.empty((M, n))
+    converged = np.zeros(M, dtype=bool)
+    x_prev = system.unknowns_of_pose(pose.mid())
+    velocity = None
+    for k in range(M):
+        ok = False
+        if velocity is not None:   # predictor: the last step's motion repeated
+            x, ok = newton(system, x_prev + velocity, L2[k], scale)
+            # a root farther from the prediction than the step itself: start again from x_prev
+            ok = ok and (np.abs(x - x_prev - velocity) / scale).max() <= (np.abs(velocity) / scale).max() + 1e-9
+        if not ok:
+            x, ok = newton(system, x_prev, L2[k], scale)
+        starts[k], xs[k], converged[k] = x_prev, x, ok
+        velocity = x - x_prev if ok else None
+        if ok:
+            x_prev = x
+    conv = np.nonzero(converged)[0]
+    results = [None] * M
+    if len(conv):
+        proofs = prove(system, starts[conv], xs[conv], Interval._raw(L.lo[conv], L.hi[conv]), L2[conv])
+        for k, r in zip(conv[proofs.ok], _tracked_results(robot, system, [texts[k] for k in conv], proofs,
+                                                          np.nonzero(proofs.ok)[0])):
+            results[k] = r
+    missing = [k for k in range(M) if results[k] is None]
+    if missing and fallback:
+        searched = forward_kinematics(robot, [list(texts[k]) for k in missing], budget=budget)
+        for k, r in zip(missing, searched):
+            results[k] = r
+    elif missing:
+        for k in missing:
+            # nothing proved: the claim covers only the posture guess x_prev, and is incomplete
+            box = (starts[k].copy(), starts[k].copy())
+            results[k] = FKResult(robot, system, texts[k], box, tracked=False, complete=False, user_domain=True)
+    seconds = (time.perf_counter() - t0) / M
+    for r in results:
+        if r.tracked or not fallback:
+            r.seconds = seconds
+    return results

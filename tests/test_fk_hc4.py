@@ -1,0 +1,136 @@
+"""The forward-backward (HC4) contraction of the FK equations and its re-check by ``proofs``.
+
+- it never loses a root: boxes around proved root boxes keep them;
+- the checker's re-computation (``proofs.fk.System.hc4``, mpmath at 80 bits)
+  lands inside the solver's result (before the solver widens it), so every
+  recorded contraction re-checks;
+- tampered ``hc4`` contractions and ``hc4-empty`` leaves are rejected.
+"""
+import copy
+
+import numpy as np
+import pytest
+from mpmath import iv
+
+import proofs
+from certkin import load_robot
+from certkin.fk import forward_kinematics
+from certkin.fk_hc4 import hc4
+from certkin.robots.fk_systems import FKSystem
+from intervals import Interval, sqr
+from proofs.fk import System
+
+from test_fk import EXAMPLES, SIX_MODES, _first, _pose_from_points, planar, table_vi2
+
+GOUGH_LENGTHS = ["1.093", "2.280", "2.031", "2.524", "3.136", "1.845"]
+
+
+@pytest.fixture(scope="module")
+def planar_case():
+    base, plat, lengths = SIX_MODES[0]
+    robot = planar(base, plat)
+    return robot, lengths, forward_kinematics(robot, lengths)
+
+
+@pytest.fixture(scope="module")
+def gough_case():
+    robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
+    pose = ",".join(repr(float(v)) for v in _pose_from_points(robot, table_vi2()[0]))
+    result = forward_kinematics(robot, GOUGH_LENGTHS, track=pose)   # one posture, proved near Table VI.2's first
+    assert result.tracked
+    return robot, GOUGH_LENGTHS, result
+
+
+def _L(lengths, N):
+    rho = [Interval(v) for v in lengths]
+    lo = np.array([float(r.lo) for r in rho])
+    hi = np.array([float(r.hi) for r in rho])
+    return sqr(Interval._raw(np.tile(lo, (N, 1)), np.tile(hi, (N, 1))))
+
+
+def _boxes_around(R, n_boxes, rng, scale):
+    """Random boxes holding the box R (each side grown by a random amount up to ``scale``)."""
+    lo = R.lo[None, :] - rng.uniform(0, 1, (n_boxes, len(R.lo))) ** 3 * scale
+    hi = R.hi[None, :] + rng.uniform(0, 1, (n_boxes, len(R.hi))) ** 3 * scale
+    return lo, hi
+
+
+@pytest.mark.parametrize("case", ["planar_case", "gough_case"])
+def test_hc4_keeps_every_root(case, request):
+    robot, lengths, result = request.getfixturevalue(case)
+    system = FKSystem(robot)
+    rng = np.random.default_rng(5)
+    assert result.solutions
+    for s in result.solutions:
+        R = s["box"]                                    # holds exactly one root
+        scale = np.r_[np.full(system.n_pos, 2.0), np.full(system.n - system.n_pos, 0.3)]
+        lo, hi = _boxes_around(R, 200, rng, scale)
+        nlo, nhi, empty = hc4(system, lo, hi, _L(lengths, len(lo)))
+        assert not empty.any()
+        # the root lies in R and in the contracted box: they meet
+        assert np.all(nlo <= R.hi) and np.all(nhi >= R.lo)
+        assert np.all(nlo >= lo) and np.all(nhi <= hi)
+
+
+@pytest.mark.parametrize("case", ["planar_case", "gough_case"])
+def test_checker_hc4_lands_inside_the_solver_result(case, request):
+    robot, lengths, result = request.getfixturevalue(case)
+    system = FKSystem(robot)
+    checker = System(system.model_name, robot.to_dict(), list(lengths))
+    rng = np.random.default_rng(7)
+    dlo, dhi = result.domain if not result.tracked else system.domain(sqr(Interval._raw(
+        np.array([[float(Interval(v).lo) for v in lengths]]), np.array([[float(Interval(v).hi) for v in lengths]]))))
+    dlo, dhi = np.atleast_2d(dlo)[0], np.atleast_2d(dhi)[0]
+    # boxes all over the domain, of many sizes: some are emptied, some contracted
+    N = 60
+    c = dlo + (dhi - dlo) * rng.uniform(size=(N, len(dlo)))
+    w = (dhi - dlo) * rng.uniform(0.001, 0.3, size=(N, len(dlo)))
+    lo, hi = np.maximum(c - w, dlo), np.minimum(c + w, dhi)
+    nlo, nhi, empty = hc4(system, lo, hi, _L(lengths, N))
+    saved = iv.prec
+    iv.prec = 80
+    try:
+        contracted = emptied = 0
+        for k in range(N):
+            z = checker.hc4([(float(a), float(b)) for a, b in zip(lo[k], hi[k])])
+            if empty[k]:
+                assert z is None, k         # the solver's "empty" re-checks
+                emptied += 1
+                continue
+            if z is None:
+                continue                    # the checker may prove more
+            contracted += bool(np.any(nlo[k] > lo[k]) or np.any(nhi[k] < hi[k]))
+            for j, v in enumerate(z):
+                assert (v.a >= nlo[k][j]) is True and (v.b <= nhi[k][j]) is True, (k, j)
+    finally:
+        iv.prec = saved
+    assert contracted + emptied > 0
+
+
+def test_tampered_hc4_steps_are_rejected(planar_case):
+    _, _, result = planar_case
+    cert = result.certificate()
+    assert proofs.check(cert).ok
+    tree = lambda c: c["claims"][0]["tree"]  # noqa: E731
+
+    shrunk = copy.deepcopy(cert)
+    node = _first(tree(shrunk), lambda n: n.get("contract") == "hc4" and "P" not in n)
+    for k, (a, b) in enumerate(node["box"]):
+        if b - a > 1e-6:                         # claim half of the contracted box as empty
+            node["box"][k] = [a, a + 0.25 * (b - a)]
+            break
+    report = proofs.check(shrunk)
+    assert not report.ok
+
+    emptied = copy.deepcopy(cert)
+    leaf = _first(tree(emptied), lambda n: n.get("leaf") == "krawczyk-unique")
+    for key in ("C", "star", "solution", "twin", "outside"):
+        leaf.pop(key, None)
+    leaf["leaf"] = "hc4-empty"                   # a box with a root is not emptied by HC4
+    report = proofs.check(emptied)
+    assert not report.ok and "does not prove the box empty" in report.step
+
+    relabelled = copy.deepcopy(cert)
+    leaf = _first(tree(relabelled), lambda n: n.get("leaf") == "hc4-empty")
+    leaf["leaf"] = "equation-free"
+    assert "unknown rule" in proofs.check(relabelled).step
