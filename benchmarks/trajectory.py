@@ -23,7 +23,7 @@ from certkin import load_robot, verify_trajectories, verify_trajectory
 from certkin.trajectory import parse_path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from machine import median_time  # noqa: E402
+from machine import describe, median_time  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 START, GOAL = "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0"
@@ -59,6 +59,7 @@ def main():
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--batch", type=int, default=200)
     args = ap.parse_args()
+    print(describe())
     robot = load_robot(ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml")
     verify_trajectory(robot, START, GOAL)          # compile once
     rows = []

@@ -32,13 +32,15 @@ import time
 import numpy as np
 
 from intervals import Interval
+from intervals.rounding import down, up
 
 from .engine.search import OPEN, PROVED, EXCLUDED, Budget, search
 from .errors import InputError
 from .poses import parse_pose
-from .trajectory_constraints import SATISFIED, UNKNOWN, VIOLATED, Constraints
+from .trajectory_constraints import SATISFIED, UNKNOWN, VIOLATED, Constraints, crossing_points
 
-PIECES = 16          # initial sub-intervals of each segment (one batch keeps numpy busy)
+PIECES = 16          # initial sub-intervals of each segment, each with its own polynomials (moving orientation)
+FIRST_BATCH = 256    # constant orientation: about this many initial sub-intervals in all (2 to 16 per segment)
 MARGIN_RTOL = 1e-4   # relative tolerance of the certified minimum margins
 INDEX_STEPS = 64     # sub-intervals per segment for the mean indices
 
@@ -55,8 +57,13 @@ class Path:
         return self.poses.shape[0] - 1
 
     def start_and_step(self):
+        """Per segment, P_k and P_{k+1} − P_k; a coordinate whose exact text is the same at
+        both ends has a step of exactly 0 (so constant angles give the constant-orientation path)."""
         P0 = self.poses[:-1]
         D = self.poses[1:] - self.poses[:-1]
+        same = np.array([[a == b for a, b in zip(p, q)] for p, q in zip(self.texts[:-1], self.texts[1:])])
+        if same.any():
+            D = Interval._raw(np.where(same, 0.0, D.lo), np.where(same, 0.0, D.hi))
         return P0, D
 
 
@@ -78,7 +85,8 @@ class TrajectoryProblem:
 
     reasons = ("every constraint decided on the interval",)
 
-    def __init__(self, constraints: Constraints, P0, D, piece_segment, segment_path, n_paths, rtol=MARGIN_RTOL):
+    def __init__(self, constraints: Constraints, P0, D, piece_segment, segment_path, n_paths, rtol=MARGIN_RTOL,
+                 min_width=1e-9, linear=False):
         self.c = constraints
         self.P0, self.D = P0, D
         self.piece_segment = piece_segment
@@ -86,17 +94,46 @@ class TrajectoryProblem:
         self.best = np.full((n_paths, constraints.K), np.inf)
         self.refine_cols = constraints.refinable()
         self.rtol = rtol
-        self.linear = constraints.linear_data(P0, D)
+        self.linear = constraints.linear_data(P0, D) if linear is False else linear
+        self.pieces = self.linear is None           # moving orientation: one expansion per piece
+        if not self.pieces:
+            self.polys = constraints.polynomials(self.linear, P0)
+        else:
+            S = P0.shape[0]
+            seg = np.repeat(np.arange(S), PIECES)
+            k = np.tile(np.arange(PIECES), S)
+            self.polys = constraints.piece_polynomials(P0[seg], D[seg], k / PIECES, np.full(len(k), 1.0 / PIECES))
+        self.crossings = None if self.polys is None else constraints.crossing_polynomials(self.polys)
+        self.delta = 0.25 * min_width       # cuts at t* ± delta leave [t* − delta, t* + delta] as the last piece
 
-    def evaluate(self, tlo, thi, segment):
-        return self.c.evaluate(self.P0[segment], self.D[segment], tlo, thi, self.c.rows_of(self.linear, segment))
+    def _local(self, tlo, thi, segment):
+        """Rows of the polynomials and the local parameter: (rows, τlo, τhi, a, h) with t = a + h τ
+        (per segment: τ = t; per piece k of width 1/PIECES: τ = (t − k/PIECES)·PIECES, enclosed)."""
+        tlo, thi = np.asarray(tlo, dtype=np.float64), np.asarray(thi, dtype=np.float64)
+        if not self.pieces:
+            return segment, tlo, thi, np.zeros_like(tlo), np.ones_like(tlo)
+        k = np.clip(np.floor(0.5 * (tlo + thi) * PIECES), 0, PIECES - 1)
+        a = k / PIECES
+        if np.any(tlo < a) or np.any(thi > a + 1.0 / PIECES):
+            raise ValueError("a t-interval straddles two pieces")
+        taulo = np.maximum(down((tlo - a) * PIECES), 0.0)
+        tauhi = np.minimum(up((thi - a) * PIECES), 1.0)
+        return segment * PIECES + k.astype(np.int64), taulo, tauhi, a, np.full_like(a, 1.0 / PIECES)
+
+    def evaluate(self, tlo, thi, segment, upper=True):
+        P0, D = self.P0[segment], self.D[segment]
+        if self.polys is not None:
+            rows, taulo, tauhi, _, _ = self._local(tlo, thi, segment)
+            return self.c.evaluate(P0, D, taulo, tauhi, polys=self.polys, rows=rows, upper=upper)
+        return self.c.evaluate(P0, D, tlo, thi, self.c.rows_of(self.linear, segment), upper=upper)
 
     def decide(self, lo, hi, roots):
         from .engine.search import Decisions
         seg = self.piece_segment[roots]
-        state, mlo, mhi = self.evaluate(lo[:, 0], hi[:, 0], seg)
+        state, mlo, mhi = self.evaluate(lo[:, 0], hi[:, 0], seg, upper=self.rtol is not None)
         path = self.segment_path[seg]
-        np.minimum.at(self.best, path, np.where(state == SATISFIED, mhi, np.inf))
+        # every evaluated interval's upper bound (whatever its state) bounds the minimum over the path
+        np.fmin.at(self.best, path, mhi)
         best = self.best[path]
         if self.rtol is None:                  # feasibility only: no margin refinement
             refine = np.zeros_like(state, dtype=bool)
@@ -106,7 +143,32 @@ class TrajectoryProblem:
         unknown = (state == UNKNOWN).any(axis=1) | refine.any(axis=1)
         status = np.where(unknown, OPEN, np.where((state == VIOLATED).any(axis=1), EXCLUDED, PROVED)).astype(np.int8)
         return Decisions(status=status, reason=np.zeros(len(lo), dtype=np.int64),
-                         evidence={"state": state, "mlo": mlo, "mhi": mhi})
+                         evidence={"state": state, "mlo": mlo, "mhi": mhi}, split_at=self._cuts(lo, hi, seg, state, refine),
+                         keep_narrow_evidence=True)
+
+    def _cuts(self, lo, hi, seg, state, refine):
+        """Per box, a cut just before (or after) an estimated crossing of an unknown column, or
+        else around an estimated extremum of a margin being refined (``Constraints.crossing_polynomials``)."""
+        if self.crossings is None:
+            return None
+        out = np.full(len(lo), np.inf)
+        for mask, cands, eps in ((refine & ~(state == UNKNOWN).any(axis=1)[:, None], [2], 2.0 ** -10),
+                                 (state == UNKNOWN, [0, 1], 0.0)):
+            box, col = np.nonzero(mask)
+            if not len(box):
+                continue
+            rows, ta, tb, base, h = self._local(lo[box, 0], hi[box, 0], seg[box])
+            coeffs = self.crossings[rows, col][:, cands]                      # (items, candidates, 16)
+            k = len(cands)
+            w = coeffs.shape[-1]
+            t = crossing_points(coeffs.reshape(-1, w), np.repeat(ta, k), np.repeat(tb, k)).reshape(-1, k)
+            t = base + h * np.fmin.reduce(t, axis=1)                          # back to the segment's t
+            a, b = lo[box, 0], hi[box, 0]
+            d = np.maximum(self.delta, eps * (b - a))
+            cut = np.where(t - d > a, t - d, t + d)
+            useful = (cut - a >= 1.5 * self.delta) & (b - cut >= 1.5 * self.delta)   # not a crossing at an end
+            np.minimum.at(out, box, np.where(np.isnan(t) | ~useful, np.inf, cut))
+        return np.where(np.isfinite(out), out, np.nan)
 
 
 @dataclass
@@ -158,7 +220,8 @@ def _runs(mask_sorted, s_lo, s_hi):
 
 
 def _interval(lo, hi):
-    return [float(lo), float(hi)]
+    """[lo, hi] for JSON; an infinite bound (not computed) is null."""
+    return [float(lo) if np.isfinite(lo) else None, float(hi) if np.isfinite(hi) else None]
 
 
 def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = None, progress=None,
@@ -182,11 +245,13 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     D = Interval._raw(np.concatenate([p.lo for p in Ds]), np.concatenate([p.hi for p in Ds]))
     seg_path = np.asarray(seg_path, dtype=np.int64)
     n_seg = len(seg_path)
-    edges = np.linspace(0.0, 1.0, PIECES + 1)          # exact binary fractions
-    piece_segment = np.repeat(np.arange(n_seg), PIECES)
+    linear = cons.linear_data(P0, D)
+    pieces = PIECES if linear is None else int(2 ** np.clip(np.round(np.log2(FIRST_BATCH / n_seg)), 1, 4))
+    edges = np.linspace(0.0, 1.0, pieces + 1)          # exact binary fractions
+    piece_segment = np.repeat(np.arange(n_seg), pieces)
     lo = np.tile(edges[:-1], n_seg)[:, None]
     hi = np.tile(edges[1:], n_seg)[:, None]
-    problem = TrajectoryProblem(cons, P0, D, piece_segment, seg_path, len(paths), rtol)
+    problem = TrajectoryProblem(cons, P0, D, piece_segment, seg_path, len(paths), rtol, budget.min_width, linear)
     found = search(problem, lo, hi, scale=np.ones(1), budget=budget, progress=progress, min_batch=64, max_rounds=5)
     tree = found.tree
     leaves = tree.leaves()
@@ -199,8 +264,9 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
         ids = leaves[known]
         state[known] = tree.evidence_values("state", ids)
         mlo[known], mhi[known] = tree.evidence_values("mlo", ids), tree.evidence_values("mhi", ids)
-    if (~known).any():                # undecided leaves (resolution, budget): evaluated once more
-        state[~known], mlo[~known], mhi[~known] = problem.evaluate(tlo[~known], thi[~known], segment[~known])
+    if (~known).any():                # leaves never evaluated (budget): evaluated now
+        state[~known], mlo[~known], mhi[~known] = problem.evaluate(tlo[~known], thi[~known], segment[~known],
+                                                                   upper=rtol is not None)
     results = []
     for p_index, path in enumerate(paths):
         segs = np.nonzero(seg_path == p_index)[0]

@@ -36,6 +36,7 @@ import numpy as np
 from intervals import Interval, cos, sqr, sqrt, stack
 from intervals.autodiff import Dual
 from intervals.linalg import laplace_det
+from intervals.polynomial import Poly, bernstein_weights, degree_limit, ratio_range
 from intervals.rounding import down, up
 
 from .errors import InputError
@@ -43,6 +44,7 @@ from .robots.base import parse_number
 
 KINDS = ("leg-length", "joints", "interference", "singularity")
 SATISFIED, VIOLATED, UNKNOWN = 1, -1, 0
+PIECE_DEGREE = 8         # degree of the per-piece polynomials of a moving orientation (products truncated)
 
 
 @dataclass(frozen=True)
@@ -119,6 +121,21 @@ class _Pose:
         self.R = [fixed[3 * n + k] for k in range(9)] if with_R else None             # row-major, (M,)
 
     @classmethod
+    def from_polys(cls, outputs, n, S, with_R):
+        """Leg vectors (and R) from polynomial outputs of the compiled model (constants allowed)."""
+        polys = [o if isinstance(o, Poly) else Poly.from_coefficients([o]) for o in outputs]
+        deg = max(p.degree for p in polys)
+        fixed = []
+        for p in polys:
+            pad = [(0, 0)] * p.ndim + [(0, deg - p.degree)]
+            fixed.append(Poly(np.broadcast_to(np.pad(p.lo, pad), (S, deg + 1)), np.broadcast_to(np.pad(p.hi, pad), (S, deg + 1))))
+        self = cls.__new__(cls)
+        self.legs = [Poly(np.stack([fixed[3 * i + k].lo for i in range(n)], 1), np.stack([fixed[3 * i + k].hi for i in range(n)], 1))
+                     for k in range(3)]
+        self.R = [fixed[3 * n + k] for k in range(9)] if with_R else None
+        return self
+
+    @classmethod
     def linear(cls, V, w, R, t: Interval, dual: bool):
         """Constant orientation: l_i(t) = V_i + t w exactly (V (M, n) and w (M,) enclosed per
         row), at the t-intervals ``t`` (M,), as Duals (derivative w) or as intervals."""
@@ -136,6 +153,18 @@ class _Pose:
         self.R = R
         return self
 
+    @classmethod
+    def polynomial(cls, V, w, R):
+        """Constant orientation: l_i(t) = V_i + t w as polynomials in t (one row per segment)."""
+        self = cls.__new__(cls)
+        self.legs = []
+        for k in range(3):
+            shape = V[k].shape
+            self.legs.append(Poly(np.stack([V[k].lo, np.broadcast_to(w[k].lo[:, None], shape)], -1),
+                                  np.stack([V[k].hi, np.broadcast_to(w[k].hi[:, None], shape)], -1)))
+        self.R = R
+        return self
+
     def rotate(self, v):
         """R v for constant vectors v (3 arrays of shape (n,)) -> 3 x (M, n)."""
         R = self.R
@@ -146,7 +175,9 @@ class _Pose:
 def _stack_rows(x, v: Interval):
     """x (M,) times v (n,) -> (M, n)."""
     n = v.shape[0]
-    if isinstance(x, Dual):
+    if isinstance(x, Poly):
+        xv = Poly(np.repeat(x.lo[:, None], n, 1), np.repeat(x.hi[:, None], n, 1))
+    elif isinstance(x, Dual):
         xv = Dual(Interval._raw(np.repeat(x.value.lo[:, None], n, 1), np.repeat(x.value.hi[:, None], n, 1)),
                   Interval._raw(np.repeat(x.grad.lo[:, None, :], n, 1), np.repeat(x.grad.hi[:, None, :], n, 1)))
     else:
@@ -163,6 +194,58 @@ def _gough_det(legs, base, C):
     cols = legs + mom                                                     # 6 x (M, n)
     A = Interval._raw(np.stack([c.lo for c in cols], axis=-1), np.stack([c.hi for c in cols], axis=-1))
     return det(A)
+
+
+_SUBSETS = np.array(list(itertools.combinations(range(6), 3)))
+_COMPLEMENTS = np.array([[i for i in range(6) if i not in S] for S in _SUBSETS])
+_SIGNS = np.where((_SUBSETS.sum(axis=1) + 3) % 2 == 0, 1.0, -1.0)
+
+
+def _det3(X):
+    """det of 3 x 3 matrices of polynomials, X indexed [..., row, col] over the batch axes."""
+    e = lambda r, c: X[(slice(None),) * (X.ndim - 2) + (r, c)]  # noqa: E731
+    return (e(0, 0) * (e(1, 1) * e(2, 2) - e(1, 2) * e(2, 1))
+            - e(0, 1) * (e(1, 0) * e(2, 2) - e(1, 2) * e(2, 0))
+            + e(0, 2) * (e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0)))
+
+
+def _gough_det_poly(V, w, base, C0):
+    """Constant orientation: det(A) as a polynomial in t (degree ≤ 6) per segment.
+
+    Rows [l_i, (A_i − C) × l_i] = [V_i + t w, (A_i − C_0 − t w) × R b_i] with
+    R b_i = V_i + A_i − C_0 constant: both blocks are linear in t."""
+    Rb = [V[k] + (base[k][None, :] - C0[k][:, None]) for k in range(3)]        # (M, 6)
+    arm0 = [base[k][None, :] - C0[k][:, None] for k in range(3)]
+    m0 = _cross(arm0, Rb)
+    shape = V[0].shape
+    wb = [Interval._raw(np.broadcast_to(w[k].lo[:, None], shape), np.broadcast_to(w[k].hi[:, None], shape))
+          for k in range(3)]
+    m1 = _cross(wb, Rb)
+    L = [Poly(np.stack([V[k].lo, wb[k].lo], -1), np.stack([V[k].hi, wb[k].hi], -1)) for k in range(3)]
+    M = [Poly(np.stack([m0[k].lo, -m1[k].hi], -1), np.stack([m0[k].hi, -m1[k].lo], -1)) for k in range(3)]
+    return _block_det(L, M)
+
+
+def _block_det(L, M):
+    """det of the 6 × 6 matrices with rows [L_i, M_i] (3 + 3 polynomial columns, batch (S, 6)):
+    generalised Laplace expansion along the first three columns, det A = Σ_S ε(S) det L[S]
+    det M[S^c] over the 20 row triples S, ε(S) = (−1)^(Σ_{i∈S} (i+1) + 6)."""
+    n = max(p.degree for p in L + M)
+    pad = lambda p: np.pad(p, [(0, 0)] * (p.ndim - 1) + [(0, n + 1 - p.shape[-1])])  # noqa: E731
+    lo = np.stack([np.stack([pad(x.lo) for x in L], 2), np.stack([pad(x.lo) for x in M], 2)], 1)   # (S, 2, 6, 3, n+1)
+    hi = np.stack([np.stack([pad(x.hi) for x in L], 2), np.stack([pad(x.hi) for x in M], 2)], 1)
+    rows = np.stack([_SUBSETS, _COMPLEMENTS])                                             # (2, 20, 3)
+    sel = np.arange(2)[:, None, None]
+    X = Poly(lo[:, sel, rows], hi[:, sel, rows])                                          # (S, 2, 20, 3, 3)
+    d = _det3(X)                                                                          # (S, 2, 20)
+    terms = d[:, 0] * d[:, 1]                                                             # (S, 20)
+    s = _SIGNS[:, None]
+    tlo = np.where(s > 0, terms.lo, -terms.hi)
+    thi = np.where(s > 0, terms.hi, -terms.lo)
+    total = Poly(tlo[:, 0], thi[:, 0])
+    for j in range(1, tlo.shape[1]):
+        total = total + Poly(tlo[:, j], thi[:, j])
+    return total
 
 
 class _DetFamily:
@@ -294,22 +377,29 @@ class Constraints:
                 out.append(g * g - f["c2"] * _dot(l, l))
         return out
 
-    def _pair_functions(self, pose: _Pose):
-        """Per pair: line distance² − r² numerator E, Δ = |u×v|², feet numerators; per end point
-        (A_i, B_i vs segment j; A_j, B_j vs segment i): τ numerator, τ − 1 numerator,
-        point-line numerator, |P − X|² − r², |P − Y|² − r² (docs/soundness.md)."""
+    def _pair_line_functions(self, pose: _Pose):
+        """Per pair: line distance² − r² numerator E, Δ = |u×v|² and the feet numerators
+        s, s − Δ, t, t − Δ of the common perpendicular (docs/soundness.md)."""
         L = pose.legs
         u = [_cols(L[k], self.I) for k in range(3)]
         v = [_cols(L[k], self.J) for k in range(3)]
         w0 = self.w0
-        r2 = self.r2
         a, b, c = _dot(u, u), _dot(u, v), _dot(v, v)
         d, e = _dot(u, w0), _dot(v, w0)
         cross = _cross(u, v)
         delta = _dot(cross, cross)
         wc = _dot(w0, cross)
         s_num, t_num = b * e - c * d, a * e - b * d
-        line = [wc * wc - r2 * delta, delta, s_num, s_num - delta, t_num, t_num - delta]
+        return [wc * wc - self.r2 * delta, delta, s_num, s_num - delta, t_num, t_num - delta]
+
+    def _pair_end_functions(self, pose: _Pose):
+        """Per end point (A_i, B_i vs segment j; A_j, B_j vs segment i): τ numerator, τ − 1
+        numerator, point-line numerator, |P − X|² − r², |P − Y|² − r², |Y − X|² (docs/soundness.md)."""
+        L = pose.legs
+        u = [_cols(L[k], self.I) for k in range(3)]
+        v = [_cols(L[k], self.J) for k in range(3)]
+        w0, r2 = self.w0, self.r2
+        a, c = _dot(u, u), _dot(v, v)
         ends = []
         neg_w0 = [-x for x in w0]
         for q, seg, seg2 in ((w0, v, c), ([w0[k] + u[k] for k in range(3)], v, c),
@@ -318,18 +408,108 @@ class Constraints:
             tau = _dot(q, seg)
             qc = _cross(q, seg)
             qe = _sub(q, seg)
-            ends += [tau, tau - seg2, _dot(qc, qc) - r2 * seg2, _dot(q, q) - r2, _dot(qe, qe) - r2]
-        return line, ends
+            ends += [tau, tau - seg2, _dot(qc, qc) - r2 * seg2, _dot(q, q) - r2, _dot(qe, qe) - r2, seg2]
+        return ends
 
     # ----- evaluation -------------------------------------------------------------------
-    def evaluate(self, P0: Interval, D: Interval, tlo, thi, linear=None):
+    def polynomials(self, linear, P0: Interval) -> dict:
+        """Constant orientation: every constraint function as a polynomial in t, per segment
+        (``linear_data``; built once per search, bounded per t-interval by ``_PolyPath``)."""
+        out = self._families(_Pose.polynomial(linear["V"], linear["w"], linear["R"]))
+        if self.det is not None and self.det.laplace:
+            out["det"] = [_gough_det_poly(linear["V"], linear["w"], self.base, [P0[:, k] for k in range(3)])]
+        return out
+
+    def piece_polynomials(self, P0: Interval, D: Interval, a, h) -> dict | None:
+        """Any path: per piece t ∈ [a, a + h] of a segment (rows of P0, D, a, h), the constraint
+        functions as polynomials in the local τ ∈ [0, 1], t = a + h τ (``intervals.polynomial``:
+        sin/cos by Taylor expansions with Lagrange remainders, products truncated to degree
+        ``PIECE_DEGREE`` with remainders; valid for τ ∈ [0, 1]).  None when the model uses a
+        function the polynomials do not support."""
+        robot = self.robot
+        S, d = P0.shape
+        A, H = Interval._raw(np.asarray(a, float), np.asarray(a, float)), Interval._raw(np.asarray(h, float), np.asarray(h, float))
+        var = [Poly.from_coefficients([P0[:, k] + A * D[:, k], H * D[:, k]]) for k in range(d)]
+        try:
+            with degree_limit(PIECE_DEGREE):
+                pose = _Pose.from_polys(self.vectors.evaluate(var, robot.parameters), self.n, S, self.with_R)
+                out = self._families(pose)
+                if self.det is not None:
+                    if self.det.laplace:
+                        C = [var[k] for k in range(3)]
+                        arm = [_bcast(self.base[k], pose.legs[0]) - Poly(np.repeat(C[k].lo[:, None], self.n, 1),
+                                                                        np.repeat(C[k].hi[:, None], self.n, 1))
+                               for k in range(3)]
+                        out["det"] = [_block_det(pose.legs, _cross(arm, pose.legs))]
+                    else:
+                        out["det"] = [self.det(var)]
+                out["degree_limit"] = PIECE_DEGREE   # the pair end-point terms, built when needed, too
+        except NotImplementedError:
+            return None
+        return out
+
+    def _families(self, pose) -> dict:
+        out = {"pose": pose}
+        if "legs" in self._cols or "joints" in self._cols:
+            out["_legs_sq"] = self._legs_sq(pose)
+        if "joints" in self._cols:
+            out["_joint_functions"] = self._joint_functions(pose)
+        if "pairs" in self._cols:
+            out["_pair_line_functions"] = self._pair_line_functions(pose)
+        return out
+
+    def crossing_polynomials(self, polys) -> np.ndarray:
+        """(S, K, 3, 16) float coefficients (NaN where absent): per segment and column, two
+        polynomials in t whose sign changes mark where the column's state can change (ρ² − ρ_min²
+        and ρ_max² − ρ², facet and cone functions, the line-distance numerator E, det A), and one
+        whose sign changes mark an extremum of its margin ((ρ²)', E'Δ − EΔ').  Used to choose
+        where to cut a t-interval, never as a proof."""
+        S = polys["pose"].legs[0].shape[0]
+        out = np.full((S, self.K, 3, 16), np.nan)
+        mid = lambda p: 0.5 * (p.lo + p.hi)  # noqa: E731
+
+        def put(col, cand, p):
+            c = mid(p) if isinstance(p, Poly) else p
+            out[:, col, cand, :c.shape[-1]] = c
+            out[:, col, cand, c.shape[-1]:] = 0.0
+        if "legs" in self._cols:
+            sq = polys["_legs_sq"][0]
+            for i, col in enumerate(range(self._cols["legs"].start, self._cols["legs"].stop)):
+                put(col, 0, sq[:, i] - sqr(self.rho_min[i]))
+                put(col, 1, -sq[:, i] + sqr(self.rho_max[i]))
+                put(col, 2, _derivative(mid(sq[:, i])))
+        if "joints" in self._cols:
+            fns, k = polys["_joint_functions"], 0
+            for col, f in zip(range(self._cols["joints"].start, self._cols["joints"].stop), self.facets):
+                put(col, 0, fns[k][:, 0])
+                if f["kind"] == "cone":
+                    put(col, 1, fns[k + 1][:, 0])
+                k += 1 if f["kind"] == "facet" else 2
+        if "pairs" in self._cols:
+            E, delta = polys["_pair_line_functions"][:2]
+            e, d = mid(E), mid(delta)
+            stationary = _float_mul(_derivative(e), d) - _float_mul(e, _derivative(d))     # (E/Δ)' Δ²
+            for j, col in enumerate(range(self._cols["pairs"].start, self._cols["pairs"].stop)):
+                put(col, 0, E[:, j])
+                put(col, 2, stationary[:, j])
+        if "det" in polys:
+            put(self._cols["det"].start, 0, polys["det"][0])
+        return out
+
+    def evaluate(self, P0: Interval, D: Interval, tlo, thi, linear=None, polys=None, rows=None, upper=True):
         """States (N, K) in {SATISFIED, VIOLATED, UNKNOWN} and margin enclosures (N, K) (lo, hi)
-        over the t-intervals [tlo, thi] of the segments pose(t) = P0 + t D (rows of P0, D)."""
+        over the t-intervals [tlo, thi] of the segments pose(t) = P0 + t D (rows of P0, D).
+        ``polys`` (from ``polynomials``) with ``rows`` (the segment of each t-interval) selects
+        the polynomial bounds; otherwise mean-value forms on ``linear`` data or on the pose.
+        ``upper=False``: upper bounds of the pair margins only where they can decide a state."""
         N = len(tlo)
         state = np.zeros((N, self.K), dtype=np.int8)
         mlo = np.full((N, self.K), -np.inf)
         mhi = np.full((N, self.K), np.inf)
-        path = _PathPoints(self, P0, D, tlo, thi, linear)
+        if polys is not None:
+            path = _PolyPath(self, polys, rows, P0, D, tlo, thi)
+        else:
+            path = _PathPoints(self, P0, D, tlo, thi, linear)
         if "legs" in self._cols or "joints" in self._cols:
             rlo, rhi = path.range(self._legs_sq)
             rho = sqrt(Interval._raw(np.maximum(rlo, 0.0), np.maximum(rhi, 0.0)))
@@ -345,7 +525,7 @@ class Constraints:
             mlo[:, sl], mhi[:, sl], state[:, sl] = self._joint_margins(rho, glo, ghi)
         if "pairs" in self._cols:
             sl = self._cols["pairs"]
-            mlo[:, sl], mhi[:, sl] = self._pair_margins(path)
+            mlo[:, sl], mhi[:, sl] = self._pair_margins(path, upper)
             state[:, sl] = _states(mlo[:, sl], mhi[:, sl])
         if self.det is not None:
             k = self._cols["det"].start
@@ -377,33 +557,38 @@ class Constraints:
             states.append(st)
         return np.stack(los, 1), np.stack(his, 1), np.stack(states, 1).astype(np.int8)
 
-    def _pair_margins(self, path):
-        """Enclosures of d_ij − (r_i + r_j) per pair (docs/soundness.md, segment distance)."""
+    def _pair_margins(self, path, upper_wanted=True):
+        """Enclosures of d_ij − (r_i + r_j) per pair (docs/soundness.md, segment distance).
+        The end-point terms are bounded only for the (interval, pair) items where the line
+        distance does not settle the bound (and, with ``upper_wanted``, where the feet of the
+        common perpendicular are not proved inside the segments)."""
         P = len(self.pair_list)
-        (llo, lhi), rows, (elo, ehi) = path.pair_ranges(self._pair_functions)
+        llo, lhi = path.range(self._pair_line_functions)
         iv = lambda k: Interval._raw(llo[:, k * P:(k + 1) * P], lhi[:, k * P:(k + 1) * P])  # noqa: E731
-        E, delta = iv(0), iv(1)
+        delta = iv(1)
         s0, s1, t0, t1 = iv(2), iv(3), iv(4), iv(5)
         feet_in = (s0.lo >= 0) & (s1.hi <= 0) & (t0.lo >= 0) & (t1.hi <= 0) & (delta.lo > 0)
         feet_out = (s0.hi < 0) | (s1.lo > 0) | (t0.hi < 0) | (t1.lo > 0)
-        line = E / delta                                        # line distance² − r²
+        line = path.ratio(self._pair_line_functions, 0, 1, P)  # E / Δ: line distance² − r²
         lower = np.where(np.isnan(line.lo), -np.inf, line.lo)
         upper = np.where(feet_in & ~np.isnan(line.hi), line.hi, np.inf)
-        if rows is not None and len(rows):
-            tau0, tau1, Eps, F0, F1 = (Interval._raw(elo[..., k], ehi[..., k]) for k in range(5))
-            seg2 = tau0 - tau1                                  # |Y − X|², enclosed again
-            pl = Eps / Interval._raw(np.maximum(seg2.lo, 0.0), seg2.hi)
+        need = ~feet_in & ((lower < 0) | upper_wanted)
+        if need.any():
+            rows, pairs = np.nonzero(need)
+            (elo, ehi), pl = path.pair_ends(self._pair_end_functions, rows, pairs)   # (items, 4, 6), (items, 4)
+            tau0, tau1, F0, F1 = (Interval._raw(elo[..., k], ehi[..., k]) for k in (0, 1, 3, 4))
             before, after = tau0.hi <= 0, tau1.lo >= 0
             inside = (tau0.lo >= 0) & (tau1.hi <= 0)
             plo = np.where(np.isnan(pl.lo), -np.inf, pl.lo)
             clo = np.where(before, F0.lo, np.where(after, F1.lo, plo))       # point-segment distance² − r², lower
             chi = np.minimum(np.minimum(F0.hi, F1.hi), np.where(inside & ~np.isnan(pl.hi), pl.hi, np.inf))
-            end_lower = clo.min(axis=2)
-            end_upper = chi.min(axis=2)
+            end_lower = clo.min(axis=1)
+            end_upper = chi.min(axis=1)
             # the line distance is always a lower bound; when the feet of the common perpendicular
             # are outside [0, 1]², the minimum over the square is on its boundary: the end-point terms
-            lower[rows] = np.where(feet_out[rows], np.maximum(lower[rows], end_lower), lower[rows])
-            upper[rows] = np.minimum(upper[rows], end_upper)
+            lower[rows, pairs] = np.where(feet_out[rows, pairs], np.maximum(lower[rows, pairs], end_lower),
+                                          lower[rows, pairs])
+            upper[rows, pairs] = np.minimum(upper[rows, pairs], end_upper)
         d2 = Interval._raw(np.maximum(down(lower + self.r2.lo), 0.0), np.maximum(up(upper + self.r2.hi), 0.0))
         m = sqrt(d2) - self.r
         return m.lo, m.hi
@@ -484,7 +669,10 @@ class _PathPoints:
 
     def range(self, fn):
         """(lo, hi) arrays (N, m): enclosures over T of the values ``fn(pose)`` (flattened)."""
-        return self._combine(fn(self.pose_dual), fn(self.pose_points))
+        memo = self.__dict__.setdefault("_memo", {})
+        if fn.__name__ not in memo:
+            memo[fn.__name__] = self._combine(fn(self.pose_dual), fn(self.pose_points))
+        return memo[fn.__name__]
 
     def range_det(self, det):
         if det.laplace:                   # Gough-Stewart: natural LU-preconditioned enclosure over T
@@ -501,17 +689,21 @@ class _PathPoints:
         lo, hi = self._combine([det(duals)], [det(points)])
         return lo[:, 0], hi[:, 0]
 
-    def pair_ranges(self, fn):
-        """Line terms for every box; end-point terms (N', P, 4, 5) only where some pair needs them."""
-        line_d, ends_d = fn(self.pose_dual)
-        line_p, ends_p = fn(self.pose_points)
-        line = self._combine(line_d, line_p)
+    def ratio(self, fn, i, j, width):
+        """Enclosure (N, width) of block i / block j of the flattened values of ``fn``."""
+        lo, hi = self.range(fn)
+        cols = lambda k: Interval._raw(lo[:, k * width:(k + 1) * width], hi[:, k * width:(k + 1) * width])  # noqa: E731
+        return cols(i) / cols(j)
+
+    def pair_ends(self, fn, rows, pairs):
+        """End-point terms (items, 4, 6) of the (interval, pair) items ``rows``, ``pairs``, and
+        the point-line distance² − r² (items, 4) (their third term over their sixth)."""
         P = len(self.c.pair_list)
-        rows = np.arange(self.N)
-        elo, ehi = self._combine(ends_d, ends_p)
-        elo = elo[rows].reshape(len(rows), 4, 5, P).transpose(0, 3, 1, 2)
-        ehi = ehi[rows].reshape(len(rows), 4, 5, P).transpose(0, 3, 1, 2)
-        return line, rows, (elo, ehi)
+        elo, ehi = self._combine(fn(self.pose_dual), fn(self.pose_points))
+        elo = elo.reshape(self.N, 4, 6, P)[rows, :, :, pairs]
+        ehi = ehi.reshape(self.N, 4, 6, P)[rows, :, :, pairs]
+        pl = Interval._raw(elo[..., 2], ehi[..., 2]) / Interval._raw(np.maximum(elo[..., 5], 0.0), ehi[..., 5])
+        return (elo, ehi), pl
 
     def _combine(self, duals, pts):
         N = self.N
@@ -542,3 +734,128 @@ class _PathPoints:
             los.append(lo)
             his.append(hi)
         return np.concatenate(los, axis=1), np.concatenate(his, axis=1)
+
+
+class _PolyPath:
+    """Constant orientation: ranges over T of the constraint functions from their polynomials
+    in t (``Constraints.polynomials``), by Bernstein bounds (``intervals.polynomial``)."""
+
+    def __init__(self, constraints, polys, rows, P0: Interval, D: Interval, tlo, thi):
+        self.c, self.polys, self.rows = constraints, polys, np.asarray(rows)
+        self.P0, self.D = P0, D
+        self.tlo, self.thi = np.asarray(tlo, dtype=np.float64), np.asarray(thi, dtype=np.float64)
+        self.N = len(self.tlo)
+        self._memo = {}
+
+    def _stacked(self, key, items):
+        """The items (Poly or Interval, one row per segment) as one (S, m, n + 1) pair of
+        coefficient arrays, built once per search."""
+        cache = self.polys.setdefault("_stacked", {})
+        if key not in cache:
+            S = self.polys["pose"].legs[0].shape[0]
+            polys = [p if isinstance(p, Poly) else Poly.from_coefficients([p]) for p in items]
+            n = max(p.degree for p in polys)
+            los, his = [], []
+            for p in polys:
+                pad = [(0, 0)] * (p.lo.ndim - 1) + [(0, n - p.degree)]
+                lo, hi = np.pad(p.lo, pad), np.pad(p.hi, pad)
+                if p.ndim == 0 or p.shape[0] != S:          # a constant of the robot, the same on every segment
+                    lo, hi = np.broadcast_to(lo, (S,) + lo.shape), np.broadcast_to(hi, (S,) + hi.shape)
+                los.append(lo.reshape(S, -1, n + 1))
+                his.append(hi.reshape(S, -1, n + 1))
+            cache[key] = (np.concatenate(los, 1), np.concatenate(his, 1))
+        return cache[key]
+
+    def _weights(self, n):
+        """The Bernstein maps of degree n on the rows' t-intervals (shared by every function)."""
+        if ("W", n) not in self._memo:
+            self._memo[("W", n)] = bernstein_weights(self.tlo[:, None], self.thi[:, None], n)
+        return self._memo[("W", n)]
+
+    def _bernstein(self, key):
+        """Bernstein coefficients (N, m, n + 1) of the functions ``key`` on each row's t-interval."""
+        if key not in self._memo:
+            lo, hi = self._stacked(key, self.polys[key] if key in self.polys else None)
+            W = self._weights(lo.shape[-1] - 1)
+            self._memo[key] = Poly(lo[self.rows], hi[self.rows]).bernstein(self.tlo[:, None], self.thi[:, None], W)
+        return self._memo[key]
+
+    def range(self, fn):
+        b = self._bernstein(fn.__name__)
+        return b.lo.min(axis=-1), b.hi.max(axis=-1)
+
+    def ratio(self, fn, i, j, width):
+        """Enclosure (N, width) of block i / block j of the functions of ``fn`` (rational Bernstein bound)."""
+        b = self._bernstein(fn.__name__)
+        cols = lambda k: Interval._raw(b.lo[:, k * width:(k + 1) * width], b.hi[:, k * width:(k + 1) * width])  # noqa: E731
+        return ratio_range(cols(i), cols(j))
+
+    def range_det(self, det):
+        if "det" in self.polys:
+            b = self._bernstein("det")
+            return b.lo[:, 0].min(axis=-1), b.hi[:, 0].max(axis=-1)
+        return _PathPoints(self.c, self.P0, self.D, self.tlo, self.thi).range_det(det)
+
+    def pair_ends(self, fn, rows, pairs):
+        """End-point terms (items, 4, 6) of the (interval, pair) items ``rows``, ``pairs`` and the
+        point-line distance² − r² (items, 4); their polynomials are built on first use."""
+        key = fn.__name__
+        if key not in self.polys:
+            with degree_limit(self.polys.get("degree_limit")):
+                self.polys[key] = fn(self.polys["pose"])
+        lo, hi = self._stacked(key, self.polys[key])            # (S, 6 * 4 * P, n + 1), term-major
+        P = len(self.c.pair_list)
+        seg = self.rows[rows]
+        cols = (np.arange(24)[None, :] * P + pairs[:, None])     # (items, 24)
+        W = self._weights(lo.shape[-1] - 1)
+        b = Poly(lo[seg[:, None], cols], hi[seg[:, None], cols]).bernstein(self.tlo[rows, None], self.thi[rows, None],
+                                                                           (W[0][rows], W[1][rows]))
+        blo, bhi = b.lo.reshape(len(rows), 4, 6, -1), b.hi.reshape(len(rows), 4, 6, -1)
+        pl = ratio_range(Interval._raw(blo[:, :, 2], bhi[:, :, 2]), Interval._raw(blo[:, :, 5], bhi[:, :, 5]))
+        return (blo.min(axis=-1), bhi.max(axis=-1)), pl
+
+
+def _derivative(c):
+    """Coefficients of p' (float, last axis), same length (last coefficient 0)."""
+    return np.concatenate([c[..., 1:] * np.arange(1, c.shape[-1]), np.zeros(c.shape[:-1] + (1,))], -1)
+
+
+def _float_mul(a, b):
+    """Float product of coefficient arrays (last axis), at most 16 coefficients."""
+    out = np.zeros(np.broadcast_shapes(a.shape[:-1], b.shape[:-1]) + (a.shape[-1] + b.shape[-1] - 1,))
+    for i in range(a.shape[-1]):
+        out[..., i:i + b.shape[-1]] += a[..., i:i + 1] * b
+    if np.any(out[..., 16:] != 0):
+        raise ValueError("polynomial of degree above 15")
+    return out[..., :16]
+
+
+def crossing_points(coefficients, tlo, thi, iterations: int = 12):
+    """Float estimates of a sign change of each polynomial (rows of ``coefficients``, (M, m),
+    NaN rows allowed) inside [tlo, thi]: safeguarded Newton in the bracket; NaN when the
+    values at the two ends have the same sign.  A heuristic for cutting boxes, not a proof."""
+    c = np.where(np.isnan(coefficients), 0.0, coefficients)
+    a, b = np.array(tlo, dtype=np.float64), np.array(thi, dtype=np.float64)
+
+    def value(x):
+        v = np.zeros_like(x)
+        for k in range(c.shape[1] - 1, -1, -1):
+            v = v * x + c[:, k]
+        return v
+
+    fa = value(a)
+    bracket = (np.sign(fa) * np.sign(value(b)) < 0) & ~np.isnan(coefficients[:, 0])
+    x = 0.5 * (a + b)
+    dc = c[:, 1:] * np.arange(1, c.shape[1])
+    for _ in range(iterations):
+        f = value(x)
+        df = np.zeros_like(x)
+        for k in range(dc.shape[1] - 1, -1, -1):
+            df = df * x + dc[:, k]
+        same = np.sign(f) == np.sign(fa)
+        a = np.where(same, x, a)
+        b = np.where(same, b, x)
+        with np.errstate(all="ignore"):
+            step = x - f / df
+        x = np.where((step > a) & (step < b), step, 0.5 * (a + b))
+    return np.where(bracket, x, np.nan)

@@ -302,3 +302,83 @@ def test_cone_half_angle_outside_0_90_is_rejected(mel, angle):
             "limits": {"base_joints": [{"axis": ["0", "0", "1"], "half_angle": angle}] * 6}}
     with pytest.raises(RobotFileError, match="half_angle"):
         robot_from_dict(data)
+
+
+# ----- constant orientation: polynomials in t ---------------------------------------------------
+def _det_mp(robot, pose):
+    """det of the rows [l_i, (A_i − C) × l_i] at 40 digits (independent of certkin)."""
+    A, B = _legs_mp(robot, pose)
+    C = mp.matrix(pose[:3])
+    rows = []
+    for a, b in zip(A, B):
+        l, arm = b - a, a - C
+        m = [arm[1] * l[2] - arm[2] * l[1], arm[2] * l[0] - arm[0] * l[2], arm[0] * l[1] - arm[1] * l[0]]
+        rows.append([l[0], l[1], l[2]] + m)
+    return mp.det(mp.matrix(rows))
+
+
+def test_constant_orientation_uses_exact_zero_steps_and_polynomials(mel):
+    """Equal angle texts give a step of exactly 0 (constant orientation), hence the polynomial
+    path; the det(A) polynomial encloses the exact determinant along the path."""
+    from certkin.trajectory import TrajectoryProblem
+    from certkin.trajectory_constraints import Constraints
+    path = parse_path(mel, START, GOAL)
+    P0, D = path.start_and_step()
+    assert D.lo[0, 3] == D.hi[0, 3] == 0.0 and D.lo[0, 4] == D.hi[0, 4] == 0.0
+    cons = Constraints(mel, ["singularity", "leg-length"])
+    problem = TrajectoryProblem(cons, P0, D, np.zeros(1, dtype=int), np.zeros(1, dtype=int), 1)
+    assert problem.polys is not None and problem.polys["det"][0].degree <= 6
+    det_poly = problem.polys["det"][0]
+    sq = problem.polys["_legs_sq"][0]
+    P0m, P1m = _pose(START), _pose(GOAL)
+    for t in ("0", "0.25", "0.548853", "0.9", "1"):
+        tq = Fraction(t)
+        pose = [a + mp.mpf(tq.numerator) / tq.denominator * (b - a) for a, b in zip(P0m, P1m)]
+        exact = _det_mp(mel, pose)
+        r = det_poly.range(float(tq), float(tq))
+        assert r.lo[0] <= exact <= r.hi[0]
+        assert float(r.hi[0] - r.lo[0]) < 1e-9 * abs(float(exact))
+        A, B = _legs_mp(mel, pose)
+        rho2 = sq.range(float(tq), float(tq))
+        for i in range(6):
+            exact_sq = mp.fdot(B[i] - A[i], B[i] - A[i])
+            assert rho2.lo[0, i] <= exact_sq <= rho2.hi[0, i]
+
+
+def test_batch_agrees_with_one_path_at_a_time(mel):
+    """Many segments in one search (per-segment polynomials gathered by row) give the same
+    verdicts and overlapping margin enclosures as each path alone, det(A) included."""
+    rng = np.random.default_rng(11)
+    paths = [parse_path(mel, START, GOAL)]
+    for _ in range(6):
+        a, b = rng.uniform(-60, 60, 2), rng.uniform(-60, 60, 2)
+        paths.append(parse_path(mel, f"{a[0]:.2f},{a[1]:.2f},520,85deg,10deg,0",
+                                f"{b[0]:.2f},{b[1]:.2f},520,85deg,10deg,0"))
+    batch = verify_trajectories(mel, paths, indices=False)
+    for path, rb in zip(paths, batch):
+        rs = verify_trajectories(mel, [path], indices=False)[0]
+        assert rb.status == rs.status
+        for mb, ms in zip(rb.margins, rs.margins):
+            assert mb["margin"][0] <= ms["margin"][1] and ms["margin"][0] <= mb["margin"][1], (mb, ms)
+        det = [m for m in rb.margins if m["constraint"] == "singularity"][0]
+        pose = _pose(",".join(path.texts[0]))
+        assert det["margin"][0] <= abs(_det_mp(mel, pose))      # min |det| along the path ≤ |det| at t = 0
+        checked(rb)
+
+
+def test_engine_cuts_where_the_problem_asks():
+    """``Decisions.split_at``: the box is cut there once, not at the default ratio."""
+    from certkin.engine.search import OPEN, PROVED, Decisions, search
+
+    class Cut:
+        reasons = ("narrow",)
+
+        def decide(self, lo, hi, roots):
+            wide = (hi - lo)[:, 0] > 0.3
+            status = np.where(wide, OPEN, PROVED).astype(np.int8)
+            return Decisions(status=status, reason=np.zeros(len(lo), dtype=np.int64),
+                             split_at=np.where(wide, lo[:, 0] + 0.125, np.nan))
+
+    tree = search(Cut(), np.array([[0.0]]), np.array([[1.0]]), min_batch=1).tree
+    cuts = sorted(tree.split_at[tree.kind == 4].tolist())
+    assert cuts == [0.125, 0.25, 0.375, 0.5, 0.625, 0.75]
