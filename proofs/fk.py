@@ -39,7 +39,7 @@ from __future__ import annotations
 
 from mpmath import iv
 
-from . import ad
+from . import ad, tree
 from .numbers import enclose, exact, real
 from .report import Rejected
 from .singularity import read_box
@@ -465,23 +465,11 @@ def _tree(system, root, domain, solutions, complete, where, counts):
     stack = [(root, domain, ())]
     while stack:
         node, box, path = stack.pop()
-        at = f"{where}: {'leaf' if isinstance(node, dict) and 'leaf' in node else 'node'} at path " \
-             f"{'/'.join(map(str, path)) or 'root'}"
-        if not isinstance(node, dict):
-            raise Rejected(f"{at}: expected an object")
+        at = tree.label(where, node, path)
         if "split" in node:
-            split, children = node.get("split"), node.get("children")
-            if (not isinstance(split, list) or len(split) != 2 or isinstance(split[0], bool)
-                    or not isinstance(split[0], int) or not 0 <= split[0] < n):
-                raise Rejected(f"{at}: 'split' must be [dim, at] with 0 <= dim < {n}")
-            if not isinstance(children, list) or len(children) != 2:
-                raise Rejected(f"{at}: a split needs exactly two children")
-            dim, cut = split[0], real(split[1], f"{at}: split point")
-            lo, hi = box[dim]
-            if not lo < cut < hi:
-                raise Rejected(f"{at}: split point {cut!r} not strictly inside [{lo!r}, {hi!r}] on dim {dim}")
-            stack.append((children[1], [*box[:dim], (cut, hi), *box[dim + 1:]], path + (1,)))
-            stack.append((children[0], [*box[:dim], (lo, cut), *box[dim + 1:]], path + (0,)))
+            (c0, lower), (c1, upper) = tree.split(node, box, at)
+            stack.append((c1, upper, path + (1,)))
+            stack.append((c0, lower, path + (0,)))
         elif "contract" in node:
             child_box = read_box(node.get("box"), n, f"{at}: box")
             if not _inside(child_box, box):

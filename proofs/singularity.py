@@ -14,7 +14,7 @@ The optional ``requested`` exact decimals must lie inside ``box``.
 """
 from __future__ import annotations
 
-from . import rules
+from . import rules, tree
 from .numbers import inside, real, sign
 from .report import Rejected
 
@@ -82,25 +82,11 @@ def _tree(robot, root, box, s, where, counts):
     stack = [(root, box, ())]
     while stack:
         node, nbox, path = stack.pop()
-        at_path = f"{where}: {'leaf' if isinstance(node, dict) and 'leaf' in node else 'node'} at path " \
-                  f"{'/'.join(map(str, path)) or 'root'}"
-        if not isinstance(node, dict):
-            raise Rejected(f"{at_path}: expected an object")
+        at_path = tree.label(where, node, path)
         if "split" in node:
-            split, children = node.get("split"), node.get("children")
-            if (not isinstance(split, list) or len(split) != 2 or isinstance(split[0], bool)
-                    or not isinstance(split[0], int) or not 0 <= split[0] < dims):
-                raise Rejected(f"{at_path}: 'split' must be [dim, at] with 0 <= dim < {dims}")
-            if not isinstance(children, list) or len(children) != 2:
-                raise Rejected(f"{at_path}: a split needs exactly two children")
-            dim, cut = split[0], real(split[1], f"{at_path}: split point")
-            lo, hi = nbox[dim]
-            if not lo < cut < hi:
-                raise Rejected(f"{at_path}: split point {cut!r} not strictly inside [{lo!r}, {hi!r}] on dim {dim}")
-            lower = [*nbox[:dim], (lo, cut), *nbox[dim + 1:]]
-            upper = [*nbox[:dim], (cut, hi), *nbox[dim + 1:]]
-            stack.append((children[1], upper, path + (1,)))
-            stack.append((children[0], lower, path + (0,)))
+            (c0, lower), (c1, upper) = tree.split(node, nbox, at_path)
+            stack.append((c1, upper, path + (1,)))
+            stack.append((c0, lower, path + (0,)))
         elif "leaf" in node:
             rule, flags = rules.parse(node, dims, at_path)
             if read_box(node.get("box"), dims, f"{at_path}: box") != nbox:

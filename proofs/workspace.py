@@ -38,6 +38,7 @@ from fractions import Fraction
 
 from mpmath import iv
 
+from . import tree
 from .numbers import enclose, exact, real
 from .report import Rejected, Report
 from .singularity import read_box
@@ -258,25 +259,11 @@ def _tree(legs, root, box, h2, where, counts):
     stack = [(root, box, ())]
     while stack:
         node, nbox, path = stack.pop()
-        at = f"{where}: {'leaf' if isinstance(node, dict) and 'leaf' in node else 'node'} at path " \
-             f"{'/'.join(map(str, path)) or 'root'}"
-        if not isinstance(node, dict):
-            raise Rejected(f"{at}: expected an object")
+        at = tree.label(where, node, path)
         if "split" in node:
-            split, children = node.get("split"), node.get("children")
-            if (not isinstance(split, list) or len(split) != 2 or isinstance(split[0], bool)
-                    or split[0] not in (0, 1)):
-                raise Rejected(f"{at}: 'split' must be [dim, at] with dim 0 or 1")
-            if not isinstance(children, list) or len(children) != 2:
-                raise Rejected(f"{at}: a split needs exactly two children")
-            dim, cut = split[0], real(split[1], f"{at}: split point")
-            lo, hi = nbox[dim]
-            if not lo < cut < hi:
-                raise Rejected(f"{at}: split point {cut!r} not strictly inside [{lo!r}, {hi!r}] on dim {dim}")
-            lower = [(lo, cut) if k == dim else nbox[k] for k in range(2)]
-            upper = [(cut, hi) if k == dim else nbox[k] for k in range(2)]
-            stack.append((children[1], upper, path + (1,)))
-            stack.append((children[0], lower, path + (0,)))
+            (c0, lower), (c1, upper) = tree.split(node, nbox, at)
+            stack.append((c1, upper, path + (1,)))
+            stack.append((c0, lower, path + (0,)))
             continue
         kind = node.get("leaf")
         if kind not in ("inside", "outside", "boundary"):
