@@ -147,10 +147,13 @@ class TrajectoryProblem:
                          keep_narrow_evidence=True)
 
     def _cuts(self, lo, hi, seg, state, refine):
-        """Per box, a cut just before (or after) an estimated crossing of an unknown column, or
-        else around an estimated extremum of a margin being refined (``Constraints.crossing_polynomials``)."""
+        """Per box, a cut near an estimated crossing of an unknown column, or else around an
+        estimated extremum of a margin being refined (``Constraints.crossing_polynomials``).
+        A crossing is looked for slightly beyond the box too, and the piece kept around it is
+        wider than the estimate's error, so that the rest of the box is clear of it."""
         if self.crossings is None:
             return None
+        coefficients, radii = self.crossings
         out = np.full(len(lo), np.inf)
         for mask, cands, eps in ((refine & ~(state == UNKNOWN).any(axis=1)[:, None], [2], 2.0 ** -10),
                                  (state == UNKNOWN, [0, 1], 0.0)):
@@ -158,14 +161,19 @@ class TrajectoryProblem:
             if not len(box):
                 continue
             rows, ta, tb, base, h = self._local(lo[box, 0], hi[box, 0], seg[box])
-            coeffs = self.crossings[rows, col][:, cands]                      # (items, candidates, 16)
             k = len(cands)
-            w = coeffs.shape[-1]
-            t = crossing_points(coeffs.reshape(-1, w), np.repeat(ta, k), np.repeat(tb, k)).reshape(-1, k)
-            t = base + h * np.fmin.reduce(t, axis=1)                          # back to the segment's t
+            w = coefficients.shape[-1]
+            reach = 4.0 * self.delta / h                                       # look this far beyond the box
+            t, err = crossing_points(coefficients[rows, col][:, cands].reshape(-1, w), np.repeat(ta - reach, k),
+                                     np.repeat(tb + reach, k), radii=radii[rows, col][:, cands].reshape(-1, w))
+            t, err = t.reshape(-1, k), err.reshape(-1, k)
+            first = np.argmin(np.where(np.isnan(t), np.inf, t), axis=1)
+            pick = np.arange(len(box))
+            t = base + h * t[pick, first]                                      # back to the segment's t
+            err = h * err[pick, first]
             a, b = lo[box, 0], hi[box, 0]
-            d = np.maximum(self.delta, eps * (b - a))
-            cut = np.where(t - d > a, t - d, t + d)
+            d = np.maximum(np.maximum(self.delta, eps * (b - a)), 2.0 * np.where(np.isnan(err), 0.0, err))
+            cut = np.where(t - d > a + 1.5 * self.delta, t - d, t + d)
             useful = (cut - a >= 1.5 * self.delta) & (b - cut >= 1.5 * self.delta)   # not a crossing at an end
             np.minimum.at(out, box, np.where(np.isnan(t) | ~useful, np.inf, cut))
         return np.where(np.isfinite(out), out, np.nan)
@@ -230,7 +238,7 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     if not paths:
         return []
     budget = budget or Budget(max_boxes=200_000, max_seconds=60.0, min_width=1e-9)
-    cons = constraints if isinstance(constraints, Constraints) else Constraints(robot, constraints)
+    cons = constraints if isinstance(constraints, Constraints) else Constraints.of(robot, constraints)
     if cons.K == 0:
         raise InputError("--constraints", "", "no constraint can be checked: " +
                          "; ".join(f"{k}: {v}" for k, v in cons.skipped.items()))

@@ -63,8 +63,10 @@ class Instance:
 
 
 def _cached(robot, key, build):
-    """Per-robot data derived from its limits, built once."""
+    """Per-robot data derived from its geometry and limits, built once per value of the limits
+    (the geometry does not change after loading; the limits are a plain dict a caller may edit)."""
     cache = robot.__dict__.setdefault("_trajectory_cache", {})
+    key = (key, repr(robot.limits))
     if key not in cache:
         cache[key] = build()
     return cache[key]
@@ -284,6 +286,8 @@ class Constraints:
         self.with_R = "R" in robot.symbolic_model()
         self.base = _cached(robot, "base", lambda: [_enclose_all([Interval(p[k]) if k < robot.dim else Interval(0)
                                                                     for p in robot.base]) for k in range(3)])
+        self.platform = _cached(robot, "platform", lambda: [_enclose_all([Interval(p[k]) for p in robot.platform])
+                                                            for k in range(robot.dim)])
         self.det = None
         if "leg-length" in kinds:
             if "leg_length" in limits:
@@ -316,6 +320,12 @@ class Constraints:
             self._add("det", [Instance("singularity", tuple(range(1, n + 1)))])
         self.K = len(self.instances)
 
+    @classmethod
+    def of(cls, robot, kinds=None) -> "Constraints":
+        """The constraints ``kinds`` of ``robot``, built once per robot, selection and limits."""
+        key = ("constraints", None if kinds is None else tuple(kinds))
+        return _cached(robot, key, lambda: cls(robot, kinds))
+
     def _add(self, name, instances):
         start = len(self.instances)
         self.instances.extend(instances)
@@ -329,10 +339,20 @@ class Constraints:
         if np.any(D.lo[:, angles] != 0) or np.any(D.hi[:, angles] != 0):
             return None
         S = P0.shape[0]
-        out = _Pose(self.vectors.evaluate([P0[:, k] for k in range(P0.shape[1])], robot.parameters), self.n, S, self.with_R)
         position = [k for k, name in enumerate(robot.pose_names) if name not in robot.angle_names]
         zero = Interval._raw(np.zeros(S), np.zeros(S))
         w = [D[:, position[k]] if k < len(position) else zero for k in range(3)]
+        variables = [P0[:, k] for k in range(P0.shape[1])]
+        if robot.rigid_legs():        # l_i = C + R b_i − a_i: R once, then one product for every leg
+            R = robot._compiled("R").evaluate(variables, robot.parameters)
+            R = [r if isinstance(r, Interval) else Interval(r) for r in R]
+            R = [Interval._raw(np.broadcast_to(r.lo, (S,)), np.broadcast_to(r.hi, (S,))) for r in R]
+            C = [P0[:, position[k]] if k < len(position) else zero for k in range(3)]
+            plat = self.platform
+            V = [_stack_rows(R[3 * k], plat[0]) + _stack_rows(R[3 * k + 1], plat[1]) + _stack_rows(R[3 * k + 2], plat[2])
+                 + (_stack_rows(C[k], Interval(np.ones(self.n))) - self.base[k]) for k in range(3)]
+            return {"V": V, "w": w, "R": R if self.with_R else None}
+        out = _Pose(self.vectors.evaluate(variables, robot.parameters), self.n, S, self.with_R)
         return {"V": out.legs, "w": w, "R": out.R}
 
     @staticmethod
@@ -458,20 +478,23 @@ class Constraints:
             out["_pair_line_functions"] = self._pair_line_functions(pose)
         return out
 
-    def crossing_polynomials(self, polys) -> np.ndarray:
-        """(S, K, 3, 16) float coefficients (NaN where absent): per segment and column, two
+    def crossing_polynomials(self, polys) -> tuple[np.ndarray, np.ndarray]:
+        """(S, K, 3, 16) float coefficients (NaN where absent) and their radii: per segment and column, two
         polynomials in t whose sign changes mark where the column's state can change (ρ² − ρ_min²
         and ρ_max² − ρ², facet and cone functions, the line-distance numerator E, det A), and one
         whose sign changes mark an extremum of its margin ((ρ²)', E'Δ − EΔ').  Used to choose
         where to cut a t-interval, never as a proof."""
         S = polys["pose"].legs[0].shape[0]
         out = np.full((S, self.K, 3, 16), np.nan)
+        rad = np.zeros((S, self.K, 3, 16))
         mid = lambda p: 0.5 * (p.lo + p.hi)  # noqa: E731
 
         def put(col, cand, p):
             c = mid(p) if isinstance(p, Poly) else p
             out[:, col, cand, :c.shape[-1]] = c
             out[:, col, cand, c.shape[-1]:] = 0.0
+            if isinstance(p, Poly):
+                rad[:, col, cand, :c.shape[-1]] = 0.5 * (p.hi - p.lo)
         if "legs" in self._cols:
             sq = polys["_legs_sq"][0]
             for i, col in enumerate(range(self._cols["legs"].start, self._cols["legs"].stop)):
@@ -494,7 +517,7 @@ class Constraints:
                 put(col, 2, stationary[:, j])
         if "det" in polys:
             put(self._cols["det"].start, 0, polys["det"][0])
-        return out
+        return out, rad
 
     def evaluate(self, P0: Interval, D: Interval, tlo, thi, linear=None, polys=None, rows=None, upper=True):
         """States (N, K) in {SATISFIED, VIOLATED, UNKNOWN} and margin enclosures (N, K) (lo, hi)
@@ -747,24 +770,31 @@ class _PolyPath:
         self.N = len(self.tlo)
         self._memo = {}
 
-    def _stacked(self, key, items):
-        """The items (Poly or Interval, one row per segment) as one (S, m, n + 1) pair of
-        coefficient arrays, built once per search."""
-        cache = self.polys.setdefault("_stacked", {})
-        if key not in cache:
+    FAMILIES = ("_legs_sq", "_joint_functions", "_pair_line_functions", "det")
+
+    def _stacked(self):
+        """Every family's functions as one (S, m, n + 1) pair of coefficient arrays at the
+        largest degree n (lower degrees padded with zero coefficients), with each family's
+        column range; built once per search."""
+        if "_stacked" not in self.polys:
             S = self.polys["pose"].legs[0].shape[0]
-            polys = [p if isinstance(p, Poly) else Poly.from_coefficients([p]) for p in items]
+            items = [(key, p) for key in self.FAMILIES if key in self.polys for p in self.polys[key]]
+            polys = [p if isinstance(p, Poly) else Poly.from_coefficients([p]) for _, p in items]
             n = max(p.degree for p in polys)
-            los, his = [], []
-            for p in polys:
-                pad = [(0, 0)] * (p.lo.ndim - 1) + [(0, n - p.degree)]
-                lo, hi = np.pad(p.lo, pad), np.pad(p.hi, pad)
-                if p.ndim == 0 or p.shape[0] != S:          # a constant of the robot, the same on every segment
-                    lo, hi = np.broadcast_to(lo, (S,) + lo.shape), np.broadcast_to(hi, (S,) + hi.shape)
-                los.append(lo.reshape(S, -1, n + 1))
-                his.append(hi.reshape(S, -1, n + 1))
-            cache[key] = (np.concatenate(los, 1), np.concatenate(his, 1))
-        return cache[key]
+            blocks, spans, at = [], {}, 0
+            for (key, _), p in zip(items, polys):
+                width = int(np.prod(p.shape[1:])) if p.ndim and p.shape[0] == S else int(np.prod(p.shape))
+                blocks.append((p, width))
+                spans[key] = (spans.get(key, (at, at))[0], at + width)
+                at += width
+            lo, hi = np.zeros((S, at, n + 1)), np.zeros((S, at, n + 1))
+            at = 0
+            for p, width in blocks:      # a constant of the robot (no segment axis) is the same on every segment
+                lo[:, at:at + width, :p.degree + 1] = p.lo.reshape(-1, width, p.degree + 1)
+                hi[:, at:at + width, :p.degree + 1] = p.hi.reshape(-1, width, p.degree + 1)
+                at += width
+            self.polys["_stacked"] = (lo, hi, spans)
+        return self.polys["_stacked"]
 
     def _weights(self, n):
         """The Bernstein maps of degree n on the rows' t-intervals (shared by every function)."""
@@ -773,12 +803,15 @@ class _PolyPath:
         return self._memo[("W", n)]
 
     def _bernstein(self, key):
-        """Bernstein coefficients (N, m, n + 1) of the functions ``key`` on each row's t-interval."""
-        if key not in self._memo:
-            lo, hi = self._stacked(key, self.polys[key] if key in self.polys else None)
+        """Bernstein coefficients (N, m, n + 1) of the functions ``key`` on each row's t-interval
+        (every family in one product, on first use)."""
+        if "all" not in self._memo:
+            lo, hi, _ = self._stacked()
             W = self._weights(lo.shape[-1] - 1)
-            self._memo[key] = Poly(lo[self.rows], hi[self.rows]).bernstein(self.tlo[:, None], self.thi[:, None], W)
-        return self._memo[key]
+            self._memo["all"] = Poly(lo[self.rows], hi[self.rows]).bernstein(self.tlo[:, None], self.thi[:, None], W)
+        first, last = self._stacked()[2][key]
+        b = self._memo["all"]
+        return Interval._raw(b.lo[:, first:last], b.hi[:, first:last])
 
     def range(self, fn):
         b = self._bernstein(fn.__name__)
@@ -798,12 +831,21 @@ class _PolyPath:
 
     def pair_ends(self, fn, rows, pairs):
         """End-point terms (items, 4, 6) of the (interval, pair) items ``rows``, ``pairs`` and the
-        point-line distance² − r² (items, 4); their polynomials are built on first use."""
+        point-line distance² − r² (items, 4); their polynomials are built on first use, at the
+        degree of the other families when not above it (one Bernstein map for all)."""
         key = fn.__name__
         if key not in self.polys:
             with degree_limit(self.polys.get("degree_limit")):
-                self.polys[key] = fn(self.polys["pose"])
-        lo, hi = self._stacked(key, self.polys[key])            # (S, 6 * 4 * P, n + 1), term-major
+                ends = [p if isinstance(p, Poly) else Poly.from_coefficients([p]) for p in fn(self.polys["pose"])]
+            S = self.polys["pose"].legs[0].shape[0]
+            P = len(self.c.pair_list)
+            n = max(self._stacked()[0].shape[-1] - 1, max(p.degree for p in ends))
+            lo, hi = np.zeros((S, len(ends), P, n + 1)), np.zeros((S, len(ends), P, n + 1))
+            for k, p in enumerate(ends):                   # term-major: column k * P + pair
+                lo[:, k, :, :p.degree + 1] = p.lo
+                hi[:, k, :, :p.degree + 1] = p.hi
+            self.polys[key] = (lo.reshape(S, -1, n + 1), hi.reshape(S, -1, n + 1))
+        lo, hi = self.polys[key]                                  # (S, 6 * 4 * P, n + 1)
         P = len(self.c.pair_list)
         seg = self.rows[rows]
         cols = (np.arange(24)[None, :] * P + pairs[:, None])     # (items, 24)
@@ -830,32 +872,41 @@ def _float_mul(a, b):
     return out[..., :16]
 
 
-def crossing_points(coefficients, tlo, thi, iterations: int = 12):
+def crossing_points(coefficients, tlo, thi, iterations: int = 60, radii=None):
     """Float estimates of a sign change of each polynomial (rows of ``coefficients``, (M, m),
-    NaN rows allowed) inside [tlo, thi]: safeguarded Newton in the bracket; NaN when the
-    values at the two ends have the same sign.  A heuristic for cutting boxes, not a proof."""
+    NaN rows allowed) inside [tlo, thi]: safeguarded Newton in the bracket (until the steps
+    stop moving, at most ``iterations``); NaN when the
+    values at the two ends have the same sign.  With ``radii`` (the coefficients' uncertainty),
+    also an estimate of the estimate's error, (Σ r_k |t|^k + 2⁻⁴⁸ Σ |c_k t^k|) / |p'(t)|.
+    A heuristic for cutting boxes, not a proof."""
     c = np.where(np.isnan(coefficients), 0.0, coefficients)
     a, b = np.array(tlo, dtype=np.float64), np.array(thi, dtype=np.float64)
+    k = np.arange(c.shape[1], dtype=np.float64)
+    dc = c[:, 1:] * k[1:]
 
-    def value(x):
-        v = np.zeros_like(x)
-        for k in range(c.shape[1] - 1, -1, -1):
-            v = v * x + c[:, k]
-        return v
+    def powers(x):
+        return np.power(x[:, None], k)
 
-    fa = value(a)
-    bracket = (np.sign(fa) * np.sign(value(b)) < 0) & ~np.isnan(coefficients[:, 0])
+    fa = np.einsum("ij,ij->i", powers(a), c)
+    bracket = (np.sign(fa) * np.sign(np.einsum("ij,ij->i", powers(b), c)) < 0) & ~np.isnan(coefficients[:, 0])
     x = 0.5 * (a + b)
-    dc = c[:, 1:] * np.arange(1, c.shape[1])
     for _ in range(iterations):
-        f = value(x)
-        df = np.zeros_like(x)
-        for k in range(dc.shape[1] - 1, -1, -1):
-            df = df * x + dc[:, k]
+        xp = powers(x)
+        f = np.einsum("ij,ij->i", xp, c)
+        df = np.einsum("ij,ij->i", xp[:, :-1], dc)
         same = np.sign(f) == np.sign(fa)
         a = np.where(same, x, a)
         b = np.where(same, b, x)
         with np.errstate(all="ignore"):
             step = x - f / df
-        x = np.where((step > a) & (step < b), step, 0.5 * (a + b))
-    return np.where(bracket, x, np.nan)
+        previous, x = x, np.where((step > a) & (step < b), step, 0.5 * (a + b))
+        if np.all((np.abs(x - previous) <= 2.0 ** -50 * np.abs(x)) | ~bracket):
+            break
+    t = np.where(bracket, x, np.nan)
+    if radii is None:
+        return t
+    xp = np.abs(powers(np.where(bracket, x, 0.0)))
+    with np.errstate(all="ignore"):
+        err = (np.einsum("ij,ij->i", xp, radii) + 2.0 ** -48 * np.einsum("ij,ij->i", xp, np.abs(c))) \
+            / np.abs(np.einsum("ij,ij->i", xp[:, :-1], dc))
+    return t, np.where(bracket, err, np.nan)

@@ -280,25 +280,34 @@ def bernstein_weights(a, b, n):
     """Enclosures (W_lo, W_hi), both ≥ 0, shape (..., n+1, n+1), of the map c -> Bernstein
     coefficients on [a, b] (a ≥ 0): W[i, j] = Σ_k T[i, k] h^k C(j, k) a^(j−k), h = b − a.
     Every factor is ≥ 0, so products and sums of lower (upper) bounds are lower (upper) bounds."""
-    shape = a.shape
+    shape = np.shape(a)
     d = b - a
-    h_lo, h_hi = np.maximum(down_sum(d), 0.0), up_sum(d)
-    apow_lo, apow_hi = [np.ones(shape)], [np.ones(shape)]
-    hpow_lo, hpow_hi = [np.ones(shape)], [np.ones(shape)]
-    for _ in range(n):
-        apow_lo.append(np.maximum(down(apow_lo[-1] * a), 0.0))
-        apow_hi.append(up(apow_hi[-1] * a))
-        hpow_lo.append(np.maximum(down(hpow_lo[-1] * h_lo), 0.0))
-        hpow_hi.append(up(hpow_hi[-1] * h_hi))
-    S_lo = np.zeros(shape + (n + 1, n + 1))
-    S_hi = np.zeros(shape + (n + 1, n + 1))
-    for k in range(n + 1):                    # S[k, j] = h^k C(j, k) a^(j−k)
-        for j in range(k, n + 1):
-            S_lo[..., k, j] = np.maximum(down(down(comb(j, k) * apow_lo[j - k]) * hpow_lo[k]), 0.0)
-            S_hi[..., k, j] = up(up(comb(j, k) * apow_hi[j - k]) * hpow_hi[k])
+    base_lo = np.stack([np.asarray(a, dtype=np.float64), np.maximum(down_sum(d), 0.0)])   # (2, ...): a, h
+    base_hi = np.stack([np.asarray(a, dtype=np.float64), up_sum(d)])
+    pow_lo, pow_hi = [np.ones_like(base_lo)], [np.ones_like(base_hi)]
+    for _ in range(n):                        # a^k and h^k, k = 0..n, rounded outward step by step
+        pow_lo.append(np.maximum(down(pow_lo[-1] * base_lo), 0.0))
+        pow_hi.append(up(pow_hi[-1] * base_hi))
+    pow_lo, pow_hi = np.stack(pow_lo, -1), np.stack(pow_hi, -1)   # (2, ..., n + 1)
+    C, jmk, upper = _shift_tables(n)
+    # S[k, j] = h^k C(j, k) a^(j−k) for k ≤ j, else 0
+    S_lo = np.maximum(down(down(C * pow_lo[0][..., jmk]) * pow_lo[1][..., :, None]), 0.0) * upper
+    S_hi = up(up(C * pow_hi[0][..., jmk]) * pow_hi[1][..., :, None]) * upper
     Tlo, Thi = _bernstein_matrix(n)
     d = 4.0 * (n + 1) * _U          # sums of n + 1 nonnegative products: |fl − exact| ≤ γ_{n+1} exact
     return np.maximum(down((Tlo @ S_lo) * (1.0 - d)), 0.0), up((Thi @ S_hi) * (1.0 + d))
+
+
+_SHIFT = {}
+
+
+def _shift_tables(n):
+    """C(j, k), the index j − k (clipped at 0) and the mask k ≤ j, as (n+1, n+1) arrays [k, j]."""
+    if n not in _SHIFT:
+        k, j = np.meshgrid(np.arange(n + 1), np.arange(n + 1), indexing="ij")
+        C = np.array([[float(comb(jj, kk)) for jj in range(n + 1)] for kk in range(n + 1)])
+        _SHIFT[n] = (C, np.maximum(j - k, 0), (k <= j).astype(np.float64))
+    return _SHIFT[n]
 
 
 def _bernstein_nonnegative(lo, hi, a, b, n, weights=None):

@@ -164,6 +164,8 @@ class Robot:
                 exprs = list(model["A"])
             elif what == "legs_sq":
                 exprs = [sum(c ** 2 for c in leg) for leg in model["legs"]]
+            elif what == "R":
+                exprs = list(model["R"])
             elif what == "points":
                 exprs = [c for p in model["points"] for c in p]
             elif what == "leg_vectors":   # l_i padded to 3 coordinates, then R row by row if modelled
@@ -173,6 +175,27 @@ class Robot:
             else:
                 raise KeyError(what)
             _COMPILED[key] = compile_exprs(exprs, pose, geom)
+        return _COMPILED[key]
+
+    @classmethod
+    def rigid_legs(cls) -> bool:
+        """Whether the model's leg vectors are l_i = C + R b_i − a_i (C the position variables,
+        a_i, b_i the base and platform geometry), checked symbolically once per kind."""
+        key = (cls.__name__, "rigid_legs")
+        if key not in _COMPILED:
+            import sympy as sp
+            pose, geom = cls.symbols()
+            model = cls.symbolic_model()
+            ok = "R" in model and cls.dim == 3
+            if ok:
+                R = sp.Matrix(model["R"]).reshape(3, 3)
+                C = [v for v in pose if str(v) not in cls.angle_names]
+                C = sp.Matrix(C + [0] * (3 - len(C)))
+                n = cls.n_legs
+                for i, leg in enumerate(model["legs"]):
+                    a, b = sp.Matrix(geom[3 * i:3 * i + 3]), sp.Matrix(geom[3 * n + 3 * i:3 * n + 3 * i + 3])
+                    ok = ok and all(sp.expand(x - y) == 0 for x, y in zip(leg, C + R * b - a))
+            _COMPILED[key] = bool(ok)
         return _COMPILED[key]
 
     def _box(self, boxes) -> Interval:
