@@ -37,9 +37,8 @@ from intervals.rounding import down, up
 from .engine.search import OPEN, PROVED, EXCLUDED, Budget, search
 from .errors import InputError
 from .poses import parse_pose
-from .trajectory_constraints import SATISFIED, UNKNOWN, VIOLATED, Constraints, crossing_points
+from .trajectory_constraints import SATISFIED, UNKNOWN, VIOLATED, Constraints, crossing_points, piece_plan
 
-PIECES = 16          # initial sub-intervals of each segment, each with its own polynomials (moving orientation)
 FIRST_BATCH = 256    # constant orientation: about this many initial sub-intervals in all (2 to 16 per segment)
 MARGIN_RTOL = 1e-4   # relative tolerance of the certified minimum margins
 INDEX_STEPS = 64     # sub-intervals per segment for the mean indices
@@ -65,6 +64,14 @@ class Path:
         if same.any():
             D = Interval._raw(np.where(same, 0.0, D.lo), np.where(same, 0.0, D.hi))
         return P0, D
+
+
+def angle_step(robot, D: Interval) -> float:
+    """The largest change of a pose angle along one segment (radians; 0 without angles)."""
+    cols = [k for k, name in enumerate(robot.pose_names) if name in robot.angle_names]
+    if not cols:
+        return 0.0
+    return float(np.max(np.maximum(np.abs(D.lo[:, cols]), np.abs(D.hi[:, cols]))))
 
 
 def parse_path(robot, start, goal, waypoints=()) -> Path:
@@ -96,29 +103,31 @@ class TrajectoryProblem:
         self.rtol = rtol
         self.linear = constraints.linear_data(P0, D) if linear is False else linear
         self.pieces = self.linear is None           # moving orientation: one expansion per piece
+        self.n_pieces, degree = piece_plan(angle_step(constraints.robot, D)) if self.pieces else (1, None)
         if not self.pieces:
             self.polys = constraints.polynomials(self.linear, P0)
         else:
-            S = P0.shape[0]
-            seg = np.repeat(np.arange(S), PIECES)
-            k = np.tile(np.arange(PIECES), S)
-            self.polys = constraints.piece_polynomials(P0[seg], D[seg], k / PIECES, np.full(len(k), 1.0 / PIECES))
+            S, n = P0.shape[0], self.n_pieces
+            seg = np.repeat(np.arange(S), n)
+            k = np.tile(np.arange(n), S)
+            self.polys = constraints.piece_polynomials(P0[seg], D[seg], k / n, np.full(len(k), 1.0 / n), degree)
         self.crossings = None if self.polys is None else constraints.crossing_polynomials(self.polys)
         self.delta = 0.25 * min_width       # cuts at t* ± delta leave [t* − delta, t* + delta] as the last piece
 
     def _local(self, tlo, thi, segment):
         """Rows of the polynomials and the local parameter: (rows, τlo, τhi, a, h) with t = a + h τ
-        (per segment: τ = t; per piece k of width 1/PIECES: τ = (t − k/PIECES)·PIECES, enclosed)."""
+        (per segment: τ = t; per piece k of width 1/n: τ = (t − k/n)·n, enclosed)."""
         tlo, thi = np.asarray(tlo, dtype=np.float64), np.asarray(thi, dtype=np.float64)
         if not self.pieces:
             return segment, tlo, thi, np.zeros_like(tlo), np.ones_like(tlo)
-        k = np.clip(np.floor(0.5 * (tlo + thi) * PIECES), 0, PIECES - 1)
-        a = k / PIECES
-        if np.any(tlo < a) or np.any(thi > a + 1.0 / PIECES):
+        n = self.n_pieces
+        k = np.clip(np.floor(0.5 * (tlo + thi) * n), 0, n - 1)
+        a = k / n
+        if np.any(tlo < a) or np.any(thi > a + 1.0 / n):
             raise ValueError("a t-interval straddles two pieces")
-        taulo = np.maximum(down((tlo - a) * PIECES), 0.0)
-        tauhi = np.minimum(up((thi - a) * PIECES), 1.0)
-        return segment * PIECES + k.astype(np.int64), taulo, tauhi, a, np.full_like(a, 1.0 / PIECES)
+        taulo = np.maximum(down((tlo - a) * n), 0.0)
+        tauhi = np.minimum(up((thi - a) * n), 1.0)
+        return segment * n + k.astype(np.int64), taulo, tauhi, a, np.full_like(a, 1.0 / n)
 
     def evaluate(self, tlo, thi, segment, upper=True):
         P0, D = self.P0[segment], self.D[segment]
@@ -254,7 +263,8 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     seg_path = np.asarray(seg_path, dtype=np.int64)
     n_seg = len(seg_path)
     linear = cons.linear_data(P0, D)
-    pieces = PIECES if linear is None else int(2 ** np.clip(np.round(np.log2(FIRST_BATCH / n_seg)), 1, 4))
+    pieces = piece_plan(angle_step(robot, D))[0] if linear is None else \
+        int(2 ** np.clip(np.round(np.log2(FIRST_BATCH / n_seg)), 1, 4))
     edges = np.linspace(0.0, 1.0, pieces + 1)          # exact binary fractions
     piece_segment = np.repeat(np.arange(n_seg), pieces)
     lo = np.tile(edges[:-1], n_seg)[:, None]

@@ -30,13 +30,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 import itertools
+from math import factorial
 
 import numpy as np
 
 from intervals import Interval, cos, sqr, sqrt, stack
 from intervals.autodiff import Dual
 from intervals.linalg import laplace_det
-from intervals.polynomial import Poly, bernstein_weights, degree_limit, ratio_range
+from intervals.polynomial import Poly, bernstein_weights, degree_limit, padded, ratio_range
 from intervals.rounding import down, up
 
 from .errors import InputError
@@ -44,7 +45,25 @@ from .robots.base import parse_number
 
 KINDS = ("leg-length", "joints", "interference", "singularity")
 SATISFIED, VIOLATED, UNKNOWN = 1, -1, 0
-PIECE_DEGREE = 8         # degree of the per-piece polynomials of a moving orientation (products truncated)
+PIECE_DEGREES = (6, 8)   # degrees tried for the per-piece polynomials of a moving orientation (products truncated)
+PIECE_TRUNCATION = 2.0 ** -40   # wanted size of a truncated term, relative: (angle change per piece)^(d+1)/(d+1)!
+
+
+def piece_plan(angle_step: float, least: int = 8, most: int = 64) -> tuple[int, int]:
+    """(pieces per segment, degree) for a moving orientation whose angles change by at most
+    ``angle_step`` (radians) along a segment: the cheapest (pieces · (degree + 1)²) power-of-two
+    count of pieces in [least, most] with (angle_step / pieces)^(degree+1)/(degree+1)! below
+    ``PIECE_TRUNCATION``, so that the terms the truncation folds away stay negligible.  Any plan
+    is sound (the folded terms are enclosed); this one keeps the enclosures tight."""
+    plans = []
+    for d in PIECE_DEGREES:
+        reach = (PIECE_TRUNCATION * factorial(d + 1)) ** (1.0 / (d + 1))      # angle change per piece allowed
+        pieces = least
+        while pieces < most and angle_step / pieces > reach:
+            pieces *= 2
+        plans.append((pieces * (d + 1) ** 2, pieces, d))
+    _, pieces, d = min(plans)
+    return pieces, d
 
 
 @dataclass(frozen=True)
@@ -91,11 +110,31 @@ def _stack(items):
 
 
 def _dot(a, b):
+    """a · b for 3-vectors given as component lists (Poly components: one stacked product)."""
+    if isinstance(a[0], Poly) and all(isinstance(x, (Poly, Interval)) for x in (*a, *b)):
+        return (_vector(a) * _vector(b)).sum(axis=-1)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
 def _cross(a, b):
+    """a × b for 3-vectors given as component lists (Poly components: two stacked products)."""
+    if isinstance(a[0], Poly) and all(isinstance(x, (Poly, Interval)) for x in (*a, *b)):
+        A, B = _vector(a), _vector(b)
+        first, second = [1, 2, 0], [2, 0, 1]
+        c = A[(slice(None),) * (A.ndim - 1) + (first,)] * B[(slice(None),) * (B.ndim - 1) + (second,)] \
+            - A[(slice(None),) * (A.ndim - 1) + (second,)] * B[(slice(None),) * (B.ndim - 1) + (first,)]
+        return [c[(slice(None),) * (c.ndim - 1) + (k,)] for k in range(3)]
     return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def _vector(components) -> Poly:
+    """Three Poly (or Interval) components stacked on a last batch axis, one common degree."""
+    polys = [x if isinstance(x, Poly) else Poly.from_coefficients([x]) for x in components]
+    n = max(p.degree for p in polys)
+    shape = np.broadcast_shapes(*(p.shape for p in polys))
+    lo = np.stack([np.broadcast_to(padded(p.lo, n), shape + (n + 1,)) for p in polys], -2)
+    hi = np.stack([np.broadcast_to(padded(p.hi, n), shape + (n + 1,)) for p in polys], -2)
+    return Poly(lo, hi)
 
 
 def _sub(a, b):
@@ -129,8 +168,7 @@ class _Pose:
         deg = max(p.degree for p in polys)
         fixed = []
         for p in polys:
-            pad = [(0, 0)] * p.ndim + [(0, deg - p.degree)]
-            fixed.append(Poly(np.broadcast_to(np.pad(p.lo, pad), (S, deg + 1)), np.broadcast_to(np.pad(p.hi, pad), (S, deg + 1))))
+            fixed.append(Poly(np.broadcast_to(padded(p.lo, deg), (S, deg + 1)), np.broadcast_to(padded(p.hi, deg), (S, deg + 1))))
         self = cls.__new__(cls)
         self.legs = [Poly(np.stack([fixed[3 * i + k].lo for i in range(n)], 1), np.stack([fixed[3 * i + k].hi for i in range(n)], 1))
                      for k in range(3)]
@@ -166,6 +204,13 @@ class _Pose:
                                   np.stack([V[k].hi, np.broadcast_to(w[k].hi[:, None], shape)], -1)))
         self.R = R
         return self
+
+    def rows(self, idx):
+        """The same pose data restricted to the batch rows ``idx``."""
+        out = _Pose.__new__(_Pose)
+        out.legs = [x[idx] for x in self.legs]
+        out.R = None if self.R is None else [r[idx] for r in self.R]
+        return out
 
     def rotate(self, v):
         """R v for constant vectors v (3 arrays of shape (n,)) -> 3 x (M, n)."""
@@ -233,7 +278,7 @@ def _block_det(L, M):
     generalised Laplace expansion along the first three columns, det A = Σ_S ε(S) det L[S]
     det M[S^c] over the 20 row triples S, ε(S) = (−1)^(Σ_{i∈S} (i+1) + 6)."""
     n = max(p.degree for p in L + M)
-    pad = lambda p: np.pad(p, [(0, 0)] * (p.ndim - 1) + [(0, n + 1 - p.shape[-1])])  # noqa: E731
+    pad = lambda p: padded(p, n)  # noqa: E731
     lo = np.stack([np.stack([pad(x.lo) for x in L], 2), np.stack([pad(x.lo) for x in M], 2)], 1)   # (S, 2, 6, 3, n+1)
     hi = np.stack([np.stack([pad(x.hi) for x in L], 2), np.stack([pad(x.hi) for x in M], 2)], 1)
     rows = np.stack([_SUBSETS, _COMPLEMENTS])                                             # (2, 20, 3)
@@ -244,10 +289,7 @@ def _block_det(L, M):
     s = _SIGNS[:, None]
     tlo = np.where(s > 0, terms.lo, -terms.hi)
     thi = np.where(s > 0, terms.hi, -terms.lo)
-    total = Poly(tlo[:, 0], thi[:, 0])
-    for j in range(1, tlo.shape[1]):
-        total = total + Poly(tlo[:, j], thi[:, j])
-    return total
+    return Poly(tlo, thi).sum(axis=1)
 
 
 class _DetFamily:
@@ -440,18 +482,18 @@ class Constraints:
             out["det"] = [_gough_det_poly(linear["V"], linear["w"], self.base, [P0[:, k] for k in range(3)])]
         return out
 
-    def piece_polynomials(self, P0: Interval, D: Interval, a, h) -> dict | None:
+    def piece_polynomials(self, P0: Interval, D: Interval, a, h, degree: int) -> dict | None:
         """Any path: per piece t ∈ [a, a + h] of a segment (rows of P0, D, a, h), the constraint
         functions as polynomials in the local τ ∈ [0, 1], t = a + h τ (``intervals.polynomial``:
-        sin/cos by Taylor expansions with Lagrange remainders, products truncated to degree
-        ``PIECE_DEGREE`` with remainders; valid for τ ∈ [0, 1]).  None when the model uses a
-        function the polynomials do not support."""
+        sin/cos by Taylor expansions with Lagrange remainders, products truncated to ``degree``
+        with remainders; valid for τ ∈ [0, 1]).  None when the model uses a function the
+        polynomials do not support."""
         robot = self.robot
         S, d = P0.shape
         A, H = Interval._raw(np.asarray(a, float), np.asarray(a, float)), Interval._raw(np.asarray(h, float), np.asarray(h, float))
         var = [Poly.from_coefficients([P0[:, k] + A * D[:, k], H * D[:, k]]) for k in range(d)]
         try:
-            with degree_limit(PIECE_DEGREE):
+            with degree_limit(degree):
                 pose = _Pose.from_polys(self.vectors.evaluate(var, robot.parameters), self.n, S, self.with_R)
                 out = self._families(pose)
                 if self.det is not None:
@@ -463,7 +505,7 @@ class Constraints:
                         out["det"] = [_block_det(pose.legs, _cross(arm, pose.legs))]
                     else:
                         out["det"] = [self.det(var)]
-                out["degree_limit"] = PIECE_DEGREE   # the pair end-point terms, built when needed, too
+                out["degree_limit"] = degree   # the pair end-point terms, built when needed, too
         except NotImplementedError:
             return None
         return out
@@ -831,23 +873,32 @@ class _PolyPath:
 
     def pair_ends(self, fn, rows, pairs):
         """End-point terms (items, 4, 6) of the (interval, pair) items ``rows``, ``pairs`` and the
-        point-line distance² − r² (items, 4); their polynomials are built on first use, at the
-        degree of the other families when not above it (one Bernstein map for all)."""
+        point-line distance² − r² (items, 4); their polynomials are built for a row (segment or
+        piece) when it first needs them, at the degree of the other families when not above it
+        (one Bernstein map for all)."""
         key = fn.__name__
-        if key not in self.polys:
-            with degree_limit(self.polys.get("degree_limit")):
-                ends = [p if isinstance(p, Poly) else Poly.from_coefficients([p]) for p in fn(self.polys["pose"])]
-            S = self.polys["pose"].legs[0].shape[0]
-            P = len(self.c.pair_list)
-            n = max(self._stacked()[0].shape[-1] - 1, max(p.degree for p in ends))
-            lo, hi = np.zeros((S, len(ends), P, n + 1)), np.zeros((S, len(ends), P, n + 1))
-            for k, p in enumerate(ends):                   # term-major: column k * P + pair
-                lo[:, k, :, :p.degree + 1] = p.lo
-                hi[:, k, :, :p.degree + 1] = p.hi
-            self.polys[key] = (lo.reshape(S, -1, n + 1), hi.reshape(S, -1, n + 1))
-        lo, hi = self.polys[key]                                  # (S, 6 * 4 * P, n + 1)
-        P = len(self.c.pair_list)
         seg = self.rows[rows]
+        if key not in self.polys:
+            S = self.polys["pose"].legs[0].shape[0]
+            n = self._stacked()[0].shape[-1] - 1
+            self.polys[key] = (np.zeros((S, 24 * len(self.c.pair_list), n + 1)),
+                               np.zeros((S, 24 * len(self.c.pair_list), n + 1)), np.zeros(S, dtype=bool))
+        lo, hi, built = self.polys[key]
+        todo = np.unique(seg[~built[seg]])
+        if len(todo):                  # built for the rows that need them, once
+            with degree_limit(self.polys.get("degree_limit")):
+                ends = [p if isinstance(p, Poly) else Poly.from_coefficients([p])
+                        for p in fn(self.polys["pose"].rows(todo))]
+            m = max(p.degree for p in ends)
+            if m + 1 > lo.shape[-1]:
+                lo, hi = padded(lo, m), padded(hi, m)
+            P = len(self.c.pair_list)
+            for k, p in enumerate(ends):                   # term-major: column k * P + pair
+                lo[todo, k * P:(k + 1) * P, :p.degree + 1] = p.lo
+                hi[todo, k * P:(k + 1) * P, :p.degree + 1] = p.hi
+            built[todo] = True
+            self.polys[key] = (lo, hi, built)
+        P = len(self.c.pair_list)
         cols = (np.arange(24)[None, :] * P + pairs[:, None])     # (items, 24)
         W = self._weights(lo.shape[-1] - 1)
         b = Poly(lo[seg[:, None], cols], hi[seg[:, None], cols]).bernstein(self.tlo[rows, None], self.thi[rows, None],
@@ -874,9 +925,9 @@ def _float_mul(a, b):
 
 def crossing_points(coefficients, tlo, thi, iterations: int = 60, radii=None):
     """Float estimates of a sign change of each polynomial (rows of ``coefficients``, (M, m),
-    NaN rows allowed) inside [tlo, thi]: safeguarded Newton in the bracket (until the steps
-    stop moving, at most ``iterations``); NaN when the
-    values at the two ends have the same sign.  With ``radii`` (the coefficients' uncertainty),
+    NaN rows allowed) inside [tlo, thi]: Newton in the bracket, regula falsi where a Newton step
+    leaves it (until the steps stop moving, at most ``iterations``); NaN when the values at the
+    two ends have the same sign.  With ``radii`` (the coefficients' uncertainty),
     also an estimate of the estimate's error, (Σ r_k |t|^k + 2⁻⁴⁸ Σ |c_k t^k|) / |p'(t)|.
     A heuristic for cutting boxes, not a proof."""
     c = np.where(np.isnan(coefficients), 0.0, coefficients)
@@ -888,18 +939,25 @@ def crossing_points(coefficients, tlo, thi, iterations: int = 60, radii=None):
         return np.power(x[:, None], k)
 
     fa = np.einsum("ij,ij->i", powers(a), c)
-    bracket = (np.sign(fa) * np.sign(np.einsum("ij,ij->i", powers(b), c)) < 0) & ~np.isnan(coefficients[:, 0])
-    x = 0.5 * (a + b)
+    fb = np.einsum("ij,ij->i", powers(b), c)
+    bracket = (np.sign(fa) * np.sign(fb) < 0) & ~np.isnan(coefficients[:, 0])
+    with np.errstate(all="ignore"):
+        x = np.where(bracket, a - fa * (b - a) / (fb - fa), 0.5 * (a + b))     # regula falsi start
+    x = np.where((x > a) & (x < b), x, 0.5 * (a + b))
     for _ in range(iterations):
         xp = powers(x)
         f = np.einsum("ij,ij->i", xp, c)
         df = np.einsum("ij,ij->i", xp[:, :-1], dc)
         same = np.sign(f) == np.sign(fa)
-        a = np.where(same, x, a)
-        b = np.where(same, b, x)
+        a, fa = np.where(same, x, a), np.where(same, f, fa)
+        b, fb = np.where(same, b, x), np.where(same, fb, f)
         with np.errstate(all="ignore"):
-            step = x - f / df
-        previous, x = x, np.where((step > a) & (step < b), step, 0.5 * (a + b))
+            newton = x - f / df
+            secant = a - fa * (b - a) / (fb - fa)
+        previous = x
+        x = np.where((newton > a) & (newton < b), newton,
+                     np.where((secant > a) & (secant < b), secant, 0.5 * (a + b)))
+        x = np.where(f == 0, previous, x)
         if np.all((np.abs(x - previous) <= 2.0 ** -50 * np.abs(x)) | ~bracket):
             break
     t = np.where(bracket, x, np.nan)

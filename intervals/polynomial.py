@@ -40,7 +40,7 @@ import numpy as np
 
 from . import elementary as _el
 from .interval import Interval, _as_interval, mul
-from .rounding import down, down_sum, enclose_fraction, up, up_sum
+from .rounding import down, down_sum, enclose_fraction, sum_bounds, up, up_sum
 
 
 def _operand(x):
@@ -51,12 +51,14 @@ def _operand(x):
     return np.asarray(iv.lo)[..., None], np.asarray(iv.hi)[..., None]
 
 
-def _pad(a, n):
+def padded(a, n):
     """Coefficient array ``a`` padded with zeros to n + 1 coefficients."""
     extra = n + 1 - a.shape[-1]
     if extra == 0:
         return a
-    return np.pad(a, [(0, 0)] * (a.ndim - 1) + [(0, extra)])
+    out = np.zeros(a.shape[:-1] + (n + 1,))
+    out[..., :a.shape[-1]] = a
+    return out
 
 
 _BERNSTEIN = {}
@@ -153,14 +155,14 @@ class Poly:
     def __add__(self, other):
         blo, bhi = _operand(other)
         n = max(self.degree, blo.shape[-1] - 1)
-        return Poly(down_sum(_pad(self.lo, n) + _pad(blo, n)), up_sum(_pad(self.hi, n) + _pad(bhi, n)))
+        return Poly(down_sum(padded(self.lo, n) + padded(blo, n)), up_sum(padded(self.hi, n) + padded(bhi, n)))
 
     __radd__ = __add__
 
     def __sub__(self, other):
         blo, bhi = _operand(other)
         n = max(self.degree, blo.shape[-1] - 1)
-        return Poly(down_sum(_pad(self.lo, n) - _pad(bhi, n)), up_sum(_pad(self.hi, n) - _pad(blo, n)))
+        return Poly(down_sum(padded(self.lo, n) - padded(bhi, n)), up_sum(padded(self.hi, n) - padded(blo, n)))
 
     def __rsub__(self, other):
         return (-self) + other
@@ -186,6 +188,11 @@ class Poly:
         return Poly(lo, hi)
 
     __rmul__ = __mul__
+
+    def sum(self, axis) -> "Poly":
+        """Sum over a batch axis, rounded outward (``rounding.sum_bounds``)."""
+        axis = axis if axis >= 0 else axis - 1          # the coefficient axis stays last
+        return Poly(*sum_bounds(self.lo, self.hi, axis))
 
     # ----- range over an interval of t ------------------------------------------------
     def range(self, tlo, thi) -> Interval:

@@ -144,3 +144,15 @@ def enclose(value) -> tuple[float, float]:
             raise ValueError("NaN is not a number an interval can enclose")
         return float(value), float(value)
     return enclose_fraction(to_fraction(value))
+
+
+def sum_bounds(lo, hi, axis):
+    """Lower and upper bounds of the exact sums along ``axis`` of the reals between ``lo`` and
+    ``hi``: float sums widened by 4(n + 1)u Σ|x| (n terms; any order of summation loses at most
+    γ_{n−1} Σ|x_i|, Higham 2002 §4.2, and the float Σ|x_i| is within γ_{n−1} of the exact one;
+    4(n + 1)u covers both), each step rounded outward."""
+    n = np.shape(lo)[axis]
+    d = 4.0 * (n + 1) * 2.0 ** -53
+    slack_lo = up(np.sum(np.abs(lo), axis=axis) * d)
+    slack_hi = up(np.sum(np.abs(hi), axis=axis) * d)
+    return down_sum(np.sum(lo, axis=axis) - slack_lo), up_sum(np.sum(hi, axis=axis) + slack_hi)

@@ -191,3 +191,30 @@ def test_compiled_model_on_polynomials_matches_mpmath():
             for k in range(3):
                 r = out[3 * i + k].range(s, s) if isinstance(out[3 * i + k], Poly) else out[3 * i + k]
                 assert mpmath.mpf(float(r.lo)) <= leg[k] <= mpmath.mpf(float(r.hi))
+
+
+@SETTINGS
+@given(st.lists(st.floats(min_value=-1e300, max_value=1e300, allow_nan=False), min_size=1, max_size=30),
+       st.lists(st.floats(min_value=0.0, max_value=1e6, allow_nan=False), min_size=30, max_size=30))
+def test_sum_bounds_contain_the_exact_sum(values, widths):
+    """``rounding.sum_bounds`` (float sums widened by 4(n + 1)u Σ|x|) brackets the exact
+    rational sums of the lower and of the upper ends, whatever numpy's summation order."""
+    from intervals.rounding import sum_bounds
+    lo = np.array(values)
+    hi = lo + np.array(widths[:len(values)])
+    hi = np.where(np.isfinite(hi), hi, lo)
+    slo, shi = sum_bounds(lo[None, :], hi[None, :], axis=1)
+    assert Fraction(float(slo[0])) <= sum(Fraction(float(v)) for v in lo)
+    assert sum(Fraction(float(v)) for v in hi) <= Fraction(float(shi[0]))
+
+
+def test_poly_sum_over_a_batch_axis_contains_the_exact_sums():
+    rng = np.random.default_rng(3)
+    c = rng.standard_normal((4, 9, 3)) * 1e8
+    p = Poly(c, c.copy()).sum(axis=1)                  # (4,) polynomials of degree 2
+    assert p.shape == (4,) and p.degree == 2
+    for i in range(4):
+        for k in range(3):
+            assert inside(sum(Fraction(float(v)) for v in c[i, :, k]), p.lo[i, k], p.hi[i, k])
+    q = Poly(c, c.copy()).sum(axis=-1)                 # the last batch axis, not the coefficients
+    assert q.shape == (4,)

@@ -382,3 +382,49 @@ def test_engine_cuts_where_the_problem_asks():
     tree = search(Cut(), np.array([[0.0]]), np.array([[1.0]]), min_batch=1).tree
     cuts = sorted(tree.split_at[tree.kind == 4].tolist())
     assert cuts == [0.125, 0.25, 0.375, 0.5, 0.625, 0.75]
+
+
+def test_constraints_are_reused_per_robot_and_rebuilt_when_the_limits_change(mel):
+    from certkin.trajectory_constraints import Constraints
+    robot = copy.deepcopy(mel)
+    first = Constraints.of(robot)
+    assert Constraints.of(robot) is first
+    robot.limits["leg_radius"] = ["50"] * 6                # fat legs: the Fig. 1.8 start interferes
+    second = Constraints.of(robot)
+    assert second is not first and float(second.r.lo[0]) == 100.0
+    assert verify_trajectory(robot, START, GOAL, indices=False).status == "infeasible"
+
+
+def test_rigid_platform_leg_vectors_enclose_the_exact_ones(mel):
+    """The leg vectors of a rigid platform (l_i = C + R b_i − a_i, checked on the symbolic model)
+    at the path's start hold the mpmath values from the exact decimals."""
+    from certkin.trajectory_constraints import Constraints
+    assert type(mel).rigid_legs()
+    assert not type(load_robot(ROOT / "examples" / "robots" / "seed003-planar-example-1.toml")).rigid_legs()
+    cons = Constraints.of(mel)
+    P0, D = parse_path(mel, START, GOAL).start_and_step()
+    V = cons.linear_data(P0, D)["V"]
+    A, B = _legs_mp(mel, _pose(START))
+    for i, (a, b) in enumerate(zip(A, B)):
+        for k in range(3):
+            assert V[k].lo[0, i] <= b[k] - a[k] <= V[k].hi[0, i]
+
+
+def test_piece_plan_keeps_truncated_terms_negligible():
+    from math import factorial
+    from certkin.trajectory_constraints import PIECE_TRUNCATION, piece_plan
+    for step in (0.0, 0.17, 1.0, 3.0, 6.0):
+        pieces, d = piece_plan(step)
+        assert pieces & (pieces - 1) == 0 and 8 <= pieces <= 64
+        assert (step / pieces) ** (d + 1) / factorial(d + 1) <= PIECE_TRUNCATION
+
+
+def test_crossing_estimates_converge_near_an_end():
+    """A root 1e-9 inside a wide bracket: Newton with regula falsi fallback lands on it."""
+    from certkin.trajectory_constraints import crossing_points
+    root = 0.25 + 1e-9
+    c = np.zeros((1, 16))
+    c[0, :3] = [root * 3.0, -(root + 3.0), 1.0]           # (t − root)(t − 3)
+    t, err = crossing_points(c, np.array([0.25]), np.array([0.9]), radii=np.zeros((1, 16)))
+    assert abs(t[0] - root) < 1e-15 and err[0] < 1e-14
+    assert np.isnan(crossing_points(c, np.array([0.3]), np.array([0.9]))[0])
