@@ -155,6 +155,29 @@ class TrajectoryProblem:
                          evidence={"state": state, "mlo": mlo, "mhi": mhi}, split_at=self._cuts(lo, hi, seg, state, refine),
                          keep_narrow_evidence=True)
 
+    def presplit(self, lo, hi, seg):
+        """Initial pieces cut again at t* ± d around every estimated crossing of a column inside
+        them (as ``_cuts`` would after a first evaluation), so that most pieces are decided in
+        the first round.  Returns the new (lo, hi, segment of each piece); they tile the old ones."""
+        if self.crossings is None:
+            return lo, hi, seg
+        coefficients, radii = self.crossings
+        rows, ta, tb, base, h = self._local(lo[:, 0], hi[:, 0], seg)
+        B, K, w = len(rows), coefficients.shape[1], coefficients.shape[-1]
+        t, err = crossing_points(coefficients[rows, :, :2].reshape(-1, w), np.repeat(ta, 2 * K), np.repeat(tb, 2 * K),
+                                 radii=radii[rows, :, :2].reshape(-1, w))
+        t = base[:, None] + h[:, None] * t.reshape(B, 2 * K)
+        d = np.maximum(self.delta, 2.0 * h[:, None] * np.nan_to_num(err.reshape(B, 2 * K)))
+        a, b = lo[:, :1], hi[:, :1]
+        cuts = np.concatenate([t - d, t + d], axis=1)
+        cuts = np.where((cuts - a >= 1.5 * self.delta) & (b - cuts >= 1.5 * self.delta), cuts, np.nan)
+        if np.all(np.isnan(cuts)):
+            return lo, hi, seg
+        points = np.sort(np.concatenate([a, cuts, b], axis=1), axis=1)        # NaN last
+        pieces = np.isfinite(points[:, 1:]) & (points[:, 1:] > points[:, :-1])
+        box, k = np.nonzero(pieces)
+        return points[box, k][:, None], points[box, k + 1][:, None], seg[box]
+
     def _cuts(self, lo, hi, seg, state, refine):
         """Per box, a cut near an estimated crossing of an unknown column, or else around an
         estimated extremum of a margin being refined (``Constraints.crossing_polynomials``).
@@ -270,6 +293,8 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     lo = np.tile(edges[:-1], n_seg)[:, None]
     hi = np.tile(edges[1:], n_seg)[:, None]
     problem = TrajectoryProblem(cons, P0, D, piece_segment, seg_path, len(paths), rtol, budget.min_width, linear)
+    lo, hi, piece_segment = problem.presplit(lo, hi, piece_segment)
+    problem.piece_segment = piece_segment
     found = search(problem, lo, hi, scale=np.ones(1), budget=budget, progress=progress, min_batch=64, max_rounds=5)
     tree = found.tree
     leaves = tree.leaves()
