@@ -85,6 +85,24 @@ def _for_batch(system, n_box):
     return StackedFKSystem.of(system)
 
 
+def fk_system(robot):
+    """The ``FKSystem`` of a robot, built once per geometry and kept on the robot object.
+
+    The cache is keyed by the robot's kind and exact geometry texts (compared on every call), so a
+    robot whose ``base`` or ``platform`` was changed gets a new system built from its current
+    geometry (its cached parameter enclosures are dropped first), never a stale one.
+    """
+    from .robots.fk_systems import FKSystem
+    key = (robot.kind, tuple(map(tuple, robot.base)), tuple(map(tuple, robot.platform)))
+    cached = robot.__dict__.get("_fk_system")
+    if cached is not None and cached[0] == key:
+        return cached[1]
+    robot.__dict__.pop("parameters", None)      # re-enclose the current geometry texts
+    system = FKSystem(robot)
+    robot.__dict__["_fk_system"] = (key, system)
+    return system
+
+
 def _compact(M):
     """M rounded to float32 values (held as float64): evidence matrices are stored as float32."""
     with np.errstate(over="ignore"):
@@ -462,10 +480,9 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     Each solution is proved unique in its box; ``complete`` means the rest of
     the domain is proved empty.
     """
-    from .robots.fk_systems import FKSystem
     if track is not None and not isinstance(lengths, str) and np.asarray(lengths, dtype=object).ndim == 2:
         return track_sequence(robot, lengths, track, budget=budget)
-    system = FKSystem(robot)
+    system = fk_system(robot)
     rows, texts, batch_input = _parse_lengths(robot, lengths)
     M = len(rows)
     L = sqr(Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]),

@@ -87,7 +87,7 @@ def _root_radius(system, x, L2):
     p = system.n_pos
     with np.errstate(all="ignore"):
         f, J = system.float_system(x, L2)
-        C, failed = linalg.mid_inverse(J)
+        C, failed = _inverse(J)
         # each leg equation sums terms of magnitude <= 3 (|p|² + |a_i|² + |b_i|²) + ρ_i²
         p2 = np.sum(x[:, :p] ** 2, -1, keepdims=True) if p else 0.0
         legs = 3.0 * (p2 + np.sum(a * a, -1) + np.sum(b * b, -1)) + L2
@@ -98,13 +98,28 @@ def _root_radius(system, x, L2):
     return np.where(np.isfinite(rad), rad, np.inf)
 
 
+def _inverse(M):
+    """(C, failed): the float inverse of each matrix M (..., n, n), ``linalg.mid_inverse``'s only
+    where a plain inverse is singular or not finite.  A preconditioner, not a proof: the Krawczyk
+    test is valid with any float C (a poor C only makes it fail)."""
+    with np.errstate(all="ignore"):
+        try:
+            C = np.linalg.inv(M)
+            if np.isfinite(C).all():
+                return C, np.zeros(M.shape[:-2], dtype=bool)
+        except np.linalg.LinAlgError:
+            pass
+    return linalg.mid_inverse(M)
+
+
 def krawczyk(system: StackedFKSystem, lo, hi, L: Interval):
     """(K, C) for the boxes [lo, hi] (N, n): one stacked evaluation of f at the midpoints and of J
-    over the boxes, then the Krawczyk operator (C = inverse of the midpoint Jacobian)."""
+    over the boxes, then the Krawczyk image (C ≈ inverse of the midpoint Jacobian; the tests
+    K ⊂ int X are made by the caller)."""
     X = Interval._raw(lo, hi)
     f, J, c = system.krawczyk_data(X, L)
-    res = linalg.krawczyk(f, J, X, c)
-    return res.K, res.C
+    C, _ = _inverse(J.mid())
+    return linalg._krawczyk_image(f, J, X, c, C), C
 
 
 @dataclass
@@ -166,6 +181,8 @@ def prove(system: StackedFKSystem, x0, x, L: Interval, L2) -> Proofs:
         take = good[at:]
         rlo[rows[take]], rhi[rows[take]], rC[rows[take]] = tlo[take], thi[take], C[at:][take]
         okR[rows[take]] = True
+        if okB.all() and okR.all():
+            break
         # the next round: ε-inflation of the tracking box around its Krawczyk image (Rump 1983),
         # at first also a smaller box (another posture may be near); a root box widened, inside B
         rows, klo, khi = first_K
@@ -263,7 +280,7 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
     are searched together as one batch, with ``budget``); without, its result has no solution,
     ``complete`` false and ``tracked`` false.  Returns one ``FKResult`` per row.
     """
-    from .fk import FKResult, _parse_lengths, forward_kinematics
+    from .fk import FKResult, _parse_lengths, fk_system, forward_kinematics
     from .poses import parse_pose
     t0 = time.perf_counter()
     parsed = _float_rows(robot, lengths_rows)
@@ -274,7 +291,7 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
     else:
         rho, texts = parsed
     pose, _ = parse_pose(start_pose, robot, "start_pose")
-    system = StackedFKSystem(robot)
+    system = StackedFKSystem.of(fk_system(robot))
     M, n = len(texts), system.n
     L = sqr(rho)
     L2 = L.mid()

@@ -43,11 +43,14 @@ class StackedFKSystem(FKSystem):
 
     @classmethod
     def of(cls, system: FKSystem) -> "StackedFKSystem":
-        """The stacked twin of an existing system (shares its data)."""
+        """The stacked twin of an existing system (shares its data; built once per system)."""
         if isinstance(system, cls):
             return system
-        twin = object.__new__(cls)
-        twin.__dict__.update(system.__dict__)
+        twin = system.__dict__.get("_stacked_twin")
+        if twin is None:
+            twin = object.__new__(cls)
+            twin.__dict__.update(system.__dict__)
+            system._stacked_twin = twin
         return twin
 
     def rotation(self, X: Interval) -> Interval:
