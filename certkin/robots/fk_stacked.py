@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from intervals import Interval, mul, sqr
+from intervals.rounding import down, up
 
 from .fk_systems import FKSystem
 
@@ -28,6 +29,14 @@ _DQ = np.array([[[0, 8, 3], [4, 0, 6], [7, 2, 0]],
                 [[12, 5, 2], [1, 12, 3], [2, 3, 0]]])
 # planar d/dc = [[1, 0], [0, 1]], d/ds = [[0, -1], [1, 0]]: indices into [0, 1, -1]
 _DCS = np.array([[[1, 0], [0, 1]], [[0, 2], [1, 0]]])
+
+
+def _scaled(x: Interval, k: float) -> Interval:
+    """``x * k`` for a float k, with ``mul``'s operations on ``x`` and the point interval [k, k]:
+    its four corner products are two distinct ones, so the same floats in fewer operations."""
+    with np.errstate(invalid="ignore"):
+        a, b = x.lo * k, x.hi * k
+    return Interval._raw(down(np.fmin(a, b)), up(np.fmax(a, b)))
 
 
 def _sum_last(v: Interval) -> Interval:
@@ -84,7 +93,21 @@ class StackedFKSystem(FKSystem):
         prod = mul(R[..., None, :, :], Interval._raw(b.lo[:, None, :], b.hi[:, None, :]))
         return _sum_last(prod)
 
+    def _planar_drb(self) -> Interval:
+        """Planar: d(R b_i)/dc and d(R b_i)/ds, (2, legs, 2): R is linear in (c, s), so these are
+        ``rotated`` of the constant derivative matrices — computed once, with the same operations."""
+        drb = self.__dict__.get("_planar_drb_")
+        if drb is None:
+            d = np.array([0.0, 1.0, -1.0])[_DCS]
+            drb = self._planar_drb_ = self.rotated(Interval._raw(d, d.copy()))
+        return drb
+
     def _equations_from(self, X: Interval, ell: Interval, L: Interval) -> Interval:
+        if self.kind == "planar-3rpr":   # c² + s² − 1 stacked as a fourth "leg" (dim = 2 rotation unknowns)
+            v = Interval._raw(np.concatenate([ell.lo, X.lo[..., None, 2:]], -2),
+                              np.concatenate([ell.hi, X.hi[..., None, 2:]], -2))
+            one = np.ones(L.shape[:-1] + (1,))
+            return _sum_last(sqr(v)) - Interval._raw(np.concatenate([L.lo, one], -1), np.concatenate([L.hi, one], -1))
         legs = _sum_last(sqr(ell)) - L
         norm = _sum_last(sqr(X[..., self.n_pos:])) - 1.0
         return Interval._raw(np.concatenate([legs.lo, norm.lo[..., None]], -1),
@@ -93,25 +116,29 @@ class StackedFKSystem(FKSystem):
     def _jacobian_from(self, X: Interval, ell: Interval) -> Interval:
         p, legs, n = self.n_pos, self.legs, self.n
         lead = X.shape[:-1]
-        two_ell = 2.0 * ell                                               # (..., legs, dim)
-        if self.kind == "planar-3rpr":
-            zero = np.zeros(lead + (1,))
-            dlo = dhi = np.concatenate([zero, zero + 1.0, zero - 1.0], -1)[..., _DCS]
-            q = None
-        else:
-            q = 2.0 * X[..., p:]
-            q2 = q * -2.0
-            zero = np.zeros(lead + (1,))
-            dlo = np.concatenate([zero, q.lo, -q.hi, q2.lo], -1)[..., _DQ]
-            dhi = np.concatenate([zero, q.hi, -q.lo, q2.hi], -1)[..., _DQ]
+        if self.kind == "planar-3rpr":   # 2 ell_i and 2 (c, s) in one product; d(R b_i) constant
+            two = _scaled(Interval._raw(np.concatenate([ell.lo, X.lo[..., None, 2:]], -2),
+                                        np.concatenate([ell.hi, X.hi[..., None, 2:]], -2)), 2.0)
+            cols = _sum_last(mul(two[..., None, :legs, :], self._planar_drb()))   # (..., 2, legs)
+            Jlo = np.zeros(lead + (n, n))
+            Jhi = np.zeros(lead + (n, n))
+            Jlo[..., :legs, :p], Jhi[..., :legs, :p] = two.lo[..., :legs, :], two.hi[..., :legs, :]
+            Jlo[..., :legs, p:], Jhi[..., :legs, p:] = np.swapaxes(cols.lo, -1, -2), np.swapaxes(cols.hi, -1, -2)
+            Jlo[..., legs, p:], Jhi[..., legs, p:] = two.lo[..., legs, :], two.hi[..., legs, :]
+            return Interval._raw(Jlo, Jhi)
+        two_ell = _scaled(ell, 2.0)                                       # (..., legs, dim)
+        q = _scaled(X[..., p:], 2.0)
+        q2 = _scaled(q, -2.0)
+        zero = np.zeros(lead + (1,))
+        dlo = np.concatenate([zero, q.lo, -q.hi, q2.lo], -1)[..., _DQ]
+        dhi = np.concatenate([zero, q.hi, -q.lo, q2.hi], -1)[..., _DQ]
         drb = self.rotated(Interval._raw(dlo, dhi))                      # (..., r, legs, dim)
         cols = _sum_last(mul(two_ell[..., None, :, :], drb))             # (..., r, legs)
         Jlo = np.zeros(lead + (n, n))
         Jhi = np.zeros(lead + (n, n))
         Jlo[..., :legs, :p], Jhi[..., :legs, :p] = two_ell.lo[..., :p], two_ell.hi[..., :p]
         Jlo[..., :legs, p:], Jhi[..., :legs, p:] = np.swapaxes(cols.lo, -1, -2), np.swapaxes(cols.hi, -1, -2)
-        norm = q if q is not None else 2.0 * X[..., p:]
-        Jlo[..., legs, p:], Jhi[..., legs, p:] = norm.lo, norm.hi
+        Jlo[..., legs, p:], Jhi[..., legs, p:] = q.lo, q.hi
         return Interval._raw(Jlo, Jhi)
 
     def _ell(self, X: Interval, R: Interval | None = None, rb: Interval | None = None) -> Interval:
