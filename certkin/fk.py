@@ -186,10 +186,17 @@ class FKProblem:
         creason[hc4_moved] = 7
         # 1. the position is linear given the rotation: Gauss-Seidel contraction (after HC4: one
         #    "hc4" contraction with the evidence P)
+        #    (steps 1 and 2 evaluate only the boxes HC4 left, ``live``: the others are decided)
         position_moved = np.zeros(n_box, dtype=bool)
-        rb = system.rotated(system.rotation(Interval._raw(lo, hi)))  # the rotation is final now
+        live = np.nonzero(~hempty)[0]
+        Xl, Ll = Interval._raw(lo[live], hi[live]), Interval._raw(L.lo[live], L.hi[live])
+        rbl = system.rotated(system.rotation(Xl))  # the rotation is final now
+        rb = Interval._raw(np.zeros((n_box,) + rbl.shape[1:]), np.zeros((n_box,) + rbl.shape[1:]))
+        rb.lo[live], rb.hi[live] = rbl.lo, rbl.hi
         if system.n_pos:
-            plo, phi_, pempty, P = contract_position(system, Interval._raw(lo, hi), L, rb=rb)
+            pl, ph, pe, Pl = contract_position(system, Xl, Ll, rb=rbl)
+            plo, phi_, pempty, P = lo.copy(), hi.copy(), np.zeros(n_box, dtype=bool), np.zeros((n_box,) + Pl.shape[1:])
+            plo[live], phi_[live], pempty[live], P[live] = pl, ph, pe, Pl
             pempty &= status == OPEN
             status[pempty] = EXCLUDED
             reason[pempty] = 4
@@ -200,9 +207,9 @@ class FKProblem:
             cev["P"] = (position_moved, P[position_moved].astype(np.float32))
             P_empty = P
         # 2. exclusion by one equation
-        X = Interval._raw(lo, hi)
-        F = system.equations(X, L, rb=rb)
-        out = (F.lo > 0) | (F.hi < 0)
+        Fl = system.equations(Interval._raw(lo[live], hi[live]), Ll, rb=rbl)
+        out = np.zeros((n_box, n), dtype=bool)
+        out[live] = (Fl.lo > 0) | (Fl.hi < 0)
         excluded = out.any(axis=1) & (status == OPEN)
         status[excluded] = EXCLUDED
         reason[excluded] = 0
