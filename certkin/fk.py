@@ -52,7 +52,9 @@ INFLATE_BELOW = 2.0 ** -12  # scaled width under which ε-inflation around a New
 POSITION_SCALE = 8.0     # position sides count this much less than rotation sides when bisecting
 KRAWCZYK_BELOW = 0.1     # the Krawczyk step is tried on boxes whose rotation sides are below this (scaled)
 AGAIN = 0.5              # a Krawczyk contraction this strong is followed by a second Krawczyk step,
-AGAIN_MIN = 64           # when at least this many boxes of the batch had one
+AGAIN_MIN = 64           # when at least this many boxes of the batch had one,
+AGAIN_SHARE = 2          # or at least half of the boxes still open did,
+AGAIN_STEPS = 3          # at most this many times
 SMALL_BATCH = 512        # batches of at most this many boxes use the stacked evaluation (fk_stacked)
 INITIAL_SPLITS = 6       # every domain is halved this often before the first batch (it is never decided whole)
 ROTATION_FIRST = 16.0    # only rotation unknowns are bisected while the position is at most this much wider (scaled)
@@ -67,13 +69,32 @@ def krawczyk_boxes(system, X: Interval, L: Interval, C=None, with_jacobian=False
     """(K, C[, J]) for the boxes X (N, n) with squared leg lengths L (N, legs); c = midpoint
     (``rb``: the enclosures R b_i over X, if known; ``compact``: C rounded to float32 values,
     which any C may be, so that the search tree stores it in half the memory)."""
-    J = system.jacobian(X, rb=rb)
-    if C is None and compact:
-        C = _compact(linalg.mid_inverse(J)[0])
-    c = X.mid()
-    fc = system.equations(Interval._raw(c, c.copy()), L)
-    res = linalg.krawczyk(fc, J, X, c, C)
-    return (res.K, res.C, J) if with_jacobian else (res.K, res.C)
+    if rb is None and hasattr(system, "krawczyk_data"):   # boxes and midpoints in one stacked evaluation
+        fc, J, c = system.krawczyk_data(X, L)
+    else:
+        J = system.jacobian(X, rb=rb)
+        c = X.mid()
+        fc = system.equations(Interval._raw(c, c.copy()), L)
+    if C is None:
+        C = float_inverse(J.mid())[0]
+        if compact:
+            C = _compact(C)
+    K = linalg._krawczyk_image(fc, J, X, c, C)
+    return (K, C, J) if with_jacobian else (K, C)
+
+
+def float_inverse(M):
+    """(C, failed): the float inverse of each matrix M (..., n, n), ``linalg.mid_inverse``'s only
+    where a plain inverse is singular or not finite.  A preconditioner, not a proof: the Krawczyk
+    test is valid with any float C (a poor C only makes it fail)."""
+    with np.errstate(all="ignore"):
+        try:
+            C = np.linalg.inv(M)
+            if np.isfinite(C).all():
+                return C, np.zeros(M.shape[:-2], dtype=bool)
+        except np.linalg.LinAlgError:
+            pass
+    return linalg.mid_inverse(M)
 
 
 def _for_batch(system, n_box):
@@ -222,7 +243,7 @@ class FKProblem:
         pn = system.n_pos
         wide = np.max((hi[rest, pn:] - lo[rest, pn:]) / self.scale[pn:], axis=1) > KRAWCZYK_BELOW
         rest = rest[~wide]
-        lo2, hi2, cev2, cev3 = lo.copy(), hi.copy(), {}, {}
+        lo2, hi2, cev2, more = lo.copy(), hi.copy(), {}, []
         C_rows = np.zeros((n_box, n, n))
         C_mask = np.zeros(n_box, dtype=bool)
         star_mask = np.zeros(n_box, dtype=bool)
@@ -258,16 +279,20 @@ class FKProblem:
             keep = open_ & np.all(nlo <= nhi, axis=1) & (_shrink(rlo, rhi, nlo, nhi) >= SHRINK)
             k = rest[keep]
             lo2[k], hi2[k] = nlo[keep], nhi[keep]
-            lo3, hi3 = lo2.copy(), hi2.copy()
             kmask = np.zeros(n_box, dtype=bool)
             kmask[k] = True
             cev2["C"] = (kmask, C[keep].astype(np.float32))
-            # boxes that Krawczyk shrank by half or more (near a root: quadratic convergence) get a second
-            # Krawczyk step on the contracted box: empty, unique, or a third contraction (when they are
-            # many: an evaluation costs about as much for a few boxes as for a hundred)
+            # boxes that Krawczyk shrank by half or more (near a root: quadratic convergence) get up to
+            # AGAIN_STEPS more Krawczyk steps, each on the box the step before contracted: empty, unique,
+            # or a further contraction (when they are many, or most of the open boxes: an evaluation costs
+            # about as much for a few boxes as for a hundred, a round of bisection much more)
             strong = k[_shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN]
-            if len(strong) >= AGAIN_MIN:
-                X2 = Interval._raw(lo2[strong], hi2[strong])
+            cur_lo, cur_hi = lo2, hi2
+            for _ in range(AGAIN_STEPS):
+                if not len(strong) or (len(strong) < AGAIN_MIN
+                                       and AGAIN_SHARE * len(strong) < np.count_nonzero(status == OPEN)):
+                    break
+                X2 = Interval._raw(cur_lo[strong], cur_hi[strong])
                 K2, C2 = krawczyk_boxes(system, X2, Interval._raw(L.lo[strong], L.hi[strong]), compact=True)
                 finite2 = np.all(np.isfinite(K2.lo) & np.isfinite(K2.hi), axis=1)
                 empty2 = np.any((K2.hi < X2.lo) | (K2.lo > X2.hi), axis=1) & finite2
@@ -280,10 +305,13 @@ class FKProblem:
                 nlo2 = np.maximum(X2.lo, np.where(np.isfinite(K2.lo), K2.lo - w2, -np.inf))
                 nhi2 = np.minimum(X2.hi, np.where(np.isfinite(K2.hi), K2.hi + w2, np.inf))
                 keep2 = ~(empty2 | unique2) & np.all(nlo2 <= nhi2, axis=1) & (_shrink(X2.lo, X2.hi, nlo2, nhi2) >= SHRINK)
+                lo3, hi3 = cur_lo.copy(), cur_hi.copy()
                 lo3[strong[keep2]], hi3[strong[keep2]] = nlo2[keep2], nhi2[keep2]
                 k3 = np.zeros(n_box, dtype=bool)
                 k3[strong[keep2]] = True
-                cev3["C"] = (k3, C2[keep2].astype(np.float32))
+                more.append(((lo3, hi3), {"C": (k3, C2[keep2].astype(np.float32))}))
+                strong = strong[keep2][_shrink(X2.lo[keep2], X2.hi[keep2], nlo2[keep2], nhi2[keep2]) >= AGAIN]
+                cur_lo, cur_hi = lo3, hi3
             # small open boxes: ε-inflation around a Newton iterate
             width = np.max((rhi - rlo) / self.scale, axis=1)
             small = open_ & ~keep & (width < INFLATE_BELOW)
@@ -298,12 +326,9 @@ class FKProblem:
         evidence["C"] = (C_mask, C_rows[C_mask].astype(np.float32))
         if star_mask.any():
             evidence["star"] = (star_mask, stars[star_mask])
-        stages = [(lo, hi), (lo2, hi2)]
-        reasons, stage_evidence = [creason, np.full(n_box, 3)], [cev, cev2]
-        if cev3:
-            stages.append((lo3, hi3))
-            reasons.append(np.full(n_box, 3))
-            stage_evidence.append(cev3)
+        stages = [(lo, hi), (lo2, hi2)] + [box for box, _ in more]
+        reasons = [creason] + [np.full(n_box, 3)] * (1 + len(more))
+        stage_evidence = [cev, cev2] + [ev for _, ev in more]
         return Decisions(status, reason, evidence, contracted=stages, contraction_reason=reasons,
                          contraction_evidence=stage_evidence, split=split)
 
@@ -313,7 +338,7 @@ class FKProblem:
         L = self._L(roots)
         x = 0.5 * (lo + hi)
         J = system.jacobian(Interval._raw(lo, hi))
-        C, _ = linalg.mid_inverse(J)
+        C, _ = float_inverse(J.mid())
         for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
             f = system.equations(Interval._raw(x, x.copy()), L)
             x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
@@ -382,7 +407,7 @@ def root_boxes(system, star_lo, star_hi, L: Interval, newton_steps: int = 6):
             if np.all(np.abs(step) <= 2.0 ** -40 * size):   # converged (a guess: the proof is below)
                 break
         f, J = system.float_system(x, L2)
-        C, failed = linalg.mid_inverse(J)
+        C, failed = float_inverse(J)
         a, b = system.float_geometry()
         p = system.n_pos
         # each leg equation sums terms of magnitude <= 3 (|p|² + |a_i|² + |b_i|²) + ρ_i²
@@ -492,9 +517,8 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     system = fk_system(robot)
     rows, texts, batch_input = _parse_lengths(robot, lengths)
     M = len(rows)
-    L = sqr(Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]),
-                          np.array([[float(v.hi) for v in r] for r in rows])))
     rho = Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]), np.array([[float(v.hi) for v in r] for r in rows]))
+    L = sqr(rho)
     if track is not None and not batch_input:
         result = _track(robot, system, texts[0], L, track)
         if result is not None:
