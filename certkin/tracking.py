@@ -41,6 +41,7 @@ import numpy as np
 
 from intervals import Interval, linalg, sqr
 
+from .fk import float_inverse
 from .robots.fk_stacked import StackedFKSystem
 
 GROWS = (0.5, 0.25)          # tracking box: hull(x0, x*) widened by grow × the move (first try, smaller retry)
@@ -54,14 +55,21 @@ ROOT_RETRY = 2.0 ** 10       # the root box is widened by this factor when its f
 
 
 def _scale(system):
-    """Size of each unknown: the robot's size for positions, 1 for rotation unknowns."""
-    return np.concatenate([np.full(system.n_pos, system.size), np.ones(system.n - system.n_pos)])
+    """Size of each unknown: the robot's size for positions, 1 for rotation unknowns (computed once
+    per system; read only)."""
+    scale = system.__dict__.get("_tracking_scale")
+    if scale is None:
+        scale = system._tracking_scale = np.concatenate([np.full(system.n_pos, system.size),
+                                                         np.ones(system.n - system.n_pos)])
+    return scale
 
 
-def newton(system, x, L2, scale, steps: int = NEWTON_STEPS):
+def newton(system, x, L2, scale, steps: int = NEWTON_STEPS, model: list | None = None):
     """Float Newton iterations from ``x`` (n,) for float squared lengths ``L2`` (legs,).
 
-    Returns ``(x*, converged)``; a guess only (the proof is the Krawczyk test).
+    Returns ``(x*, converged)``; a guess only (the proof is the Krawczyk test).  ``model``: a list
+    that receives, on convergence, the last step's linear model at x*: (f + J (x* − x), J, x* − x)
+    with f, J at the last iterate x (for ``_root_radius``, instead of evaluating f and J at x*).
     """
     with np.errstate(all="ignore"):
         for _ in range(steps):
@@ -75,41 +83,37 @@ def newton(system, x, L2, scale, steps: int = NEWTON_STEPS):
                 return x, False
             x = x - dx
             if size <= CONVERGED:
+                if model is not None:
+                    model[:] = [f - J @ dx, J, -dx]
                 return x, True
     return x, False
 
 
-def _root_radius(system, x, L2):
+def _root_radius(system, x, L2, model=None):
     """Float estimate (N, n) of how far the Krawczyk image of x* ± r reaches: |C| (|f(x*)| + the
     rounding of the interval evaluation of f), C ≈ J(x*)⁻¹, times ``ROOT_SLACK``.  Not a bound: a
-    wrong estimate only makes the Krawczyk test fail (infinite where J(x*) is singular)."""
+    wrong estimate only makes the Krawczyk test fail (infinite where J(x*) is singular).
+    ``model``: (f, J, d) of ``newton``'s last step (rows of N), used instead of f(x*), J(x*): f(x*)
+    is then estimated as |f| plus the quadratic term (1 + |b_i|)² |d|₁² the model leaves out."""
     a, b = system.float_geometry()
     p = system.n_pos
     with np.errstate(all="ignore"):
-        f, J = system.float_system(x, L2)
-        C, failed = _inverse(J)
+        if model is None:
+            f, J = system.float_system(x, L2)
+            f = np.abs(f)
+        else:
+            f, J, d = model
+            curve = np.concatenate([(1.0 + np.sqrt(np.sum(b * b, -1))) ** 2, [1.0]])
+            f = np.abs(f) + curve * np.sum(np.abs(d), -1, keepdims=True) ** 2
+        C, failed = float_inverse(J)
         # each leg equation sums terms of magnitude <= 3 (|p|² + |a_i|² + |b_i|²) + ρ_i²
         p2 = np.sum(x[:, :p] ** 2, -1, keepdims=True) if p else 0.0
         legs = 3.0 * (p2 + np.sum(a * a, -1) + np.sum(b * b, -1)) + L2
         terms = np.concatenate([legs, np.full((len(x), 1), 2.0)], -1)
-        err = np.abs(f) + 2.0 ** -49 * terms
+        err = f + 2.0 ** -49 * terms
         rad = ROOT_SLACK * (np.abs(C) @ err[..., None])[..., 0] + 2.0 ** -50 * np.abs(x) + 1e-300
     rad[failed] = np.inf
     return np.where(np.isfinite(rad), rad, np.inf)
-
-
-def _inverse(M):
-    """(C, failed): the float inverse of each matrix M (..., n, n), ``linalg.mid_inverse``'s only
-    where a plain inverse is singular or not finite.  A preconditioner, not a proof: the Krawczyk
-    test is valid with any float C (a poor C only makes it fail)."""
-    with np.errstate(all="ignore"):
-        try:
-            C = np.linalg.inv(M)
-            if np.isfinite(C).all():
-                return C, np.zeros(M.shape[:-2], dtype=bool)
-        except np.linalg.LinAlgError:
-            pass
-    return linalg.mid_inverse(M)
 
 
 def krawczyk(system: StackedFKSystem, lo, hi, L: Interval):
@@ -118,7 +122,7 @@ def krawczyk(system: StackedFKSystem, lo, hi, L: Interval):
     K ⊂ int X are made by the caller)."""
     X = Interval._raw(lo, hi)
     f, J, c = system.krawczyk_data(X, L)
-    C, _ = _inverse(J.mid())
+    C, _ = float_inverse(J.mid())
     return linalg._krawczyk_image(f, J, X, c, C), C
 
 
@@ -136,14 +140,14 @@ class Proofs:
     rC: np.ndarray
 
 
-def prove(system: StackedFKSystem, x0, x, L: Interval, L2) -> Proofs:
+def prove(system: StackedFKSystem, x0, x, L: Interval, L2, model=None) -> Proofs:
     """Krawczyk proofs for the steps x0 -> x* (rows of (N, n)); L (N, legs) squared leg lengths
-    (enclosures), L2 their float midpoints.  Every round is one stacked evaluation of the boxes of
-    the rows not yet proved (see the module docstring)."""
+    (enclosures), L2 their float midpoints (``model``: ``newton``'s last step, see
+    ``_root_radius``).  Every round is one stacked evaluation of the boxes of the rows not yet
+    proved (see the module docstring)."""
     from .fk import unique_in
     N, n = x.shape
     scale = _scale(system)
-    tiny = 1e-12 * scale
     core_lo, core_hi = np.minimum(x0, x), np.maximum(x0, x)
     move = np.max((core_hi - core_lo) / scale, axis=1, keepdims=True) + 1e-12
 
@@ -151,7 +155,7 @@ def prove(system: StackedFKSystem, x0, x, L: Interval, L2) -> Proofs:
         r = grow * (core_hi[rows] - core_lo[rows]) + 0.5 * grow * move[rows] * scale
         return (np.minimum(core_lo[rows] - r, rlo[rows]), np.maximum(core_hi[rows] + r, rhi[rows]))
 
-    rad = _root_radius(system, x, L2)
+    rad = _root_radius(system, x, L2, model)
     rlo, rhi = x - rad, x + rad
     blo, bhi = grown(GROWS[0], slice(None))
     bC, rC = np.zeros((N, n, n)), np.zeros((N, n, n))
@@ -190,7 +194,7 @@ def prove(system: StackedFKSystem, x0, x, L: Interval, L2) -> Proofs:
         rows, klo, khi = rows[keep], klo[keep], khi[keep]
         hlo = np.minimum(np.minimum(core_lo[rows], klo), rlo[rows])
         hhi = np.maximum(np.maximum(core_hi[rows], khi), rhi[rows])
-        w = INFLATE * (hhi - hlo) + tiny
+        w = INFLATE * (hhi - hlo) + 1e-12 * scale
         b_tries = [(rows, hlo - w, hhi + w)]
         if round_ == 0:
             small = np.nonzero(~okB)[0]
@@ -238,10 +242,11 @@ def track_one(robot, system, texts, L: Interval, previous):
     system = StackedFKSystem.of(system)
     x0 = system.unknowns_of_pose(pose.mid())
     L2 = L.mid()
-    x, converged = newton(system, x0, L2[0], _scale(system))
+    model = []
+    x, converged = newton(system, x0, L2[0], _scale(system), model=model)
     if not converged:
         return None
-    proofs = prove(system, x0[None], x[None], L, L2)
+    proofs = prove(system, x0[None], x[None], L, L2, [m[None] for m in model])
     if not proofs.ok[0]:
         return None
     res = _tracked_results(robot, system, [texts], proofs, [0])[0]
