@@ -155,8 +155,9 @@ def contract_position(system, X: Interval, L: Interval, rb=None):
         except np.linalg.LinAlgError:
             P = np.linalg.pinv(Dm)
     P = _compact(np.where(np.isfinite(P), P, 0.0))   # float32 values: any float P keeps the solutions
-    A = linalg.matmul(P, D)
-    b = linalg.matvec(P, g)
+    Ab = linalg.matmul(P, Interval._raw(np.concatenate([D.lo, g.lo[..., None]], -1),   # P [D | g]: the
+                                        np.concatenate([D.hi, g.hi[..., None]], -1)))  # products of P D, P g
+    A, b = Ab[..., :p], Ab[..., p]
     box = Interval._raw(X.lo[:, :p], X.hi[:, :p])
     new, empty = linalg.gauss_seidel(A, b, box, C=False)
     w = (box.hi - box.lo) * WIDEN  # room for an independent re-computation

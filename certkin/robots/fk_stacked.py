@@ -102,6 +102,22 @@ class StackedFKSystem(FKSystem):
             drb = self._planar_drb_ = self.rotated(Interval._raw(d, d.copy()))
         return drb
 
+    def position_system(self, X: Interval, L: Interval, R: Interval | None = None, rb: Interval | None = None):
+        """``FKSystem.position_system`` with its constant differences (a_i − a_1, |a_i|² + |b_i|² −
+        |a_1|² − |b_1|²) computed once and its scalings by 2 as ``_scaled``: the same floats."""
+        if rb is None:
+            rb = self.rotated(self.rotation(X) if R is None else R)
+        consts = self.__dict__.get("_position_consts")
+        if consts is None:
+            a = self.a[None, :, :]
+            const = (self.norm_a2 + self.norm_b2)[None, :]
+            consts = self._position_consts = (a, a[:, 1:, :] - a[:, :1, :], const[:, 1:] - const[:, :1])
+        a, a_diff, const_diff = consts
+        D = _scaled((rb[:, 1:, :] - rb[:, :1, :]) - a_diff, 2.0)
+        arb_sum = _sum_last(mul(a, rb))                                   # a_i · R b_i  (N, legs)
+        rhs = (_scaled(arb_sum[:, 1:] - arb_sum[:, :1], 2.0) - const_diff) + (L[:, 1:] - L[:, :1])
+        return D, rhs
+
     def _equations_from(self, X: Interval, ell: Interval, L: Interval) -> Interval:
         if self.kind == "planar-3rpr":   # c² + s² − 1 stacked as a fourth "leg" (dim = 2 rotation unknowns)
             v = Interval._raw(np.concatenate([ell.lo, X.lo[..., None, 2:]], -2),
