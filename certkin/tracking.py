@@ -35,6 +35,7 @@ runs in one batched evaluation, so the interval work per step is small.
 from __future__ import annotations
 
 from dataclasses import dataclass
+import math
 import time
 
 import numpy as np
@@ -71,6 +72,8 @@ def newton(system, x, L2, scale, steps: int = NEWTON_STEPS, model: list | None =
     that receives, on convergence, the last step's linear model at x*: (f + J (x* − x), J, x* − x)
     with f, J at the last iterate x (for ``_root_radius``, instead of evaluating f and J at x*).
     """
+    if system.kind == "planar-3rpr":
+        return _newton_planar(system, x, L2, scale, steps, model)
     with np.errstate(all="ignore"):
         for _ in range(steps):
             f, J = system.float_system(x, L2)
@@ -87,6 +90,67 @@ def newton(system, x, L2, scale, steps: int = NEWTON_STEPS, model: list | None =
                     model[:] = [f - J @ dx, J, -dx]
                 return x, True
     return x, False
+
+
+def _planar_float_system(g, x, L2):
+    """(f, J) of the planar equations at x = (x, y, c, s) as Python floats: leg i is
+    |(x, y) + c b_i + s (−b_iy, b_ix) − a_i|² − ρ_i², then c² + s² − 1 (``FKSystem.float_system``'s
+    equations, without numpy's cost per call on a 4 × 4 system).  ``g``: rows (a_x, a_y, b_x, b_y)."""
+    px, py, c, s = x
+    f, J = [], []
+    for (ax, ay, bx, by), l2 in zip(g, L2):
+        ex = px + c * bx - s * by - ax
+        ey = py + c * by + s * bx - ay
+        f.append(ex * ex + ey * ey - l2)
+        J.append([2.0 * ex, 2.0 * ey, 2.0 * (ex * bx + ey * by), 2.0 * (ey * bx - ex * by)])
+    f.append(c * c + s * s - 1.0)
+    J.append([0.0, 0.0, 2.0 * c, 2.0 * s])
+    return f, J
+
+
+def _solve(J, f):
+    """J⁻¹ f by Gaussian elimination with partial pivoting (Python floats); None if J is singular
+    or the result is not finite."""
+    n = len(f)
+    A = [row[:] + [v] for row, v in zip(J, f)]
+    for k in range(n):
+        piv = max(range(k, n), key=lambda i: abs(A[i][k]))
+        if not abs(A[piv][k]) > 0.0:
+            return None
+        A[k], A[piv] = A[piv], A[k]
+        rk = A[k]
+        for i in range(k + 1, n):
+            m = A[i][k] / rk[k]
+            if m:
+                ri = A[i]
+                for j in range(k, n + 1):
+                    ri[j] -= m * rk[j]
+    out = [0.0] * n
+    for k in range(n - 1, -1, -1):
+        out[k] = (A[k][n] - sum(A[k][j] * out[j] for j in range(k + 1, n))) / A[k][k]
+    return out if all(math.isfinite(v) for v in out) else None
+
+
+def _newton_planar(system, x, L2, scale, steps, model):
+    """``newton`` for the planar robot, in Python floats (the same iteration and stopping rule)."""
+    a, b = system.float_geometry()
+    g = np.concatenate([a, b], -1).tolist()
+    L2 = [float(v) for v in L2]
+    inv_scale = [1.0 / float(v) for v in scale]
+    x = [float(v) for v in x]
+    for _ in range(steps):
+        f, J = _planar_float_system(g, x, L2)
+        dx = _solve(J, f)
+        if dx is None:
+            return np.array(x), False
+        size = max(abs(d) * w for d, w in zip(dx, inv_scale))
+        x = [v - d for v, d in zip(x, dx)]
+        if size <= CONVERGED:
+            if model is not None:
+                f, J, dx = np.array(f), np.array(J), np.array(dx)
+                model[:] = [f - J @ dx, J, -dx]
+            return np.array(x), True
+    return np.array(x), False
 
 
 def _root_radius(system, x, L2, model=None):

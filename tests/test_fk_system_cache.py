@@ -73,3 +73,20 @@ def test_float_lengths_are_their_repr_texts():
     assert np.array_equal(ta.domain[0], tb.domain[0]) and np.array_equal(ta.domain[1], tb.domain[1])
     report = proofs.check(ta.certificate())
     assert report.ok, report.step
+
+
+def test_planar_newton_in_python_floats_matches_the_float_system():
+    """Tracking's planar Newton iterations (Python floats) use FKSystem.float_system's equations."""
+    from certkin.tracking import _planar_float_system, _solve
+    system = fk_system(robot_from_dict(SIX))
+    a, b = system.float_geometry()
+    g = np.concatenate([a, b], -1).tolist()
+    rng = np.random.default_rng(2)
+    for _ in range(50):
+        x = rng.uniform(-10, 10, 4)
+        L2 = rng.uniform(1, 400, 3)
+        f, J = system.float_system(x, L2)
+        fp, Jp = _planar_float_system(g, x.tolist(), L2.tolist())
+        assert np.allclose(fp, f, rtol=1e-12, atol=1e-9) and np.allclose(Jp, J, rtol=1e-12, atol=1e-9)
+        assert np.allclose(_solve(Jp, fp), np.linalg.solve(J, f), rtol=1e-6, atol=1e-9)
+    assert _solve([[1.0, 2.0], [2.0, 4.0]], [1.0, 1.0]) is None
