@@ -232,13 +232,13 @@ def _hc4_planar(system, lo, hi, L: Interval):
         # 3. backward through each leg equation: e_i0 from e_i1, then e_i1 from the new e_i0
         e0 = root(e[..., 0], L - sqr(e[..., 1]))
         e1 = root(e[..., 1], L - sqr(e0))
-        empty |= np.any(e0.lo > e0.hi, axis=1) | np.any(e1.lo > e1.hi, axis=1)
+        empty |= np.logical_or.reduce(e0.lo > e0.hi, axis=1) | np.logical_or.reduce(e1.lo > e1.hi, axis=1)
         e = Interval._raw(np.stack([e0.lo, e1.lo], -1), np.stack([e0.hi, e1.hi], -1))
         # 4. the position, both coordinates at once
         cand = (e - u) + a                                                   # (N, legs, 2)
-        plo = np.maximum(zlo[:, :2], np.max(cand.lo, axis=1))
-        phi = np.minimum(zhi[:, :2], np.min(cand.hi, axis=1))
-        empty |= np.any(plo > phi, axis=1)
+        plo = np.maximum(zlo[:, :2], np.maximum.reduce(cand.lo, axis=1))
+        phi = np.minimum(zhi[:, :2], np.minimum.reduce(cand.hi, axis=1))
+        empty |= np.logical_or.reduce(plo > phi, axis=1)
         zlo[:, :2], zhi[:, :2] = plo, phi
         # 5. u_ik from e_ik, both coordinates at once
         u = _meet(u, (e - Interval._raw(plo[:, None, :], phi[:, None, :])) + a)
@@ -249,9 +249,9 @@ def _hc4_planar(system, lo, hi, L: Interval):
         num = Interval._raw(u.lo[..., None], u.hi[..., None]) - rest         # (N, legs, k, j)
         cand = num * Interval._raw(inverse.lo[None, :, None, :], inverse.hi[None, :, None, :])
         used = nonzero[None, :, None, :]
-        Rlo = np.maximum(R.lo, np.max(np.where(used, cand.lo, -np.inf), axis=1))
-        Rhi = np.minimum(R.hi, np.min(np.where(used, cand.hi, np.inf), axis=1))
-        empty |= np.any(Rlo > Rhi, axis=(1, 2))
+        Rlo = np.maximum(R.lo, np.maximum.reduce(np.where(used, cand.lo, -np.inf), axis=1))
+        Rhi = np.minimum(R.hi, np.minimum.reduce(np.where(used, cand.hi, np.inf), axis=1))
+        empty |= np.logical_or.reduce(Rlo > Rhi, axis=(1, 2))
         # 7. c ← c ∩ R_00 ∩ R_11, s ← s ∩ R_10 ∩ (−R_01)
         clo = np.maximum(np.maximum(zlo[:, 2], Rlo[:, 0, 0]), Rlo[:, 1, 1])
         chi = np.minimum(np.minimum(zhi[:, 2], Rhi[:, 0, 0]), Rhi[:, 1, 1])
@@ -259,7 +259,7 @@ def _hc4_planar(system, lo, hi, L: Interval):
         shi = np.minimum(np.minimum(zhi[:, 3], Rhi[:, 1, 0]), -Rlo[:, 0, 1])
         empty |= (clo > chi) | (slo > shi)
         zlo[:, 2], zhi[:, 2], zlo[:, 3], zhi[:, 3] = clo, chi, slo, shi
-        bad = np.any(np.isnan(zlo) | np.isnan(zhi), axis=1) & ~empty   # never expected: keep the box
+        bad = np.logical_or.reduce(np.isnan(zlo) | np.isnan(zhi), axis=1) & ~empty   # never expected: keep the box
         zlo[bad], zhi[bad] = lo[bad], hi[bad]
         nlo, nhi = np.maximum(zlo, lo), np.minimum(zhi, hi)
     return nlo, nhi, empty
