@@ -133,7 +133,7 @@ def _compact(M):
 def unique_in(K: Interval, lo, hi):
     """K strictly inside [lo, hi] shrunk by the relative margin (all coordinates)."""
     ilo, ihi = _inner(lo, hi)
-    return np.all((K.lo > ilo) & (K.hi < ihi), axis=-1)
+    return np.logical_and.reduce((K.lo > ilo) & (K.hi < ihi), axis=-1)
 
 
 def contract_position(system, X: Interval, L: Interval, rb=None):
@@ -516,9 +516,8 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     if track is not None and not isinstance(lengths, str) and np.asarray(lengths, dtype=object).ndim == 2:
         return track_sequence(robot, lengths, track, budget=budget)
     system = fk_system(robot)
-    rows, texts, batch_input = _parse_lengths(robot, lengths)
-    M = len(rows)
-    rho = Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]), np.array([[float(v.hi) for v in r] for r in rows]))
+    rho, texts, batch_input = _length_enclosures(robot, lengths)
+    M = len(texts)
     L = sqr(rho)
     if track is not None and not batch_input:
         result = _track(robot, system, texts[0], L, track)
@@ -774,6 +773,41 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
     reported not proved.  See ``certkin.tracking.track_sequence``."""
     from .tracking import track_sequence as _track_sequence
     return _track_sequence(robot, lengths_rows, start_pose, fallback=fallback, budget=budget)
+
+
+def _length_enclosures(robot, lengths):
+    """(enclosures (M, legs), rows of exact texts, whether the input was a batch): ``_parse_lengths``
+    as arrays, with a direct path for one set of floats or plain decimal texts (a float stands for
+    its text repr(v), as there; anything else, or any doubt, takes ``_parse_lengths``)."""
+    from decimal import Decimal, InvalidOperation
+    from intervals.rounding import enclose_decimal
+    items = lengths.split(",") if isinstance(lengths, str) else lengths
+    if isinstance(items, (list, tuple)) and len(items) == robot.n_legs:
+        lo, hi, texts = [], [], []
+        for v in items:
+            if isinstance(v, float):
+                t = repr(float(v))
+            elif isinstance(v, str):
+                t = v.strip()
+            else:
+                break
+            try:
+                d = Decimal(t)
+            except InvalidOperation:
+                break
+            if not d.is_finite():
+                break
+            a, b = enclose_decimal(d)
+            if not (a >= 0 and b < np.inf):
+                break
+            lo.append(a)
+            hi.append(b)
+            texts.append(t)
+        else:
+            return Interval._raw(np.array([lo]), np.array([hi])), [texts], False
+    rows, texts, batch = _parse_lengths(robot, lengths)
+    return (Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]),
+                          np.array([[float(v.hi) for v in r] for r in rows])), texts, batch)
 
 
 def _parse_lengths(robot, lengths):
