@@ -90,3 +90,22 @@ def test_planar_newton_in_python_floats_matches_the_float_system():
         assert np.allclose(fp, f, rtol=1e-12, atol=1e-9) and np.allclose(Jp, J, rtol=1e-12, atol=1e-9)
         assert np.allclose(_solve(Jp, fp), np.linalg.solve(J, f), rtol=1e-6, atol=1e-9)
     assert _solve([[1.0, 2.0], [2.0, 4.0]], [1.0, 1.0]) is None
+
+
+def test_tracked_platform_points_are_those_of_the_root_box():
+    """The platform points of a tracked step, taken from the proof's evaluation, are exactly
+    FKSystem.points of the reported root box."""
+    from intervals import Interval
+    robot = robot_from_dict(SIX)
+    b = forward_kinematics(robot, LENGTHS)
+    system = fk_system(robot)
+    for s in b.solutions:
+        pose = ",".join(repr(float(0.5 * (v.lo + v.hi))) for v in s["pose"].values())
+        r = forward_kinematics(robot, [v + 2e-3 for v in (14.98, 15.38, 12.0)], track=pose)
+        assert r.tracked
+        box = r.solutions[0]["box"]
+        ref = system.points(Interval._raw(box.lo[None], box.hi[None]))
+        got = r.solutions[0]["platform_points"]
+        for i in range(3):
+            for c in range(2):
+                assert got[i][c].lo == ref.lo[0, i, c] and got[i][c].hi == ref.hi[0, i, c]

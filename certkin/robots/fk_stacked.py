@@ -171,13 +171,18 @@ class StackedFKSystem(FKSystem):
     def jacobian(self, X: Interval, R: Interval | None = None, rb: Interval | None = None) -> Interval:
         return self._jacobian_from(X, self._ell(X, R, rb))
 
-    def krawczyk_data(self, X: Interval, L: Interval):
+    def krawczyk_data(self, X: Interval, L: Interval, points: bool = False):
         """(f(c), J(X), c) for boxes X (N, n): c = X.mid(), f at the point c, J over X — one stacked
-        evaluation of the N boxes and the N points."""
+        evaluation of the N boxes and the N points (``points``: also ``self.points(X)``, from the
+        same R b_i)."""
         N = X.shape[0]
         c = X.mid()
         rows = Interval._raw(np.concatenate([X.lo, c]), np.concatenate([X.hi, c]))
-        ell = self._ell(rows)
+        rb = self.rotated(self.rotation(rows))
+        ell = self._ell(rows, rb=rb)
         f = self._equations_from(rows[N:], ell[N:], L)
         J = self._jacobian_from(X, ell[:N])
+        if points:
+            rb = rb[:N]
+            return f, J, c, (rb + X[:, None, :self.n_pos] if self.n_pos else rb)
         return f, J, c
