@@ -52,7 +52,9 @@ INFLATE_BELOW = 2.0 ** -12  # scaled width under which ε-inflation around a New
 POSITION_SCALE = 8.0     # position sides count this much less than rotation sides when bisecting
 KRAWCZYK_BELOW = 0.1     # the Krawczyk step is tried on boxes whose rotation sides are below this (scaled)
 AGAIN = 0.5              # a Krawczyk contraction this strong is followed by a second Krawczyk step,
-AGAIN_MIN = 64           # when at least this many boxes of the batch had one
+AGAIN_MIN = 64           # when at least this many boxes of the batch had one,
+AGAIN_SHARE = 2          # or at least half of the boxes still open did,
+AGAIN_STEPS = 3          # at most this many times
 SMALL_BATCH = 512        # batches of at most this many boxes use the stacked evaluation (fk_stacked)
 INITIAL_SPLITS = 6       # every domain is halved this often before the first batch (it is never decided whole)
 ROTATION_FIRST = 16.0    # only rotation unknowns are bisected while the position is at most this much wider (scaled)
@@ -67,13 +69,32 @@ def krawczyk_boxes(system, X: Interval, L: Interval, C=None, with_jacobian=False
     """(K, C[, J]) for the boxes X (N, n) with squared leg lengths L (N, legs); c = midpoint
     (``rb``: the enclosures R b_i over X, if known; ``compact``: C rounded to float32 values,
     which any C may be, so that the search tree stores it in half the memory)."""
-    J = system.jacobian(X, rb=rb)
-    if C is None and compact:
-        C = _compact(linalg.mid_inverse(J)[0])
-    c = X.mid()
-    fc = system.equations(Interval._raw(c, c.copy()), L)
-    res = linalg.krawczyk(fc, J, X, c, C)
-    return (res.K, res.C, J) if with_jacobian else (res.K, res.C)
+    if rb is None and hasattr(system, "krawczyk_data"):   # boxes and midpoints in one stacked evaluation
+        fc, J, c = system.krawczyk_data(X, L)
+    else:
+        J = system.jacobian(X, rb=rb)
+        c = X.mid()
+        fc = system.equations(Interval._raw(c, c.copy()), L)
+    if C is None:
+        C = float_inverse(J.mid())[0]
+        if compact:
+            C = _compact(C)
+    K = linalg._krawczyk_image(fc, J, X, c, C)
+    return (K, C, J) if with_jacobian else (K, C)
+
+
+def float_inverse(M):
+    """(C, failed): the float inverse of each matrix M (..., n, n), ``linalg.mid_inverse``'s only
+    where a plain inverse is singular or not finite.  A preconditioner, not a proof: the Krawczyk
+    test is valid with any float C (a poor C only makes it fail)."""
+    with np.errstate(all="ignore"):
+        try:
+            C = np.linalg.inv(M)
+            if np.isfinite(C).all():
+                return C, np.zeros(M.shape[:-2], dtype=bool)
+        except np.linalg.LinAlgError:
+            pass
+    return linalg.mid_inverse(M)
 
 
 def _for_batch(system, n_box):
@@ -85,6 +106,24 @@ def _for_batch(system, n_box):
     return StackedFKSystem.of(system)
 
 
+def fk_system(robot):
+    """The ``FKSystem`` of a robot, built once per geometry and kept on the robot object.
+
+    The cache is keyed by the robot's kind and exact geometry texts (compared on every call), so a
+    robot whose ``base`` or ``platform`` was changed gets a new system built from its current
+    geometry (its cached parameter enclosures are dropped first), never a stale one.
+    """
+    from .robots.fk_systems import FKSystem
+    key = (robot.kind, tuple(map(tuple, robot.base)), tuple(map(tuple, robot.platform)))
+    cached = robot.__dict__.get("_fk_system")
+    if cached is not None and cached[0] == key:
+        return cached[1]
+    robot.__dict__.pop("parameters", None)      # re-enclose the current geometry texts
+    system = FKSystem(robot)
+    robot.__dict__["_fk_system"] = (key, system)
+    return system
+
+
 def _compact(M):
     """M rounded to float32 values (held as float64): evidence matrices are stored as float32."""
     with np.errstate(over="ignore"):
@@ -94,7 +133,7 @@ def _compact(M):
 def unique_in(K: Interval, lo, hi):
     """K strictly inside [lo, hi] shrunk by the relative margin (all coordinates)."""
     ilo, ihi = _inner(lo, hi)
-    return np.all((K.lo > ilo) & (K.hi < ihi), axis=-1)
+    return np.logical_and.reduce((K.lo > ilo) & (K.hi < ihi), axis=-1)
 
 
 def contract_position(system, X: Interval, L: Interval, rb=None):
@@ -116,8 +155,9 @@ def contract_position(system, X: Interval, L: Interval, rb=None):
         except np.linalg.LinAlgError:
             P = np.linalg.pinv(Dm)
     P = _compact(np.where(np.isfinite(P), P, 0.0))   # float32 values: any float P keeps the solutions
-    A = linalg.matmul(P, D)
-    b = linalg.matvec(P, g)
+    Ab = linalg.matmul(P, Interval._raw(np.concatenate([D.lo, g.lo[..., None]], -1),   # P [D | g]: the
+                                        np.concatenate([D.hi, g.hi[..., None]], -1)))  # products of P D, P g
+    A, b = Ab[..., :p], Ab[..., p]
     box = Interval._raw(X.lo[:, :p], X.hi[:, :p])
     new, empty = linalg.gauss_seidel(A, b, box, C=False)
     w = (box.hi - box.lo) * WIDEN  # room for an independent re-computation
@@ -168,10 +208,17 @@ class FKProblem:
         creason[hc4_moved] = 7
         # 1. the position is linear given the rotation: Gauss-Seidel contraction (after HC4: one
         #    "hc4" contraction with the evidence P)
+        #    (steps 1 and 2 evaluate only the boxes HC4 left, ``live``: the others are decided)
         position_moved = np.zeros(n_box, dtype=bool)
-        rb = system.rotated(system.rotation(Interval._raw(lo, hi)))  # the rotation is final now
+        live = np.nonzero(~hempty)[0]
+        Xl, Ll = Interval._raw(lo[live], hi[live]), Interval._raw(L.lo[live], L.hi[live])
+        rbl = system.rotated(system.rotation(Xl))  # the rotation is final now
+        rb = Interval._raw(np.zeros((n_box,) + rbl.shape[1:]), np.zeros((n_box,) + rbl.shape[1:]))
+        rb.lo[live], rb.hi[live] = rbl.lo, rbl.hi
         if system.n_pos:
-            plo, phi_, pempty, P = contract_position(system, Interval._raw(lo, hi), L, rb=rb)
+            pl, ph, pe, Pl = contract_position(system, Xl, Ll, rb=rbl)
+            plo, phi_, pempty, P = lo.copy(), hi.copy(), np.zeros(n_box, dtype=bool), np.zeros((n_box,) + Pl.shape[1:])
+            plo[live], phi_[live], pempty[live], P[live] = pl, ph, pe, Pl
             pempty &= status == OPEN
             status[pempty] = EXCLUDED
             reason[pempty] = 4
@@ -182,9 +229,9 @@ class FKProblem:
             cev["P"] = (position_moved, P[position_moved].astype(np.float32))
             P_empty = P
         # 2. exclusion by one equation
-        X = Interval._raw(lo, hi)
-        F = system.equations(X, L, rb=rb)
-        out = (F.lo > 0) | (F.hi < 0)
+        Fl = system.equations(Interval._raw(lo[live], hi[live]), Ll, rb=rbl)
+        out = np.zeros((n_box, n), dtype=bool)
+        out[live] = (Fl.lo > 0) | (Fl.hi < 0)
         excluded = out.any(axis=1) & (status == OPEN)
         status[excluded] = EXCLUDED
         reason[excluded] = 0
@@ -197,7 +244,7 @@ class FKProblem:
         pn = system.n_pos
         wide = np.max((hi[rest, pn:] - lo[rest, pn:]) / self.scale[pn:], axis=1) > KRAWCZYK_BELOW
         rest = rest[~wide]
-        lo2, hi2, cev2, cev3 = lo.copy(), hi.copy(), {}, {}
+        lo2, hi2, cev2, more = lo.copy(), hi.copy(), {}, []
         C_rows = np.zeros((n_box, n, n))
         C_mask = np.zeros(n_box, dtype=bool)
         star_mask = np.zeros(n_box, dtype=bool)
@@ -233,16 +280,20 @@ class FKProblem:
             keep = open_ & np.all(nlo <= nhi, axis=1) & (_shrink(rlo, rhi, nlo, nhi) >= SHRINK)
             k = rest[keep]
             lo2[k], hi2[k] = nlo[keep], nhi[keep]
-            lo3, hi3 = lo2.copy(), hi2.copy()
             kmask = np.zeros(n_box, dtype=bool)
             kmask[k] = True
             cev2["C"] = (kmask, C[keep].astype(np.float32))
-            # boxes that Krawczyk shrank by half or more (near a root: quadratic convergence) get a second
-            # Krawczyk step on the contracted box: empty, unique, or a third contraction (when they are
-            # many: an evaluation costs about as much for a few boxes as for a hundred)
+            # boxes that Krawczyk shrank by half or more (near a root: quadratic convergence) get up to
+            # AGAIN_STEPS more Krawczyk steps, each on the box the step before contracted: empty, unique,
+            # or a further contraction (when they are many, or most of the open boxes: an evaluation costs
+            # about as much for a few boxes as for a hundred, a round of bisection much more)
             strong = k[_shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN]
-            if len(strong) >= AGAIN_MIN:
-                X2 = Interval._raw(lo2[strong], hi2[strong])
+            cur_lo, cur_hi = lo2, hi2
+            for _ in range(AGAIN_STEPS):
+                if not len(strong) or (len(strong) < AGAIN_MIN
+                                       and AGAIN_SHARE * len(strong) < np.count_nonzero(status == OPEN)):
+                    break
+                X2 = Interval._raw(cur_lo[strong], cur_hi[strong])
                 K2, C2 = krawczyk_boxes(system, X2, Interval._raw(L.lo[strong], L.hi[strong]), compact=True)
                 finite2 = np.all(np.isfinite(K2.lo) & np.isfinite(K2.hi), axis=1)
                 empty2 = np.any((K2.hi < X2.lo) | (K2.lo > X2.hi), axis=1) & finite2
@@ -255,10 +306,13 @@ class FKProblem:
                 nlo2 = np.maximum(X2.lo, np.where(np.isfinite(K2.lo), K2.lo - w2, -np.inf))
                 nhi2 = np.minimum(X2.hi, np.where(np.isfinite(K2.hi), K2.hi + w2, np.inf))
                 keep2 = ~(empty2 | unique2) & np.all(nlo2 <= nhi2, axis=1) & (_shrink(X2.lo, X2.hi, nlo2, nhi2) >= SHRINK)
+                lo3, hi3 = cur_lo.copy(), cur_hi.copy()
                 lo3[strong[keep2]], hi3[strong[keep2]] = nlo2[keep2], nhi2[keep2]
                 k3 = np.zeros(n_box, dtype=bool)
                 k3[strong[keep2]] = True
-                cev3["C"] = (k3, C2[keep2].astype(np.float32))
+                more.append(((lo3, hi3), {"C": (k3, C2[keep2].astype(np.float32))}))
+                strong = strong[keep2][_shrink(X2.lo[keep2], X2.hi[keep2], nlo2[keep2], nhi2[keep2]) >= AGAIN]
+                cur_lo, cur_hi = lo3, hi3
             # small open boxes: ε-inflation around a Newton iterate
             width = np.max((rhi - rlo) / self.scale, axis=1)
             small = open_ & ~keep & (width < INFLATE_BELOW)
@@ -273,12 +327,9 @@ class FKProblem:
         evidence["C"] = (C_mask, C_rows[C_mask].astype(np.float32))
         if star_mask.any():
             evidence["star"] = (star_mask, stars[star_mask])
-        stages = [(lo, hi), (lo2, hi2)]
-        reasons, stage_evidence = [creason, np.full(n_box, 3)], [cev, cev2]
-        if cev3:
-            stages.append((lo3, hi3))
-            reasons.append(np.full(n_box, 3))
-            stage_evidence.append(cev3)
+        stages = [(lo, hi), (lo2, hi2)] + [box for box, _ in more]
+        reasons = [creason] + [np.full(n_box, 3)] * (1 + len(more))
+        stage_evidence = [cev, cev2] + [ev for _, ev in more]
         return Decisions(status, reason, evidence, contracted=stages, contraction_reason=reasons,
                          contraction_evidence=stage_evidence, split=split)
 
@@ -288,7 +339,7 @@ class FKProblem:
         L = self._L(roots)
         x = 0.5 * (lo + hi)
         J = system.jacobian(Interval._raw(lo, hi))
-        C, _ = linalg.mid_inverse(J)
+        C, _ = float_inverse(J.mid())
         for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
             f = system.equations(Interval._raw(x, x.copy()), L)
             x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
@@ -357,7 +408,7 @@ def root_boxes(system, star_lo, star_hi, L: Interval, newton_steps: int = 6):
             if np.all(np.abs(step) <= 2.0 ** -40 * size):   # converged (a guess: the proof is below)
                 break
         f, J = system.float_system(x, L2)
-        C, failed = linalg.mid_inverse(J)
+        C, failed = float_inverse(J)
         a, b = system.float_geometry()
         p = system.n_pos
         # each leg equation sums terms of magnitude <= 3 (|p|² + |a_i|² + |b_i|²) + ρ_i²
@@ -462,15 +513,12 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     Each solution is proved unique in its box; ``complete`` means the rest of
     the domain is proved empty.
     """
-    from .robots.fk_systems import FKSystem
     if track is not None and not isinstance(lengths, str) and np.asarray(lengths, dtype=object).ndim == 2:
         return track_sequence(robot, lengths, track, budget=budget)
-    system = FKSystem(robot)
-    rows, texts, batch_input = _parse_lengths(robot, lengths)
-    M = len(rows)
-    L = sqr(Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]),
-                          np.array([[float(v.hi) for v in r] for r in rows])))
-    rho = Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]), np.array([[float(v.hi) for v in r] for r in rows]))
+    system = fk_system(robot)
+    rho, texts, batch_input = _length_enclosures(robot, lengths)
+    M = len(texts)
+    L = sqr(rho)
     if track is not None and not batch_input:
         result = _track(robot, system, texts[0], L, track)
         if result is not None:
@@ -725,6 +773,41 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
     reported not proved.  See ``certkin.tracking.track_sequence``."""
     from .tracking import track_sequence as _track_sequence
     return _track_sequence(robot, lengths_rows, start_pose, fallback=fallback, budget=budget)
+
+
+def _length_enclosures(robot, lengths):
+    """(enclosures (M, legs), rows of exact texts, whether the input was a batch): ``_parse_lengths``
+    as arrays, with a direct path for one set of floats or plain decimal texts (a float stands for
+    its text repr(v), as there; anything else, or any doubt, takes ``_parse_lengths``)."""
+    from decimal import Decimal, InvalidOperation
+    from intervals.rounding import enclose_decimal
+    items = lengths.split(",") if isinstance(lengths, str) else lengths
+    if isinstance(items, (list, tuple)) and len(items) == robot.n_legs:
+        lo, hi, texts = [], [], []
+        for v in items:
+            if isinstance(v, float):
+                t = repr(float(v))
+            elif isinstance(v, str):
+                t = v.strip()
+            else:
+                break
+            try:
+                d = Decimal(t)
+            except InvalidOperation:
+                break
+            if not d.is_finite():
+                break
+            a, b = enclose_decimal(d)
+            if not (a >= 0 and b < np.inf):
+                break
+            lo.append(a)
+            hi.append(b)
+            texts.append(t)
+        else:
+            return Interval._raw(np.array([lo]), np.array([hi])), [texts], False
+    rows, texts, batch = _parse_lengths(robot, lengths)
+    return (Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]),
+                          np.array([[float(v.hi) for v in r] for r in rows])), texts, batch)
 
 
 def _parse_lengths(robot, lengths):

@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from intervals import Interval, sqr
+from intervals import Interval, mul, sqr
 from intervals.interval import div
 from intervals.rounding import down, up
 
@@ -93,12 +93,15 @@ def _meet(x: Interval, y: Interval) -> Interval:
     return Interval._raw(np.maximum(x.lo, y.lo), np.minimum(x.hi, y.hi))
 
 
-def hc4(system, lo, hi, L: Interval):
+def hc4(system, lo, hi, L: Interval, generic: bool = False):
     """One forward-backward pass over the boxes [lo, hi] (N, n), squared leg lengths L (N, legs).
 
     Returns (lo, hi, empty): the contracted boxes (inside the given ones) and the
-    mask of boxes proved to hold no root (their rows are meaningless).
+    mask of boxes proved to hold no root (their rows are meaningless).  The planar
+    robot takes ``_hc4_planar`` (the same operations, stacked) unless ``generic``.
     """
+    if system.kind == "planar-3rpr" and not generic:
+        return _hc4_planar(system, lo, hi, L)
     lo, hi = np.array(lo, dtype=np.float64), np.array(hi, dtype=np.float64)
     N, n = lo.shape
     p = system.n_pos
@@ -200,4 +203,63 @@ def hc4(system, lo, hi, L: Interval):
         bad = np.any(np.isnan(nlo) | np.isnan(nhi), axis=1) & ~empty   # never expected: keep the box
         nlo[bad], nhi[bad] = lo[bad], hi[bad]
         nlo, nhi = np.maximum(nlo, lo), np.minimum(nhi, hi)
+    return nlo, nhi, empty
+
+
+def _hc4_planar(system, lo, hi, L: Interval):
+    """``hc4`` for the planar robot: the same interval operations on the same operands, in the same
+    order where one feeds the next, but stacked where they are independent (both coordinates of
+    steps 4 and 5, both columns of step 6) and with the products R_kj b_ij of step 2 reused in
+    step 6 — so the same floats (``tests/test_fk_hc4.py`` compares them bit for bit) in fewer
+    operations."""
+    lo, hi = np.array(lo, dtype=np.float64), np.array(hi, dtype=np.float64)
+    N = len(lo)
+    with np.errstate(all="ignore"):
+        # 1. the norm equation: c from s, then s from the new c
+        c = root(Interval._raw(lo[:, 2], hi[:, 2]), 1.0 - sqr(Interval._raw(lo[:, 3], hi[:, 3])))
+        s = root(Interval._raw(lo[:, 3], hi[:, 3]), 1.0 - sqr(c))
+        empty = (c.lo > c.hi) | (s.lo > s.hi)
+        zlo = np.stack([lo[:, 0], lo[:, 1], c.lo, s.lo], 1)
+        zhi = np.stack([hi[:, 0], hi[:, 1], c.hi, s.hi], 1)
+        X = Interval._raw(zlo, zhi)
+        # 2. forward: R, the products R_kj b_ij, u_i = R b_i, e_i = (u_i − a_i) + p
+        R = system.rotation(X)                                               # (N, 2, 2)
+        b = system.b
+        T = mul(R[:, None, :, :], Interval._raw(b.lo[None, :, None, :], b.hi[None, :, None, :]))  # (N, legs, k, j)
+        u = T[..., 0] + T[..., 1]                                           # (N, legs, 2)
+        a = system.a[None, :, :]
+        e = (u - a) + X[:, None, :2]
+        # 3. backward through each leg equation: e_i0 from e_i1, then e_i1 from the new e_i0
+        e0 = root(e[..., 0], L - sqr(e[..., 1]))
+        e1 = root(e[..., 1], L - sqr(e0))
+        empty |= np.logical_or.reduce(e0.lo > e0.hi, axis=1) | np.logical_or.reduce(e1.lo > e1.hi, axis=1)
+        e = Interval._raw(np.stack([e0.lo, e1.lo], -1), np.stack([e0.hi, e1.hi], -1))
+        # 4. the position, both coordinates at once
+        cand = (e - u) + a                                                   # (N, legs, 2)
+        plo = np.maximum(zlo[:, :2], np.maximum.reduce(cand.lo, axis=1))
+        phi = np.minimum(zhi[:, :2], np.minimum.reduce(cand.hi, axis=1))
+        empty |= np.logical_or.reduce(plo > phi, axis=1)
+        zlo[:, :2], zhi[:, :2] = plo, phi
+        # 5. u_ik from e_ik, both coordinates at once
+        u = _meet(u, (e - Interval._raw(plo[:, None, :], phi[:, None, :])) + a)
+        # 6. entries of R: column j from u_i − R_k(1−j) b_i(1−j), for the legs with 0 ∉ b_ij
+        nonzero = (b.lo > 0) | (b.hi < 0)                                    # (legs, 2)
+        inverse = _inverse(system)
+        rest = T[..., ::-1]                                                  # [..., j] = R_k(1−j) b_i(1−j)
+        num = Interval._raw(u.lo[..., None], u.hi[..., None]) - rest         # (N, legs, k, j)
+        cand = num * Interval._raw(inverse.lo[None, :, None, :], inverse.hi[None, :, None, :])
+        used = nonzero[None, :, None, :]
+        Rlo = np.maximum(R.lo, np.maximum.reduce(np.where(used, cand.lo, -np.inf), axis=1))
+        Rhi = np.minimum(R.hi, np.minimum.reduce(np.where(used, cand.hi, np.inf), axis=1))
+        empty |= np.logical_or.reduce(Rlo > Rhi, axis=(1, 2))
+        # 7. c ← c ∩ R_00 ∩ R_11, s ← s ∩ R_10 ∩ (−R_01)
+        clo = np.maximum(np.maximum(zlo[:, 2], Rlo[:, 0, 0]), Rlo[:, 1, 1])
+        chi = np.minimum(np.minimum(zhi[:, 2], Rhi[:, 0, 0]), Rhi[:, 1, 1])
+        slo = np.maximum(np.maximum(zlo[:, 3], Rlo[:, 1, 0]), -Rhi[:, 0, 1])
+        shi = np.minimum(np.minimum(zhi[:, 3], Rhi[:, 1, 0]), -Rlo[:, 0, 1])
+        empty |= (clo > chi) | (slo > shi)
+        zlo[:, 2], zhi[:, 2], zlo[:, 3], zhi[:, 3] = clo, chi, slo, shi
+        bad = np.logical_or.reduce(np.isnan(zlo) | np.isnan(zhi), axis=1) & ~empty   # never expected: keep the box
+        zlo[bad], zhi[bad] = lo[bad], hi[bad]
+        nlo, nhi = np.maximum(zlo, lo), np.minimum(zhi, hi)
     return nlo, nhi, empty

@@ -35,12 +35,16 @@ runs in one batched evaluation, so the interval work per step is small.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+import math
 import time
 
 import numpy as np
 
 from intervals import Interval, linalg, sqr
+from intervals.rounding import enclose_decimal
 
+from .fk import FKResult, _pose_names, float_inverse, unique_in
 from .robots.fk_stacked import StackedFKSystem
 
 GROWS = (0.5, 0.25)          # tracking box: hull(x0, x*) widened by grow × the move (first try, smaller retry)
@@ -54,15 +58,24 @@ ROOT_RETRY = 2.0 ** 10       # the root box is widened by this factor when its f
 
 
 def _scale(system):
-    """Size of each unknown: the robot's size for positions, 1 for rotation unknowns."""
-    return np.concatenate([np.full(system.n_pos, system.size), np.ones(system.n - system.n_pos)])
+    """Size of each unknown: the robot's size for positions, 1 for rotation unknowns (computed once
+    per system; read only)."""
+    scale = system.__dict__.get("_tracking_scale")
+    if scale is None:
+        scale = system._tracking_scale = np.concatenate([np.full(system.n_pos, system.size),
+                                                         np.ones(system.n - system.n_pos)])
+    return scale
 
 
-def newton(system, x, L2, scale, steps: int = NEWTON_STEPS):
+def newton(system, x, L2, scale, steps: int = NEWTON_STEPS, model: list | None = None):
     """Float Newton iterations from ``x`` (n,) for float squared lengths ``L2`` (legs,).
 
-    Returns ``(x*, converged)``; a guess only (the proof is the Krawczyk test).
+    Returns ``(x*, converged)``; a guess only (the proof is the Krawczyk test).  ``model``: a list
+    that receives, on convergence, the last step's linear model at x*: (f + J (x* − x), J, x* − x)
+    with f, J at the last iterate x (for ``_root_radius``, instead of evaluating f and J at x*).
     """
+    if system.kind == "planar-3rpr":
+        return _newton_planar(system, x, L2, scale, steps, model)
     with np.errstate(all="ignore"):
         for _ in range(steps):
             f, J = system.float_system(x, L2)
@@ -75,36 +88,121 @@ def newton(system, x, L2, scale, steps: int = NEWTON_STEPS):
                 return x, False
             x = x - dx
             if size <= CONVERGED:
+                if model is not None:
+                    model[:] = [f - J @ dx, J, -dx]
                 return x, True
     return x, False
 
 
-def _root_radius(system, x, L2):
+def _planar_float_system(g, x, L2):
+    """(f, J) of the planar equations at x = (x, y, c, s) as Python floats: leg i is
+    |(x, y) + c b_i + s (−b_iy, b_ix) − a_i|² − ρ_i², then c² + s² − 1 (``FKSystem.float_system``'s
+    equations, without numpy's cost per call on a 4 × 4 system).  ``g``: rows (a_x, a_y, b_x, b_y)."""
+    px, py, c, s = x
+    f, J = [], []
+    for (ax, ay, bx, by), l2 in zip(g, L2):
+        ex = px + c * bx - s * by - ax
+        ey = py + c * by + s * bx - ay
+        f.append(ex * ex + ey * ey - l2)
+        J.append([2.0 * ex, 2.0 * ey, 2.0 * (ex * bx + ey * by), 2.0 * (ey * bx - ex * by)])
+    f.append(c * c + s * s - 1.0)
+    J.append([0.0, 0.0, 2.0 * c, 2.0 * s])
+    return f, J
+
+
+def _solve(J, f):
+    """J⁻¹ f by Gaussian elimination with partial pivoting (Python floats); None if J is singular
+    or the result is not finite."""
+    n = len(f)
+    A = [row[:] + [v] for row, v in zip(J, f)]
+    for k in range(n):
+        piv, big = k, abs(A[k][k])
+        for i in range(k + 1, n):
+            if abs(A[i][k]) > big:
+                piv, big = i, abs(A[i][k])
+        if not big > 0.0:
+            return None
+        A[k], A[piv] = A[piv], A[k]
+        rk = A[k]
+        for i in range(k + 1, n):
+            m = A[i][k] / rk[k]
+            if m:
+                ri = A[i]
+                for j in range(k, n + 1):
+                    ri[j] -= m * rk[j]
+    out = [0.0] * n
+    for k in range(n - 1, -1, -1):
+        out[k] = (A[k][n] - sum(A[k][j] * out[j] for j in range(k + 1, n))) / A[k][k]
+    return out if all(math.isfinite(v) for v in out) else None
+
+
+def _newton_planar(system, x, L2, scale, steps, model):
+    """``newton`` for the planar robot, in Python floats (the same iteration and stopping rule)."""
+    a, b = system.float_geometry()
+    g = np.concatenate([a, b], -1).tolist()
+    L2 = [float(v) for v in L2]
+    inv_scale = [1.0 / float(v) for v in scale]
+    x = [float(v) for v in x]
+    for _ in range(steps):
+        f, J = _planar_float_system(g, x, L2)
+        dx = _solve(J, f)
+        if dx is None:
+            return np.array(x), False
+        size = max(abs(d) * w for d, w in zip(dx, inv_scale))
+        x = [v - d for v, d in zip(x, dx)]
+        if size <= CONVERGED:
+            if model is not None:
+                f, J, dx = np.array(f), np.array(J), np.array(dx)
+                model[:] = [f - J @ dx, J, -dx]
+            return np.array(x), True
+    return np.array(x), False
+
+
+def _root_radius(system, x, L2, model=None):
     """Float estimate (N, n) of how far the Krawczyk image of x* ± r reaches: |C| (|f(x*)| + the
     rounding of the interval evaluation of f), C ≈ J(x*)⁻¹, times ``ROOT_SLACK``.  Not a bound: a
-    wrong estimate only makes the Krawczyk test fail (infinite where J(x*) is singular)."""
-    a, b = system.float_geometry()
+    wrong estimate only makes the Krawczyk test fail (infinite where J(x*) is singular).
+    ``model``: (f, J, d) of ``newton``'s last step (rows of N), used instead of f(x*), J(x*): f(x*)
+    is then estimated as |f| plus the quadratic term (1 + |b_i|)² |d|₁² the model leaves out."""
     p = system.n_pos
+    geometry, curve = system.__dict__.get("_radius_terms") or _radius_terms(system)
     with np.errstate(all="ignore"):
-        f, J = system.float_system(x, L2)
-        C, failed = linalg.mid_inverse(J)
-        # each leg equation sums terms of magnitude <= 3 (|p|² + |a_i|² + |b_i|²) + ρ_i²
-        p2 = np.sum(x[:, :p] ** 2, -1, keepdims=True) if p else 0.0
-        legs = 3.0 * (p2 + np.sum(a * a, -1) + np.sum(b * b, -1)) + L2
-        terms = np.concatenate([legs, np.full((len(x), 1), 2.0)], -1)
-        err = np.abs(f) + 2.0 ** -49 * terms
+        if model is None:
+            f, J = system.float_system(x, L2)
+            f = np.abs(f)
+        else:
+            f, J, d = model
+            f = np.abs(f) + curve * np.sum(np.abs(d), -1, keepdims=True) ** 2
+        C, failed = float_inverse(J)
+        # each leg equation sums terms of magnitude <= 3 (|p|² + |a_i|² + |b_i|²) + ρ_i²; the norm's, 2
+        terms = np.concatenate([L2, np.zeros((len(x), 1))], -1) + geometry
+        if p:
+            terms[:, :-1] += 3.0 * np.sum(x[:, :p] ** 2, -1, keepdims=True)
+        err = f + 2.0 ** -49 * terms
         rad = ROOT_SLACK * (np.abs(C) @ err[..., None])[..., 0] + 2.0 ** -50 * np.abs(x) + 1e-300
     rad[failed] = np.inf
     return np.where(np.isfinite(rad), rad, np.inf)
 
 
-def krawczyk(system: StackedFKSystem, lo, hi, L: Interval):
-    """(K, C) for the boxes [lo, hi] (N, n): one stacked evaluation of f at the midpoints and of J
-    over the boxes, then the Krawczyk operator (C = inverse of the midpoint Jacobian)."""
+def _radius_terms(system):
+    """(3 (|a_i|² + |b_i|²) per leg and 2 for the norm, (1 + |b_i|)² per leg and 1 for the norm):
+    the robot's part of ``_root_radius``'s estimate, computed once per system."""
+    a, b = system.float_geometry()
+    b2 = np.sum(b * b, -1)
+    terms = (np.concatenate([3.0 * (np.sum(a * a, -1) + b2), [2.0]]),
+             np.concatenate([(1.0 + np.sqrt(b2)) ** 2, [1.0]]))
+    system._radius_terms = terms
+    return terms
+
+
+def krawczyk(system: StackedFKSystem, lo, hi, L: Interval, points: bool = False):
+    """(K, C[, platform points]) for the boxes [lo, hi] (N, n): one stacked evaluation of f at the
+    midpoints and of J over the boxes, then the Krawczyk image (C ≈ inverse of the midpoint
+    Jacobian; the tests K ⊂ int X are made by the caller)."""
     X = Interval._raw(lo, hi)
-    f, J, c = system.krawczyk_data(X, L)
-    res = linalg.krawczyk(f, J, X, c)
-    return res.K, res.C
+    f, J, c, *pts = system.krawczyk_data(X, L, points=points)
+    C, _ = float_inverse(J.mid())
+    return (linalg._krawczyk_image(f, J, X, c, C), C, *pts)
 
 
 @dataclass
@@ -119,32 +217,57 @@ class Proofs:
     rlo: np.ndarray
     rhi: np.ndarray
     rC: np.ndarray
+    points: Interval | None = None      # system.points of the root boxes, where ``has_points``
+    has_points: np.ndarray | None = None
 
 
-def prove(system: StackedFKSystem, x0, x, L: Interval, L2) -> Proofs:
+def prove(system: StackedFKSystem, x0, x, L: Interval, L2, model=None) -> Proofs:
     """Krawczyk proofs for the steps x0 -> x* (rows of (N, n)); L (N, legs) squared leg lengths
-    (enclosures), L2 their float midpoints.  Every round is one stacked evaluation of the boxes of
-    the rows not yet proved (see the module docstring)."""
-    from .fk import unique_in
+    (enclosures), L2 their float midpoints (``model``: ``newton``'s last step, see
+    ``_root_radius``).  Every round is one stacked evaluation of the boxes of the rows not yet
+    proved (see the module docstring)."""
     N, n = x.shape
     scale = _scale(system)
-    tiny = 1e-12 * scale
     core_lo, core_hi = np.minimum(x0, x), np.maximum(x0, x)
-    move = np.max((core_hi - core_lo) / scale, axis=1, keepdims=True) + 1e-12
+    move = np.maximum.reduce((core_hi - core_lo) / scale, axis=1, keepdims=True) + 1e-12
 
     def grown(grow, rows):
         r = grow * (core_hi[rows] - core_lo[rows]) + 0.5 * grow * move[rows] * scale
         return (np.minimum(core_lo[rows] - r, rlo[rows]), np.maximum(core_hi[rows] + r, rhi[rows]))
 
-    rad = _root_radius(system, x, L2)
+    rad = _root_radius(system, x, L2, model)
     rlo, rhi = x - rad, x + rad
     blo, bhi = grown(GROWS[0], slice(None))
-    bC, rC = np.zeros((N, n, n)), np.zeros((N, n, n))
-    okB, okR = np.zeros(N, dtype=bool), np.zeros(N, dtype=bool)
-    every = np.arange(N)
-    b_tries = [(every, blo.copy(), bhi.copy())]        # (rows, lo, hi): tracking boxes to test, in order
-    r_tries = (every, rlo.copy(), rhi.copy())          # root boxes to test
-    for round_ in range(ROUNDS):
+    # the first round (usually the only one): every tracking box and every root box
+    los, his = np.concatenate([blo, rlo]), np.concatenate([bhi, rhi])
+    K, C, pts = krawczyk(system, los, his, Interval._raw(np.concatenate([L.lo, L.lo]), np.concatenate([L.hi, L.hi])),
+                         points=True)
+    good = unique_in(K, los, his)
+    okB, okR = good[:N].copy(), good[N:].copy()
+    has_points = okR.copy()                            # the platform points of these root boxes are known
+    pts = pts[N:]
+    bC, rC = C[:N].copy(), C[N:].copy()                # read only where proved
+    first_K = (np.arange(N), K.lo[:N], K.hi[:N])       # the previous round's first tracking boxes
+    for round_ in range(1, ROUNDS):
+        if okB.all() and okR.all():
+            break
+        # this round: ε-inflation of the tracking box around its Krawczyk image (Rump 1983), in the
+        # second round also a smaller box (another posture may be near); a root box widened, inside B
+        rows, klo, khi = first_K
+        keep = ~okB[rows] & np.logical_and.reduce(np.isfinite(klo) & np.isfinite(khi), axis=1)
+        rows, klo, khi = rows[keep], klo[keep], khi[keep]
+        hlo = np.minimum(np.minimum(core_lo[rows], klo), rlo[rows])
+        hhi = np.maximum(np.maximum(core_hi[rows], khi), rhi[rows])
+        w = INFLATE * (hhi - hlo) + 1e-12 * scale
+        b_tries = [(rows, hlo - w, hhi + w)]           # (rows, lo, hi): tracking boxes to test, in order
+        if round_ == 1:
+            small = np.nonzero(~okB)[0]
+            b_tries.append((small, *grown(GROWS[1], small)))
+        rows = np.nonzero(~okR)[0]
+        wide = ROOT_RETRY ** round_ * rad[rows]
+        inside = okB[rows, None]
+        r_tries = (rows, np.maximum(x[rows] - wide, np.where(inside, blo[rows], -np.inf)),
+                   np.minimum(x[rows] + wide, np.where(inside, bhi[rows], np.inf)))
         tries = b_tries + [r_tries]
         idx = np.concatenate([t[0] for t in tries])
         if not len(idx):
@@ -153,7 +276,6 @@ def prove(system: StackedFKSystem, x0, x, L: Interval, L2) -> Proofs:
         K, C = krawczyk(system, los, his, Interval._raw(L.lo[idx], L.hi[idx]))
         good = unique_in(K, los, his)
         at = 0
-        first_K = None
         for t, (rows, tlo, thi) in enumerate(b_tries):   # the first proved box of each row, in order
             sel = slice(at, at + len(rows))
             at += len(rows)
@@ -166,38 +288,25 @@ def prove(system: StackedFKSystem, x0, x, L: Interval, L2) -> Proofs:
         take = good[at:]
         rlo[rows[take]], rhi[rows[take]], rC[rows[take]] = tlo[take], thi[take], C[at:][take]
         okR[rows[take]] = True
-        # the next round: ε-inflation of the tracking box around its Krawczyk image (Rump 1983),
-        # at first also a smaller box (another posture may be near); a root box widened, inside B
-        rows, klo, khi = first_K
-        keep = ~okB[rows] & np.all(np.isfinite(klo) & np.isfinite(khi), axis=1)
-        rows, klo, khi = rows[keep], klo[keep], khi[keep]
-        hlo = np.minimum(np.minimum(core_lo[rows], klo), rlo[rows])
-        hhi = np.maximum(np.maximum(core_hi[rows], khi), rhi[rows])
-        w = INFLATE * (hhi - hlo) + tiny
-        b_tries = [(rows, hlo - w, hhi + w)]
-        if round_ == 0:
-            small = np.nonzero(~okB)[0]
-            b_tries.append((small, *grown(GROWS[1], small)))
-        rows = np.nonzero(~okR)[0]
-        wide = ROOT_RETRY ** (round_ + 1) * rad[rows]
-        inside = okB[rows, None]
-        r_tries = (rows, np.maximum(x[rows] - wide, np.where(inside, blo[rows], -np.inf)),
-                   np.minimum(x[rows] + wide, np.where(inside, bhi[rows], np.inf)))
+        has_points[rows[take]] = False
     # the root box must lie in the tracking box; otherwise the proved tracking box is the root box
-    use_b = okB & ~(okR & np.all(rlo >= blo, axis=1) & np.all(rhi <= bhi, axis=1))
+    use_b = okB & ~(okR & np.logical_and.reduce((rlo >= blo) & (rhi <= bhi), axis=1))
     rlo[use_b], rhi[use_b], rC[use_b] = blo[use_b], bhi[use_b], bC[use_b]
-    return Proofs(okB, blo, bhi, bC, rlo, rhi, rC)
+    has_points &= ~use_b
+    return Proofs(okB, blo, bhi, bC, rlo, rhi, rC, pts, has_points)
 
 
 def _tracked_results(robot, system, texts, proofs: Proofs, rows):
     """FKResults (tracked) for the proved rows: pose and platform points of every root box in one
     evaluation (as ``fk._finish`` does for one result)."""
-    from .fk import FKResult, _pose_names
     if not len(rows):
         return []
     X = Interval._raw(proofs.rlo[rows], proofs.rhi[rows])
     poses = system.pose(X)
-    pts = system.points(X)
+    if proofs.has_points is not None and proofs.has_points[rows].all():   # computed with the proof
+        pts = proofs.points[rows]
+    else:
+        pts = system.points(X)
     legs, dim = pts.shape[1], pts.shape[2]
     out = []
     for j, k in enumerate(rows):
@@ -212,19 +321,47 @@ def _tracked_results(robot, system, texts, proofs: Proofs, rows):
     return out
 
 
+def _pose_guess(robot, previous):
+    """The midpoint of ``poses.parse_pose``'s enclosure of a pose (a start for Newton iterations
+    only), directly for plain decimal texts and floats; anything else goes through ``parse_pose``
+    (which also reports bad input)."""
+    parts = [p.strip() for p in previous.split(",")] if isinstance(previous, str) else previous
+    if isinstance(parts, (list, tuple)) and len(parts) == len(robot.pose_names):
+        out = []
+        for v in parts:
+            if isinstance(v, float):
+                lo = hi = float(v)
+            elif isinstance(v, str):
+                try:
+                    d = Decimal(v)
+                except InvalidOperation:
+                    break
+                if not d.is_finite():
+                    break
+                lo, hi = enclose_decimal(d)
+            else:
+                break
+            if not (-np.inf < lo and hi < np.inf):
+                break
+            out.append(min(max(0.5 * lo + 0.5 * hi, lo), hi))     # Interval.mid
+        else:
+            return np.array(out)
+    from .poses import parse_pose
+    return parse_pose(previous, robot, "--track")[0].mid()
+
+
 def track_one(robot, system, texts, L: Interval, previous):
     """The tracked result for one set of leg lengths (``L``: (1, legs) squared), or None when the
     posture near ``previous`` (a pose, text or sequence) is not proved."""
-    from .poses import parse_pose
-    pose, _ = parse_pose(previous, robot, "--track")
     t0 = time.perf_counter()
     system = StackedFKSystem.of(system)
-    x0 = system.unknowns_of_pose(pose.mid())
+    x0 = system.unknowns_of_pose(_pose_guess(robot, previous))
     L2 = L.mid()
-    x, converged = newton(system, x0, L2[0], _scale(system))
+    model = []
+    x, converged = newton(system, x0, L2[0], _scale(system), model=model)
     if not converged:
         return None
-    proofs = prove(system, x0[None], x[None], L, L2)
+    proofs = prove(system, x0[None], x[None], L, L2, [m[None] for m in model])
     if not proofs.ok[0]:
         return None
     res = _tracked_results(robot, system, [texts], proofs, [0])[0]
@@ -263,7 +400,7 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
     are searched together as one batch, with ``budget``); without, its result has no solution,
     ``complete`` false and ``tracked`` false.  Returns one ``FKResult`` per row.
     """
-    from .fk import FKResult, _parse_lengths, forward_kinematics
+    from .fk import FKResult, _parse_lengths, fk_system, forward_kinematics
     from .poses import parse_pose
     t0 = time.perf_counter()
     parsed = _float_rows(robot, lengths_rows)
@@ -274,7 +411,7 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
     else:
         rho, texts = parsed
     pose, _ = parse_pose(start_pose, robot, "start_pose")
-    system = StackedFKSystem(robot)
+    system = StackedFKSystem.of(fk_system(robot))
     M, n = len(texts), system.n
     L = sqr(rho)
     L2 = L.mid()

@@ -21,7 +21,7 @@ import numbers
 
 import numpy as np
 
-from .rounding import INF, down, down_sum, enclose, up, up_sum
+from .rounding import INF, MAX, down, down_sum, enclose, up, up_sum
 
 _EXACT_SCALARS = (str, Decimal, Fraction, numbers.Integral)
 
@@ -142,8 +142,8 @@ class Interval:
     # ----- set operations (exact) ----------------------------------------
     def mid(self):
         """A float inside the interval (0 for the entire line, a finite bound's neighbour for half-lines)."""
-        lo = np.maximum(self.lo, -np.finfo(np.float64).max)
-        hi = np.minimum(self.hi, np.finfo(np.float64).max)
+        lo = np.maximum(self.lo, -MAX)
+        hi = np.minimum(self.hi, MAX)
         m = 0.5 * lo + 0.5 * hi  # no overflow; rounding keeps it inside [lo, hi]
         return np.minimum(np.maximum(m, self.lo), self.hi)
 

@@ -393,7 +393,8 @@ def _gs_update(num: Interval, den: Interval, xi: Interval) -> Interval:
     """
     with np.errstate(all="ignore"):
         regular = ~den.contains_zero()
-        q = div(num, den)  # correct wherever `regular`
+        # used only where `regular`: elsewhere divide by 1 (no extended division needed there)
+        q = div(num, Interval._raw(np.where(regular, den.lo, 1.0), np.where(regular, den.hi, 1.0)))
         out_lo = np.fmax(xi.lo, q.lo)
         out_hi = np.fmin(xi.hi, q.hi)
         nl, nh, dl, dh = num.lo, num.hi, den.lo, den.hi

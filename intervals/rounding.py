@@ -137,12 +137,46 @@ def enclose_fraction(q: Fraction) -> tuple[float, float]:
     return math.nextafter(f, -math.inf), f
 
 
+def enclose_decimal(d: Decimal) -> tuple[float, float]:
+    """``enclose_fraction(Fraction(d))`` for a finite decimal, without rational arithmetic.
+
+    ``f = float(d)`` is the float nearest to ``d``; ``Decimal(f)`` is the exact value of ``f`` and
+    decimal comparisons are exact, so the comparisons below place ``d`` at ``f`` or strictly
+    between ``f`` and its neighbour, and the neighbour's side is checked too (the enclosure
+    rests on these exact comparisons, not on how ``float`` rounds).  Anything else (overflow, a
+    failed check) takes the rational path.  The result equals ``enclose_fraction``'s.
+    """
+    f = float(d) + 0.0                      # + 0.0: no negative zero (as float(Fraction(0)))
+    if math.isfinite(f):
+        exact = Decimal(f)
+        if exact == d:
+            return f, f
+        if exact < d:
+            g = math.nextafter(f, math.inf)
+            if math.isfinite(g) and d < Decimal(g):
+                return f, g
+        else:
+            g = math.nextafter(f, -math.inf)
+            if math.isfinite(g) and Decimal(g) < d:
+                return g, f
+    return enclose_fraction(Fraction(d))
+
+
 def enclose(value) -> tuple[float, float]:
     """Outward float enclosure ``(lo, hi)`` of an exact number (see ``to_fraction``)."""
     if isinstance(value, (float, np.floating)):
         if math.isnan(value):
             raise ValueError("NaN is not a number an interval can enclose")
         return float(value), float(value)
+    if isinstance(value, str):
+        try:
+            value = Decimal(value.strip())
+        except InvalidOperation as exc:
+            raise ValueError(f"not a decimal number: {value!r}") from exc
+    if isinstance(value, Decimal):
+        if not value.is_finite():
+            raise ValueError(f"not a finite number: {value}")
+        return enclose_decimal(value)
     return enclose_fraction(to_fraction(value))
 
 

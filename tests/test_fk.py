@@ -443,6 +443,9 @@ def test_stacked_fk_system_gives_the_same_enclosures():
                            ("jacobian", s.jacobian(X), t.jacobian(X)), ("points", s.points(X), t.points(X))):
             assert np.array_equal(a.lo, b.lo) and np.array_equal(a.hi, b.hi), \
                 f"{robot.kind} {name}: StackedFKSystem (certkin/robots/fk_stacked.py) must mirror FKSystem's operations"
+        if s.n_pos:
+            for a, b in zip(s.position_system(X, L), t.position_system(X, L)):
+                assert np.array_equal(a.lo, b.lo) and np.array_equal(a.hi, b.hi), f"{robot.kind} position_system"
         f, J, mid = t.krawczyk_data(X, L)
         f0 = s.equations(Interval._raw(X.mid(), X.mid()), L)
         assert np.array_equal(mid, X.mid()) and np.array_equal(f.lo, f0.lo) and np.array_equal(f.hi, f0.hi)

@@ -16,6 +16,7 @@ import proofs
 from certkin import load_robot
 from certkin.fk import forward_kinematics
 from certkin.fk_hc4 import hc4
+from certkin.robots.fk_stacked import StackedFKSystem
 from certkin.robots.fk_systems import FKSystem
 from intervals import Interval, sqr
 from proofs.fk import System
@@ -134,3 +135,28 @@ def test_tampered_hc4_steps_are_rejected(planar_case):
     leaf = _first(tree(relabelled), lambda n: n.get("leaf") == "hc4-empty")
     leaf["leaf"] = "equation-free"
     assert "unknown rule" in proofs.check(relabelled).step
+
+
+def test_planar_stacked_pass_gives_the_generic_floats():
+    """The planar pass (``_hc4_planar``: the same operations, stacked) gives exactly the floats and
+    empty boxes of the generic pass, on boxes around roots, wide boxes and empty ones."""
+    rng = np.random.default_rng(11)
+    for base, plat, lengths in SIX_MODES:
+        robot = planar(base, plat)
+        system = FKSystem(robot)
+        result = forward_kinematics(robot, lengths)
+        dlo, dhi = system.domain(Interval._raw(*(np.array([[float(Interval(v).lo) for v in lengths]]),
+                                                np.array([[float(Interval(v).hi) for v in lengths]]))))
+        boxes = [_boxes_around(s["box"], 100, rng, np.r_[2.0, 2.0, 0.3, 0.3]) for s in result.solutions]
+        c = rng.uniform(dlo, dhi, (300, 4))
+        w = rng.uniform(0, 1, (300, 4)) ** 2 * (dhi - dlo) * 0.2
+        boxes.append((c - w, c + w))
+        lo = np.concatenate([b[0] for b in boxes])
+        hi = np.concatenate([b[1] for b in boxes])
+        L = _L(lengths, len(lo))
+        for sys_ in (system, StackedFKSystem.of(system)):
+            fast = hc4(sys_, lo, hi, L)
+            ref = hc4(sys_, lo, hi, L, generic=True)
+            assert np.array_equal(fast[2], ref[2]) and 0 < fast[2].sum() < len(lo)
+            for a, b in zip(fast[:2], ref[:2]):
+                assert np.array_equal(a, b, equal_nan=True)

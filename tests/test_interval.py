@@ -181,3 +181,20 @@ def test_mpmath_agreement_on_products_of_decimals():
     with mpmath.workdps(50):
         exact = mpmath.mpf("1.1") * mpmath.mpf("2.3") - mpmath.mpf("0.7")
         assert mpmath.mpf(float(x.lo)) <= exact <= mpmath.mpf(float(x.hi))
+
+
+@SETTINGS
+@given(st.decimals(allow_nan=False, allow_infinity=False, places=None))
+def test_decimal_fast_enclosure_equals_the_rational_one(d):
+    """``enclose`` of a decimal (no rational arithmetic) gives the floats of ``enclose_fraction``."""
+    from intervals.rounding import enclose_fraction
+    assert enclose(d) == enclose_fraction(Fraction(d))
+    assert enclose(str(d)) == enclose_fraction(Fraction(d))
+
+
+def test_decimal_fast_enclosure_at_the_edges():
+    from intervals.rounding import enclose_fraction
+    for text in ["0", "-0", "0.1", "-0.1", "1e-400", "-1e-400", "5e-324", "2.4703282292062327e-324",
+                 "2.4703282292062328e-324", "1.7976931348623157e308", "1.7976931348623158e308",
+                 "1.7976931348623159e308", "2e308", "-2e308", " 3.78 ", "14.98", "16.097"]:
+        assert enclose(text) == enclose_fraction(Fraction(Decimal(text.strip()))), text

@@ -18,6 +18,7 @@ import sympy as sp
 
 from intervals import Interval
 from intervals.compiler import compile_exprs
+from intervals.rounding import enclose
 from intervals.elementary import pi as PI
 
 
@@ -57,12 +58,12 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
             raise RobotFileError(source, field, f"not a finite number: {value!r}")
         return Interval(text), repr(text)
     try:
-        iv = Interval(text)
+        lo, hi = enclose(text)
     except (ValueError, TypeError):
         raise RobotFileError(source, field, f"not a finite number: {value!r}") from None
-    if not (np.isfinite(iv.lo) and np.isfinite(iv.hi)):
+    if not (math.isfinite(lo) and math.isfinite(hi)):
         raise RobotFileError(source, field, f"not a finite number: {value!r}")
-    return iv, exact_text(text)
+    return Interval._raw(np.array(lo), np.array(hi)), exact_text(text)
 
 
 def parse_points(data, key: str, count: int, dim: int, source: str):

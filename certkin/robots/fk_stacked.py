@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from intervals import Interval, mul, sqr
+from intervals.rounding import down, up
 
 from .fk_systems import FKSystem
 
@@ -30,6 +31,14 @@ _DQ = np.array([[[0, 8, 3], [4, 0, 6], [7, 2, 0]],
 _DCS = np.array([[[1, 0], [0, 1]], [[0, 2], [1, 0]]])
 
 
+def _scaled(x: Interval, k: float) -> Interval:
+    """``x * k`` for a float k, with ``mul``'s operations on ``x`` and the point interval [k, k]:
+    its four corner products are two distinct ones, so the same floats in fewer operations."""
+    with np.errstate(invalid="ignore"):
+        a, b = x.lo * k, x.hi * k
+    return Interval._raw(down(np.fmin(a, b)), up(np.fmax(a, b)))
+
+
 def _sum_last(v: Interval) -> Interval:
     """v[..., 0] + v[..., 1] + ... (left to right, as FKSystem sums)."""
     out = v[..., 0]
@@ -43,11 +52,14 @@ class StackedFKSystem(FKSystem):
 
     @classmethod
     def of(cls, system: FKSystem) -> "StackedFKSystem":
-        """The stacked twin of an existing system (shares its data)."""
+        """The stacked twin of an existing system (shares its data; built once per system)."""
         if isinstance(system, cls):
             return system
-        twin = object.__new__(cls)
-        twin.__dict__.update(system.__dict__)
+        twin = system.__dict__.get("_stacked_twin")
+        if twin is None:
+            twin = object.__new__(cls)
+            twin.__dict__.update(system.__dict__)
+            system._stacked_twin = twin
         return twin
 
     def rotation(self, X: Interval) -> Interval:
@@ -81,7 +93,37 @@ class StackedFKSystem(FKSystem):
         prod = mul(R[..., None, :, :], Interval._raw(b.lo[:, None, :], b.hi[:, None, :]))
         return _sum_last(prod)
 
+    def _planar_drb(self) -> Interval:
+        """Planar: d(R b_i)/dc and d(R b_i)/ds, (2, legs, 2): R is linear in (c, s), so these are
+        ``rotated`` of the constant derivative matrices — computed once, with the same operations."""
+        drb = self.__dict__.get("_planar_drb_")
+        if drb is None:
+            d = np.array([0.0, 1.0, -1.0])[_DCS]
+            drb = self._planar_drb_ = self.rotated(Interval._raw(d, d.copy()))
+        return drb
+
+    def position_system(self, X: Interval, L: Interval, R: Interval | None = None, rb: Interval | None = None):
+        """``FKSystem.position_system`` with its constant differences (a_i − a_1, |a_i|² + |b_i|² −
+        |a_1|² − |b_1|²) computed once and its scalings by 2 as ``_scaled``: the same floats."""
+        if rb is None:
+            rb = self.rotated(self.rotation(X) if R is None else R)
+        consts = self.__dict__.get("_position_consts")
+        if consts is None:
+            a = self.a[None, :, :]
+            const = (self.norm_a2 + self.norm_b2)[None, :]
+            consts = self._position_consts = (a, a[:, 1:, :] - a[:, :1, :], const[:, 1:] - const[:, :1])
+        a, a_diff, const_diff = consts
+        D = _scaled((rb[:, 1:, :] - rb[:, :1, :]) - a_diff, 2.0)
+        arb_sum = _sum_last(mul(a, rb))                                   # a_i · R b_i  (N, legs)
+        rhs = (_scaled(arb_sum[:, 1:] - arb_sum[:, :1], 2.0) - const_diff) + (L[:, 1:] - L[:, :1])
+        return D, rhs
+
     def _equations_from(self, X: Interval, ell: Interval, L: Interval) -> Interval:
+        if self.kind == "planar-3rpr":   # c² + s² − 1 stacked as a fourth "leg" (dim = 2 rotation unknowns)
+            v = Interval._raw(np.concatenate([ell.lo, X.lo[..., None, 2:]], -2),
+                              np.concatenate([ell.hi, X.hi[..., None, 2:]], -2))
+            one = np.ones(L.shape[:-1] + (1,))
+            return _sum_last(sqr(v)) - Interval._raw(np.concatenate([L.lo, one], -1), np.concatenate([L.hi, one], -1))
         legs = _sum_last(sqr(ell)) - L
         norm = _sum_last(sqr(X[..., self.n_pos:])) - 1.0
         return Interval._raw(np.concatenate([legs.lo, norm.lo[..., None]], -1),
@@ -90,25 +132,29 @@ class StackedFKSystem(FKSystem):
     def _jacobian_from(self, X: Interval, ell: Interval) -> Interval:
         p, legs, n = self.n_pos, self.legs, self.n
         lead = X.shape[:-1]
-        two_ell = 2.0 * ell                                               # (..., legs, dim)
-        if self.kind == "planar-3rpr":
-            zero = np.zeros(lead + (1,))
-            dlo = dhi = np.concatenate([zero, zero + 1.0, zero - 1.0], -1)[..., _DCS]
-            q = None
-        else:
-            q = 2.0 * X[..., p:]
-            q2 = q * -2.0
-            zero = np.zeros(lead + (1,))
-            dlo = np.concatenate([zero, q.lo, -q.hi, q2.lo], -1)[..., _DQ]
-            dhi = np.concatenate([zero, q.hi, -q.lo, q2.hi], -1)[..., _DQ]
+        if self.kind == "planar-3rpr":   # 2 ell_i and 2 (c, s) in one product; d(R b_i) constant
+            two = _scaled(Interval._raw(np.concatenate([ell.lo, X.lo[..., None, 2:]], -2),
+                                        np.concatenate([ell.hi, X.hi[..., None, 2:]], -2)), 2.0)
+            cols = _sum_last(mul(two[..., None, :legs, :], self._planar_drb()))   # (..., 2, legs)
+            Jlo = np.zeros(lead + (n, n))
+            Jhi = np.zeros(lead + (n, n))
+            Jlo[..., :legs, :p], Jhi[..., :legs, :p] = two.lo[..., :legs, :], two.hi[..., :legs, :]
+            Jlo[..., :legs, p:], Jhi[..., :legs, p:] = np.swapaxes(cols.lo, -1, -2), np.swapaxes(cols.hi, -1, -2)
+            Jlo[..., legs, p:], Jhi[..., legs, p:] = two.lo[..., legs, :], two.hi[..., legs, :]
+            return Interval._raw(Jlo, Jhi)
+        two_ell = _scaled(ell, 2.0)                                       # (..., legs, dim)
+        q = _scaled(X[..., p:], 2.0)
+        q2 = _scaled(q, -2.0)
+        zero = np.zeros(lead + (1,))
+        dlo = np.concatenate([zero, q.lo, -q.hi, q2.lo], -1)[..., _DQ]
+        dhi = np.concatenate([zero, q.hi, -q.lo, q2.hi], -1)[..., _DQ]
         drb = self.rotated(Interval._raw(dlo, dhi))                      # (..., r, legs, dim)
         cols = _sum_last(mul(two_ell[..., None, :, :], drb))             # (..., r, legs)
         Jlo = np.zeros(lead + (n, n))
         Jhi = np.zeros(lead + (n, n))
         Jlo[..., :legs, :p], Jhi[..., :legs, :p] = two_ell.lo[..., :p], two_ell.hi[..., :p]
         Jlo[..., :legs, p:], Jhi[..., :legs, p:] = np.swapaxes(cols.lo, -1, -2), np.swapaxes(cols.hi, -1, -2)
-        norm = q if q is not None else 2.0 * X[..., p:]
-        Jlo[..., legs, p:], Jhi[..., legs, p:] = norm.lo, norm.hi
+        Jlo[..., legs, p:], Jhi[..., legs, p:] = q.lo, q.hi
         return Interval._raw(Jlo, Jhi)
 
     def _ell(self, X: Interval, R: Interval | None = None, rb: Interval | None = None) -> Interval:
@@ -125,13 +171,18 @@ class StackedFKSystem(FKSystem):
     def jacobian(self, X: Interval, R: Interval | None = None, rb: Interval | None = None) -> Interval:
         return self._jacobian_from(X, self._ell(X, R, rb))
 
-    def krawczyk_data(self, X: Interval, L: Interval):
+    def krawczyk_data(self, X: Interval, L: Interval, points: bool = False):
         """(f(c), J(X), c) for boxes X (N, n): c = X.mid(), f at the point c, J over X — one stacked
-        evaluation of the N boxes and the N points."""
+        evaluation of the N boxes and the N points (``points``: also ``self.points(X)``, from the
+        same R b_i)."""
         N = X.shape[0]
         c = X.mid()
         rows = Interval._raw(np.concatenate([X.lo, c]), np.concatenate([X.hi, c]))
-        ell = self._ell(rows)
+        rb = self.rotated(self.rotation(rows))
+        ell = self._ell(rows, rb=rb)
         f = self._equations_from(rows[N:], ell[N:], L)
         J = self._jacobian_from(X, ell[:N])
+        if points:
+            rb = rb[:N]
+            return f, J, c, (rb + X[:, None, :self.n_pos] if self.n_pos else rb)
         return f, J, c
