@@ -184,6 +184,41 @@ def _root_radius(system, x, L2, model=None):
     return np.where(np.isfinite(rad), rad, np.inf)
 
 
+def _root_radius_one(system, x, L2, model):
+    """``_root_radius`` for one step with ``newton``'s model, in Python floats (C by Gauss-Jordan
+    elimination; None where that fails: then ``_root_radius`` decides)."""
+    geometry, curve = system.__dict__.get("_radius_terms") or _radius_terms(system)
+    f, J, d = model
+    n, p = len(x), system.n_pos
+    x, L2 = x.tolist(), L2.tolist()
+    d1 = sum(abs(v) for v in d[0].tolist())
+    p2 = 3.0 * sum(v * v for v in x[:p])
+    err = [abs(fi) + ci * d1 * d1 + 2.0 ** -49 * (gi + ((li + p2) if k < n - 1 else 0.0))
+           for k, (fi, ci, gi, li) in enumerate(zip(f[0].tolist(), curve.tolist(), geometry.tolist(),
+                                                    L2 + [0.0]))]
+    A = [row + [1.0 if i == j else 0.0 for j in range(n)] for i, row in enumerate(J[0].tolist())]
+    for k in range(n):                              # Gauss-Jordan with partial pivoting: A -> [I | J⁻¹]
+        piv, big = k, abs(A[k][k])
+        for i in range(k + 1, n):
+            if abs(A[i][k]) > big:
+                piv, big = i, abs(A[i][k])
+        if not big > 0.0:
+            return None
+        A[k], A[piv] = A[piv], A[k]
+        rk = A[k]
+        inv = 1.0 / rk[k]
+        for j in range(2 * n):
+            rk[j] *= inv
+        for i in range(n):
+            if i != k and A[i][k]:
+                ri, m = A[i], A[i][k]
+                for j in range(2 * n):
+                    ri[j] -= m * rk[j]
+    rad = [ROOT_SLACK * sum(abs(c) * e for c, e in zip(row[n:], err)) + 2.0 ** -50 * abs(xi) + 1e-300
+           for row, xi in zip(A, x)]
+    return np.array(rad) if all(math.isfinite(r) for r in rad) else None
+
+
 def _radius_terms(system):
     """(3 (|a_i|² + |b_i|²) per leg and 2 for the norm, (1 + |b_i|)² per leg and 1 for the norm):
     the robot's part of ``_root_radius``'s estimate, computed once per system."""
@@ -235,7 +270,8 @@ def prove(system: StackedFKSystem, x0, x, L: Interval, L2, model=None) -> Proofs
         r = grow * (core_hi[rows] - core_lo[rows]) + 0.5 * grow * move[rows] * scale
         return (np.minimum(core_lo[rows] - r, rlo[rows]), np.maximum(core_hi[rows] + r, rhi[rows]))
 
-    rad = _root_radius(system, x, L2, model)
+    rad = _root_radius_one(system, x[0], L2[0], model) if N == 1 and model is not None else None
+    rad = _root_radius(system, x, L2, model) if rad is None else rad[None]
     rlo, rhi = x - rad, x + rad
     blo, bhi = grown(GROWS[0], slice(None))
     # the first round (usually the only one): every tracking box and every root box
@@ -355,7 +391,11 @@ def track_one(robot, system, texts, L: Interval, previous):
     posture near ``previous`` (a pose, text or sequence) is not proved."""
     t0 = time.perf_counter()
     system = StackedFKSystem.of(system)
-    x0 = system.unknowns_of_pose(_pose_guess(robot, previous))
+    pose = _pose_guess(robot, previous)
+    if system.kind == "planar-3rpr":    # (x, y, cos phi, sin phi), as unknowns_of_pose (a guess only)
+        x0 = np.array([pose[0], pose[1], math.cos(pose[2]), math.sin(pose[2])])
+    else:
+        x0 = system.unknowns_of_pose(pose)
     L2 = L.mid()
     model = []
     x, converged = newton(system, x0, L2[0], _scale(system), model=model)

@@ -475,12 +475,24 @@ def gauss_seidel(A, b, x, C=None):
 
 
 # ----------------------------------------------------------------- Krawczyk
+_EYES = {}
+
+
+def _eye(n: int) -> np.ndarray:
+    """The identity of order n (one shared read-only array per n)."""
+    eye = _EYES.get(n)
+    if eye is None:
+        eye = _EYES[n] = np.eye(n)
+        eye.setflags(write=False)
+    return eye
+
+
 def _krawczyk_image(f, J, x, c, C):
     """K = c - C f + (I - C J)(x - c) in midpoint-radius form (see ``krawczyk``)."""
     n = x.shape[-1]
     Jm, Jr = midrad(J.lo, J.hi) if isinstance(J, Interval) else (J, None)
     CJm, CJr = _product_midrad(C, None, Jm, Jr)
-    Rm = np.eye(n) - CJm                                   # one rounding: error <= u |Rm|
+    Rm = _eye(n) - CJm                                     # one rounding: error <= u |Rm|
     Rr = _upper(CJr + _U * np.abs(Rm), 3)
     v = Interval._raw(down_sum(x.lo - c), up_sum(x.hi - c))
     vm, vr = midrad(v.lo, v.hi)
@@ -492,7 +504,7 @@ def _krawczyk_image(f, J, x, c, C):
     Kr = _upper(Cfr + Rvr + 2 * _U * (np.abs(c) + np.abs(Cfm) + np.abs(Rvm)), 8)
     lo, hi = down(Km - Kr), up(Km + Kr)
     with np.errstate(invalid="ignore"):
-        bad = ~(np.all(np.isfinite(lo) & np.isfinite(hi), axis=-1))
+        bad = ~np.logical_and.reduce(np.isfinite(lo) & np.isfinite(hi), axis=-1)
     if bad.any():
         lo = np.where(bad[..., None], -INF, lo)
         hi = np.where(bad[..., None], INF, hi)
