@@ -38,6 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from intervals import Interval, atan2, sqr, sqrt
+from intervals.rounding import down, down_sum, up, up_sum
 
 DELTA = 2.0 ** -10      # q0 >= -DELTA: the hemisphere with a margin (see the module docstring)
 
@@ -143,6 +144,47 @@ class FKSystem:
         for k in range(p, self.n):
             J[:, legs, k] = 2.0 * X[:, k]
         return J
+
+    def slope(self, X: Interval, c: np.ndarray, rb: Interval | None = None, rbc: Interval | None = None) -> Interval:
+        """Enclosure of slope matrices of the equations at the points ``c`` (N, n) in the boxes X:
+        (N, n, n) holding, for every x in X, a matrix S with f(x) − f(c) = S (x − c) (``rb``,
+        ``rbc``: R b_i over X and at c, if known).
+
+        R b_i is quadratic in the rotation unknowns (linear in (c, s)), so R b_i(x) − R b_i(c) =
+        ∇(R b_i)(y) (x − c) exactly at y = (x + c)/2; with ell = p + R b_i − a_i,
+        ell_k(x)² − ell_k(c)² = (ell_k(x) + ell_k(c)) (ell_k(x) − ell_k(c)).  Hence row i is
+        Σ_k (ell_ik(X) + ell_ik(c)) [e_k, ∇(R b_i)_k(Y)] with Y ∋ (x + c)/2, and the norm row is
+        (X_r + c_r) over the rotation unknowns r: about half as wide as the Jacobian over X
+        (docs/soundness.md §8, slopes).
+        """
+        N = X.shape[0]
+        p = self.n_pos
+        point = Interval._raw(c, c.copy())
+        if rb is None:
+            rb = self.rotated(self.rotation(X))
+        if rbc is None:
+            rbc = self.rotated(self.rotation(point))
+        ell = rb - self.a[None, :, :]
+        ellc = rbc - self.a[None, :, :]
+        if p:
+            ell = ell + X[:, None, :p]
+            ellc = ellc + point[:, None, :p]
+        s = ell + ellc                                        # (N, legs, dim)
+        with np.errstate(invalid="ignore", over="ignore"):
+            Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))  # ∋ (x + c)/2
+        S = Interval._raw(np.zeros((N, self.n, self.n)), np.zeros((N, self.n, self.n)))
+        legs = self.legs
+        for k in range(p):
+            S[:, :legs, k] = s[..., k]
+        for r, dR in enumerate(self._rotation_derivatives(Y)):
+            drb = self.rotated(dR)                            # ∇(R b_i)_k / ∂r at Y: (N, legs, dim)
+            col = s[..., 0] * drb[..., 0]
+            for k in range(1, drb.shape[-1]):
+                col = col + s[..., k] * drb[..., k]
+            S[:, :legs, p + r] = col
+        for k in range(p, self.n):
+            S[:, legs, k] = X[:, k] + point[:, k]
+        return S
 
     def _rotation_derivatives(self, X: Interval):
         """dR/dr for each rotation unknown r (each (N, dim, dim); linear in the unknowns)."""
