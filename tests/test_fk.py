@@ -440,6 +440,37 @@ def test_slope_matrices_enclose_exact_differences():
                     assert _in_product([mp.mpf(v.a) for v in Sc[i]], [mp.mpf(v.b) for v in Sc[i]], d, fx[i] - fc[i])
 
 
+def test_rotated_derivatives_enclose_sympy_derivatives():
+    """∂(R b_i)/∂q_r over random quaternion boxes (the midpoint-radius enclosure of FKSystem) holds the
+    derivatives of R(q) b_i differentiated by sympy, evaluated exactly at random points of the boxes."""
+    from certkin import load_robot
+    from certkin.robots.fk_systems import FKSystem
+    from intervals import Interval
+    robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
+    s = FKSystem(robot)
+    q = sp.symbols("q0:4")
+    R = sp.Matrix([[1 - 2 * (q[2] ** 2 + q[3] ** 2), 2 * (q[1] * q[2] - q[0] * q[3]), 2 * (q[1] * q[3] + q[0] * q[2])],
+                   [2 * (q[1] * q[2] + q[0] * q[3]), 1 - 2 * (q[1] ** 2 + q[3] ** 2), 2 * (q[2] * q[3] - q[0] * q[1])],
+                   [2 * (q[1] * q[3] - q[0] * q[2]), 2 * (q[2] * q[3] + q[0] * q[1]), 1 - 2 * (q[1] ** 2 + q[2] ** 2)]])
+    b = [sp.Matrix([sp.Rational(t) for t in p]) for p in robot.to_dict()["platform"]]
+    grads = [[[sp.diff((R * bi)[k], q[r]) for k in range(3)] for bi in b] for r in range(4)]
+    rng = np.random.default_rng(3)
+    N = 6
+    c = rng.uniform(-1, 1, (N, 7))
+    w = rng.uniform(0.001, 0.3, (N, 7))
+    X = Interval._raw(c - w, c + w)
+    D = s._rotated_derivatives(X)
+    for n in range(N):
+        for _ in range(2):
+            point = X.lo[n, 3:] + rng.random(4) * (X.hi[n, 3:] - X.lo[n, 3:])
+            sub = {q[k]: sp.Rational(Fraction(float(point[k]))) for k in range(4)}
+            for r in range(4):
+                for i in range(6):
+                    for k in range(3):
+                        v = Fraction(str(grads[r][i][k].subs(sub)))
+                        assert Fraction(D[r].lo[n, i, k]) <= v <= Fraction(D[r].hi[n, i, k])
+
+
 def test_tampered_slope_evidence_is_rejected():
     """The spherical 8-mode search excludes and contracts boxes by the slope form; the checker accepts each
     such step and rejects it when the matrix C or the contracted box is changed."""
