@@ -21,7 +21,11 @@ engine; each box is decided by
    vary most (the position follows from the rotation by steps 0 and 4).
 
 K(X) = c − C f(c) + (I − C J(X))(X − c) with c the midpoint and C the
-float inverse of the midpoint Jacobian (Neumaier 1990, ch. 5).
+float inverse of the midpoint Jacobian (Neumaier 1990, ch. 5).  For the
+spatial robots steps 2 and 4 use the slope form K_S (``slope_boxes``: a
+slope matrix, about half as wide as J(X), in place of J; ``slope-empty``
+and ``slope``), and a box whose K_S lies inside it goes to the test of
+step 3 with J(X).
 
 Each proved box's root is then enclosed tightly: Krawczyk iterates from
 X*, then an ε-inflated box R with K(R) ⊂ int R, which proves exactly one
@@ -95,6 +99,25 @@ def float_inverse(M):
         except np.linalg.LinAlgError:
             pass
     return linalg.mid_inverse(M)
+
+
+def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False):
+    """(K, C, S): the Krawczyk image with a slope matrix S in place of the Jacobian,
+    K = c − C f(c) + (I − C S(X, c))(X − c), c = the midpoint, C ≈ mid(S)⁻¹ (float32 values
+    with ``compact``).  Every root in X lies in K (f(x) = f(c) + S (x − c) with S in S(X, c)),
+    so K ∩ X = ∅ proves X root-free and K ∩ X is a contraction; uniqueness is not proved
+    by K (``krawczyk_boxes`` does that).  S is about half as wide as J(X)
+    (``FKSystem.slope``; docs/soundness.md §8)."""
+    c = X.mid()
+    point = Interval._raw(c, c.copy())
+    rbc = system.rotated(system.rotation(point))
+    fc = system.equations(point, L, rb=rbc)
+    S = system.slope(X, c, rb=rb, rbc=rbc)
+    C = linalg.mid_inverse(S)[0]
+    if compact:
+        C = _compact(C)
+    res = linalg.krawczyk(fc, S, X, c, C)
+    return res.K, res.C, S
 
 
 def _for_batch(system, n_box):
@@ -171,10 +194,11 @@ class FKProblem:
     """Decides boxes of FK unknowns for a batch of instances (one root box per instance)."""
 
     reasons = ("equation", "krawczyk-empty", "krawczyk-unique", "krawczyk", "position-empty", "position",
-               "hc4-empty", "hc4")
+               "hc4-empty", "hc4", "slope-empty", "slope")
 
-    def __init__(self, system, L: Interval, scale):
+    def __init__(self, system, L: Interval, scale, slopes: bool = False):
         self.system = system
+        self.slopes = slopes                # exclusion and contraction by the slope form (slope_boxes)
         self.L = L                          # (M, legs) squared leg lengths, one row per instance
         self.scale = scale
         self._stacked = None
@@ -252,8 +276,12 @@ class FKProblem:
         split = np.full(n_box, -1)
         if len(rest):
             rlo, rhi = lo[rest], hi[rest]
-            K, C, J = krawczyk_boxes(system, Interval._raw(rlo, rhi), Interval._raw(L.lo[rest], L.hi[rest]),
-                                     with_jacobian=True, rb=rb[rest], compact=True)
+            Lr = Interval._raw(L.lo[rest], L.hi[rest])
+            if self.slopes:
+                K, C, J = slope_boxes(system, Interval._raw(rlo, rhi), Lr, rb=rb[rest], compact=True)
+            else:
+                K, C, J = krawczyk_boxes(system, Interval._raw(rlo, rhi), Lr, with_jacobian=True, rb=rb[rest],
+                                         compact=True)
             C_rows[rest] = C
             # bisect where the equations vary most: the largest sum_i |J_ij| w_j ("smear", Kearfott 1996),
             # among the rotation unknowns (HC4 and Gauss-Seidel then narrow the position) unless the
@@ -269,7 +297,9 @@ class FKProblem:
             finite = np.all(np.isfinite(K.lo) & np.isfinite(K.hi), axis=1)
             empty = np.any((K.hi < rlo) | (K.lo > rhi), axis=1) & finite
             unique = unique_in(K, rlo, rhi) & ~empty
-            status[rest[empty]], reason[rest[empty]] = EXCLUDED, 1
+            if self.slopes:     # a slope image inside X: the Krawczyk test proper (with the Jacobian) decides
+                unique = self._unique(system, rlo, rhi, Lr, C, unique)
+            status[rest[empty]], reason[rest[empty]] = EXCLUDED, 8 if self.slopes else 1
             status[rest[unique]], reason[rest[unique]] = PROVED, 2
             C_mask[rest[empty | unique]] = True
             open_ = ~(empty | unique)
@@ -294,11 +324,17 @@ class FKProblem:
                                        and AGAIN_SHARE * len(strong) < np.count_nonzero(status == OPEN)):
                     break
                 X2 = Interval._raw(cur_lo[strong], cur_hi[strong])
-                K2, C2 = krawczyk_boxes(system, X2, Interval._raw(L.lo[strong], L.hi[strong]), compact=True)
+                L2 = Interval._raw(L.lo[strong], L.hi[strong])
+                if self.slopes:
+                    K2, C2, _ = slope_boxes(system, X2, L2, compact=True)
+                else:
+                    K2, C2 = krawczyk_boxes(system, X2, L2, compact=True)
                 finite2 = np.all(np.isfinite(K2.lo) & np.isfinite(K2.hi), axis=1)
                 empty2 = np.any((K2.hi < X2.lo) | (K2.lo > X2.hi), axis=1) & finite2
                 unique2 = unique_in(K2, X2.lo, X2.hi) & ~empty2
-                status[strong[empty2]], reason[strong[empty2]] = EXCLUDED, 1
+                if self.slopes:
+                    unique2 = self._unique(system, X2.lo, X2.hi, L2, C2, unique2)
+                status[strong[empty2]], reason[strong[empty2]] = EXCLUDED, 8 if self.slopes else 1
                 status[strong[unique2]], reason[strong[unique2]] = PROVED, 2
                 C_rows[strong[empty2 | unique2]] = C2[empty2 | unique2]
                 C_mask[strong[empty2 | unique2]] = True
@@ -327,11 +363,23 @@ class FKProblem:
         evidence["C"] = (C_mask, C_rows[C_mask].astype(np.float32))
         if star_mask.any():
             evidence["star"] = (star_mask, stars[star_mask])
+        kcode = 9 if self.slopes else 3
         stages = [(lo, hi), (lo2, hi2)] + [box for box, _ in more]
-        reasons = [creason] + [np.full(n_box, 3)] * (1 + len(more))
+        reasons = [creason] + [np.full(n_box, kcode)] * (1 + len(more))
         stage_evidence = [cev, cev2] + [ev for _, ev in more]
         return Decisions(status, reason, evidence, contracted=stages, contraction_reason=reasons,
                          contraction_evidence=stage_evidence, split=split)
+
+    def _unique(self, system, lo, hi, L: Interval, C, candidates):
+        """The candidates (slope image inside X) for which K(X) ⊂ int X with the Jacobian and the
+        same C: exactly one root in X (the test of ``krawczyk_boxes``)."""
+        out = np.zeros(len(lo), dtype=bool)
+        k = np.nonzero(candidates)[0]
+        if len(k):
+            K, _ = krawczyk_boxes(_for_batch(system, len(k)), Interval._raw(lo[k], hi[k]),
+                                  Interval._raw(L.lo[k], L.hi[k]), C=C[k])
+            out[k] = unique_in(K, lo[k], hi[k])
+        return out
 
     def _inflate(self, lo, hi, roots):
         """Try X* = Newton iterate ± r (⊇ X); returns (proved mask, X* lo, X* hi, C)."""
@@ -534,7 +582,7 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     budget = budget or Budget(max_boxes=max(200_000, 20_000 * M), max_seconds=60.0, min_width=1e-10)
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
-    problem = FKProblem(system, Interval._raw(L.lo[idx], L.hi[idx]), scale)
+    problem = FKProblem(system, Interval._raw(L.lo[idx], L.hi[idx]), scale, slopes=system.kind != "planar-3rpr")
     res = search(problem, lo[idx], hi[idx], scale=scale, budget=budget, batch=max(8192, 256 * len(idx)),
                  progress=progress, initial_splits=INITIAL_SPLITS) if len(idx) else None
     out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter)

@@ -126,7 +126,11 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False):
         X = Interval._raw(np.stack([v.lo for v in z], 1), np.stack([v.hi for v in z], 1))
         # 2. forward: R, u_i = R b_i, e_i = (u_i − a_i) + p
         R = system.rotation(X)                               # (N, dim, dim)
-        u = system.rotated(R)                                # (N, legs, dim)
+        b = system.b
+        T = R[:, None, :, :] * b[None, :, None, :]           # (N, legs, k, j): R_kj b_ij, also for step 6
+        u = T[..., 0]                                        # u_i = R b_i: the products and sums of
+        for j in range(1, T.shape[-1]):                      # FKSystem.rotated, in its order
+            u = u + T[..., j]
         a = system.a[None, :, :]
         e = u - a
         if p:
@@ -154,10 +158,8 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False):
             back = e[..., k] - z[k][:, None] if p else e[..., k]
             u[..., k] = _meet(u[..., k], back + a[..., k])
         # 6. entries of R from u_i = R b_i (all candidates from the R of step 2)
-        b = system.b
         nonzero = (b.lo > 0) | (b.hi < 0)                  # (legs, dim)
         inverse = _inverse(system)                           # enclosures of 1/b_ij
-        T = R[:, None, :, :] * b[None, :, None, :]           # (N, legs, k, j): R_kj b_ij
         Rlo, Rhi = R.lo.copy(), R.hi.copy()
         for j in range(dim):
             legs_j = np.nonzero(nonzero[:, j])[0]

@@ -553,6 +553,12 @@ def _product_midrad(am, ar, bm, br):
     return mid, _upper(rad, 4 * n + 4) + n * _ETA
 
 
+def product_midrad(am, ar, bm, br):
+    """Enclosure (mid, rad) of A B for every A in [am ± ar], B in [bm ± br] (float arrays;
+    ``ar``/``br`` None for points): the bound of ``_product_midrad`` (Higham 2002, eq. 3.5)."""
+    return _product_midrad(am, ar, bm, br)
+
+
 def krawczyk(f_mid, J, x, c=None, C=None) -> KrawczykResult:
     """Krawczyk operator ``K = c - C f(c) + (I - C J)(x - c)``, batched.
 

@@ -21,14 +21,15 @@ A claim lists ``solutions`` (boxes R_j of unknowns, each with a float
 matrix C_j such that the Krawczyk image K(R_j) lies in the interior of R_j:
 exactly one root in R_j), pairwise disjoint, inside the ``domain``; and a
 ``tree`` covering the domain whose leaves are excluded (``equation``,
-``krawczyk-empty``, ``position-empty``, ``hc4-empty``) or proved (``krawczyk-unique``:
+``krawczyk-empty``, ``slope-empty``, ``position-empty``, ``hc4-empty``) or proved (``krawczyk-unique``:
 K(X*) ⊂ int X* for X* ⊇ leaf, and the solution it names lies in X*, so the
 leaf's only possible root is that solution — or, with ``twin``, the
 solution with q negated, the same posture; or ``outside``: a box proved to
 hold X*'s root misses the leaf, which then holds no root).  Solutions are
 distinct postures: their boxes, and (spatial robots) their boxes with the
 quaternion negated, are pairwise disjoint.  Contractions (``krawczyk``:
-K(X) ∩ X, ``position``: one Gauss-Seidel sweep of (P D) p = P g, ``hc4``:
+K(X) ∩ X, ``slope``: the same with slope matrices in place of the Jacobian
+(``System.slope``), ``position``: one Gauss-Seidel sweep of (P D) p = P g, ``hc4``:
 one forward-backward pass, ``System.hc4``, then the sweep if P is given) must
 land inside the child box.  With ``complete`` true, no leaf is undecided, so the
 solutions are all the roots in the domain; with ``covers`` =
@@ -136,12 +137,46 @@ class System:
                      + (self.L[i] - self.L[0]))
         return D, g
 
+    def slope(self, box, c):
+        """Slope matrices at the point c over the box: for every x in the box, some S in the
+        result has f(x) − f(c) = S (x − c).  R b_i is quadratic in the rotation unknowns, so
+        R b_i(x) − R b_i(c) = ∇(R b_i)((x + c)/2) (x − c) exactly, and with ell = p + R b_i − a_i,
+        ell_k(x)² − ell_k(c)² = (ell_k(x) + ell_k(c)) (ell_k(x) − ell_k(c)); the norm equation
+        gives |r(x)|² − |r(c)|² = (r(x) + r(c))·(r(x) − r(c))."""
+        z = _intervals(box)
+        zc = [iv.mpf(x) for x in c]
+        y = [(zi + ci) / 2 for zi, ci in zip(z, zc)]              # holds (x + c)/2 for every x in the box
+        p, n, dim = self.n_pos, self.n, self.dim
+        rb = self.rotated(self.rotation(z), self.b)
+        rbc = self.rotated(self.rotation(zc), self.b)
+        rby = self.rotated(self.rotation(ad.variables(y)), self._lift[1])   # Duals: ∇(R b_i) over y
+        rows = []
+        for i in range(self.legs):
+            s = []
+            for k in range(dim):
+                ell, ellc = rb[i][k] - self.a[i][k], rbc[i][k] - self.a[i][k]
+                if p:
+                    ell, ellc = ell + z[k], ellc + zc[k]
+                s.append(ell + ellc)
+            row = [s[k] if k < p else iv.mpf(0) for k in range(n)]
+            grads = [ad.gradient(rby[i][k], n)[1] for k in range(dim)]
+            for r in range(p, n):
+                total = s[0] * grads[0][r]
+                for k in range(1, dim):
+                    total = total + s[k] * grads[k][r]
+                row[r] = total
+            rows.append(row)
+        rows.append([iv.mpf(0) if k < p else z[k] + zc[k] for k in range(n)])
+        return rows
+
     # ----- the tests ---------------------------------------------------------------
-    def krawczyk(self, box, C):
-        """The Krawczyk image K = c − C f(c) + (I − C J(box))(box − c), c the float midpoint."""
+    def krawczyk(self, box, C, slope=False):
+        """The Krawczyk image K = c − C f(c) + (I − C J(box))(box − c), c the float midpoint
+        (``slope``: with the slope matrices of ``slope`` in place of J: every root in the box lies
+        in K, but K inside the box proves no uniqueness)."""
         c = [min(max(0.5 * lo + 0.5 * hi, lo), hi) for lo, hi in box]
         fc = self.values([(x, x) for x in c])
-        J = self.jacobian(box)
+        J = self.slope(box, c) if slope else self.jacobian(box)
         n = self.n
         K = []
         for i in range(n):
@@ -488,8 +523,8 @@ def _tree(system, root, domain, solutions, complete, where, counts):
 
 def _contraction(system, node, box, child, at):
     rule = node.get("contract")
-    if rule == "krawczyk":
-        K = system.krawczyk(box, _matrix(node.get("C"), system.n, system.n, f"{at}: C"))
+    if rule in ("krawczyk", "slope"):
+        K = system.krawczyk(box, _matrix(node.get("C"), system.n, system.n, f"{at}: C"), slope=rule == "slope")
         for k, ((lo, hi), (clo, chi)) in enumerate(zip(box, child)):
             kk = K[k]
             low = max(kk.a, iv.mpf(lo))   # K ∩ X along coordinate k
@@ -497,7 +532,7 @@ def _contraction(system, node, box, child, at):
             if (low > high) is True:
                 continue  # K ∩ X is empty: no root in X at all
             if not ((low >= clo) is True and (high <= chi) is True):
-                raise Rejected(f"{at}: krawczyk contraction: K ∩ X not inside the child box on dim {k}")
+                raise Rejected(f"{at}: {rule} contraction: K ∩ X not inside the child box on dim {k}")
     elif rule == "hc4":
         z = system.hc4(box)
         if z is not None and "P" in node:  # then one Gauss-Seidel sweep on the position
@@ -524,7 +559,7 @@ def _contraction(system, node, box, child, at):
             if child[k] != box[k]:
                 raise Rejected(f"{at}: a position contraction changes only the position")
     else:
-        raise Rejected(f"{at}: unknown contraction {rule!r} (known: krawczyk, position, hc4)")
+        raise Rejected(f"{at}: unknown contraction {rule!r} (known: krawczyk, slope, position, hc4)")
 
 
 def _leaf(system, node, box, solutions, complete, at):
@@ -542,10 +577,11 @@ def _leaf(system, node, box, solutions, complete, at):
         if (v > 0) is not True and (v < 0) is not True:
             raise Rejected(f"{at}: equation {k} may vanish on the box")
         return
-    if rule == "krawczyk-empty":
-        K = system.krawczyk(box, _matrix(node.get("C"), n, n, f"{at}: C"))
+    if rule in ("krawczyk-empty", "slope-empty"):
+        K = system.krawczyk(box, _matrix(node.get("C"), n, n, f"{at}: C"), slope=rule == "slope-empty")
         if not any((K[k] < lo) is True or (K[k] > hi) is True for k, (lo, hi) in enumerate(box)):
-            raise Rejected(f"{at}: Krawczyk image meets the box: emptiness not proved")
+            raise Rejected(f"{at}: {'slope' if rule == 'slope-empty' else 'Krawczyk'} image meets the box: "
+                           "emptiness not proved")
         return
     if rule == "hc4-empty":
         if system.hc4(box) is not None:

@@ -357,6 +357,161 @@ def test_tampered_fk_certificates_are_rejected(planar_certificate):
     assert not proofs.check(contraction).ok
 
 
+# ----- slopes --------------------------------------------------------------------------------
+SPHERICAL_8 = {"kind": "spherical-3dof", "base": [["1.6", "0", "-1.2"], ["-1.1", "1.2", "-1.2"], ["-0.9", "-1", "-1.2"]],
+               "platform": [["1", "0", "0"], ["-0.6", "1", "0"], ["-0.2", "-0.5", "0"]]}
+
+
+def _exact_f(robot, n_pos, x, L):
+    """The FK equations at the point x in exact rational arithmetic (Fractions), from the robot's texts."""
+    geom = [Fraction(t) for t in robot.geometry_texts()]
+    legs, dim = robot.n_legs, robot.dim
+    a = [geom[i * dim:(i + 1) * dim] for i in range(legs)]
+    b = [geom[legs * dim + i * dim: legs * dim + (i + 1) * dim] for i in range(legs)]
+    if dim == 2:
+        c, s = x[2], x[3]
+        R = [[c, -s], [s, c]]
+    else:
+        q0, q1, q2, q3 = x[n_pos:]
+        R = [[1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
+             [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
+             [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)]]
+    out = []
+    for i in range(legs):
+        ell = [(x[k] if k < n_pos else 0) + sum(R[k][j] * b[i][j] for j in range(dim)) - a[i][k] for k in range(dim)]
+        out.append(sum(e * e for e in ell) - L[i])
+    out.append(sum(v * v for v in x[n_pos:]) - 1)
+    return out
+
+
+def _frac(v):
+    """The exact value of a float or an mpmath mpf."""
+    if isinstance(v, mp.mpf):
+        sign, man, exp, _ = v._mpf_
+        return (-1) ** sign * Fraction(man) * Fraction(2) ** exp
+    return Fraction(float(v))
+
+
+def _in_product(S_lo, S_hi, d, value):
+    """value in sum_j [S_lo_j, S_hi_j] d_j, in exact rational arithmetic."""
+    lo = sum(min(_frac(l) * dj, _frac(h) * dj) for l, h, dj in zip(S_lo, S_hi, d))
+    hi = sum(max(_frac(l) * dj, _frac(h) * dj) for l, h, dj in zip(S_lo, S_hi, d))
+    return lo <= value <= hi
+
+
+def test_slope_matrices_enclose_exact_differences():
+    """f(x) − f(c) ∈ S(X, c)(x − c) for random boxes X, points x in X and c the midpoint, with f(x) − f(c)
+    computed exactly (Fractions): the solver's FKSystem.slope and the checker's System.slope; the stacked
+    twin gives the same enclosures; the slope is about half as wide as the Jacobian over X."""
+    from certkin import load_robot
+    from certkin.robots.fk_stacked import StackedFKSystem
+    from certkin.robots.fk_systems import FKSystem
+    from intervals import Interval
+    from proofs.fk import System
+    robots = [(planar(*SIX_MODES[0][:2]), ["14.98", "15.38", "12"]),
+              (robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]),
+              (load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml"), "1.093,2.280,2.031,2.524,3.136,1.845".split(","))]
+    rng = np.random.default_rng(11)
+    for robot, lengths in robots:
+        s = FKSystem(robot)
+        checker = System(f"{robot.kind}-fk/1", robot.to_dict(), lengths)
+        L = [Fraction(t) ** 2 for t in lengths]
+        N = 12
+        c = rng.uniform(-1, 1, (N, s.n))
+        w = rng.uniform(0.01, 0.2, (N, s.n))
+        X = Interval._raw(c - w, c + w)
+        m = X.mid()
+        S = s.slope(X, m)
+        T = StackedFKSystem.of(s).slope(X, m)
+        assert np.array_equal(S.lo, T.lo) and np.array_equal(S.hi, T.hi)
+        J = s.jacobian(X)
+        rows = slice(0, s.legs)
+        assert np.median((S.hi - S.lo)[:, rows] / (J.hi - J.lo)[:, rows]) < 0.6
+        for k in range(N):
+            box = [(float(X.lo[k, j]), float(X.hi[k, j])) for j in range(s.n)]
+            Sc = checker.slope(box, [float(v) for v in m[k]])
+            fc = _exact_f(robot, s.n_pos, [Fraction(float(v)) for v in m[k]], L)
+            for _ in range(3):
+                x = [Fraction(float(v)) for v in X.lo[k] + rng.random(s.n) * (X.hi[k] - X.lo[k])]
+                fx = _exact_f(robot, s.n_pos, x, L)
+                d = [xj - Fraction(float(mj)) for xj, mj in zip(x, m[k])]
+                for i in range(s.n):
+                    assert _in_product(S.lo[k, i], S.hi[k, i], d, fx[i] - fc[i])
+                    assert _in_product([mp.mpf(v.a) for v in Sc[i]], [mp.mpf(v.b) for v in Sc[i]], d, fx[i] - fc[i])
+
+
+def test_rotated_derivatives_enclose_sympy_derivatives():
+    """∂(R b_i)/∂q_r over random quaternion boxes (the midpoint-radius enclosure of FKSystem) holds the
+    derivatives of R(q) b_i differentiated by sympy, evaluated exactly at random points of the boxes."""
+    from certkin import load_robot
+    from certkin.robots.fk_systems import FKSystem
+    from intervals import Interval
+    robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
+    s = FKSystem(robot)
+    q = sp.symbols("q0:4")
+    R = sp.Matrix([[1 - 2 * (q[2] ** 2 + q[3] ** 2), 2 * (q[1] * q[2] - q[0] * q[3]), 2 * (q[1] * q[3] + q[0] * q[2])],
+                   [2 * (q[1] * q[2] + q[0] * q[3]), 1 - 2 * (q[1] ** 2 + q[3] ** 2), 2 * (q[2] * q[3] - q[0] * q[1])],
+                   [2 * (q[1] * q[3] - q[0] * q[2]), 2 * (q[2] * q[3] + q[0] * q[1]), 1 - 2 * (q[1] ** 2 + q[2] ** 2)]])
+    b = [sp.Matrix([sp.Rational(t) for t in p]) for p in robot.to_dict()["platform"]]
+    grads = [[[sp.diff((R * bi)[k], q[r]) for k in range(3)] for bi in b] for r in range(4)]
+    rng = np.random.default_rng(3)
+    N = 6
+    c = rng.uniform(-1, 1, (N, 7))
+    w = rng.uniform(0.001, 0.3, (N, 7))
+    X = Interval._raw(c - w, c + w)
+    D = s._rotated_derivatives(X)
+    for n in range(N):
+        for _ in range(2):
+            point = X.lo[n, 3:] + rng.random(4) * (X.hi[n, 3:] - X.lo[n, 3:])
+            sub = {q[k]: sp.Rational(Fraction(float(point[k]))) for k in range(4)}
+            for r in range(4):
+                for i in range(6):
+                    for k in range(3):
+                        v = Fraction(str(grads[r][i][k].subs(sub)))
+                        assert Fraction(D[r].lo[n, i, k]) <= v <= Fraction(D[r].hi[n, i, k])
+
+
+def test_tampered_slope_evidence_is_rejected():
+    """The spherical 8-mode search excludes and contracts boxes by the slope form; the checker accepts each
+    such step and rejects it when the matrix C or the contracted box is changed."""
+    from proofs.fk import System, _contraction, _leaf
+    from proofs.report import Rejected
+    lengths = ["2.277", "2.473", "1.902"]
+    cert = forward_kinematics(robot_from_dict(SPHERICAL_8), lengths).certificate()
+    system = System(cert["model"], cert["robot"], lengths)
+    leaf = _first(cert["claims"][0]["tree"], lambda n: n.get("leaf") == "slope-empty")
+    box = [tuple(b) for b in leaf["box"]]
+    _leaf(system, leaf, box, [], True, "leaf")
+    bad = copy.deepcopy(leaf)
+    bad["C"] = [[0.0] * 4 for _ in range(4)]
+    with pytest.raises(Rejected, match="slope image meets the box"):
+        _leaf(system, bad, box, [], True, "leaf")
+    parent = _first(cert["claims"][0]["tree"], lambda n: n.get("child", {}).get("contract") == "slope")
+    node, box = parent["child"], [tuple(b) for b in parent["box"]]   # the box before the slope contraction
+    child = [tuple(b) for b in node["box"]]
+    _contraction(system, node, box, child, "node")
+    dim = max(range(4), key=lambda k: child[k][1] - child[k][0])
+    mid = 0.5 * (child[dim][0] + child[dim][1])
+    shrunk = list(child)
+    shrunk[dim] = (mid, mid)
+    with pytest.raises(Rejected, match="slope contraction"):
+        _contraction(system, node, box, shrunk, "node")
+
+
+@pytest.mark.slow
+def test_gough_certificate_with_slope_steps_rechecks():
+    """Seed 002 robot, position narrowed around one posture (the whole rotation range searched): the
+    certificate, with its slope exclusions and contractions, re-checks (about 80 s in the checker)."""
+    from certkin import load_robot
+    robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
+    r = forward_kinematics(robot, "1.093,2.280,2.031,2.524,3.136,1.845",
+                           domain="x=-0.9:-0.8,y=-0.4:-0.3,z=0.5:0.6,psi=-4:4,theta=-4:4,phi=-4:4")
+    assert r.complete and len(r.solutions) == 1
+    cert = r.certificate()
+    assert _first(cert["claims"][0]["tree"], lambda n: n.get("contract") == "slope")
+    checked(r)
+
+
 # ----- the command line -----------------------------------------------------------------------
 def _cli(*args):
     return subprocess.run([sys.executable, "-m", "certkin.cli", *map(str, args)], cwd=ROOT,

@@ -38,6 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from intervals import Interval, atan2, sqr, sqrt
+from intervals.rounding import down, down_sum, up, up_sum
 
 DELTA = 2.0 ** -10      # q0 >= -DELTA: the hemisphere with a margin (see the module docstring)
 
@@ -143,6 +144,90 @@ class FKSystem:
         for k in range(p, self.n):
             J[:, legs, k] = 2.0 * X[:, k]
         return J
+
+    def slope(self, X: Interval, c: np.ndarray, rb: Interval | None = None, rbc: Interval | None = None) -> Interval:
+        """Enclosure of slope matrices of the equations at the points ``c`` (N, n) in the boxes X:
+        (N, n, n) holding, for every x in X, a matrix S with f(x) − f(c) = S (x − c) (``rb``,
+        ``rbc``: R b_i over X and at c, if known).
+
+        R b_i is quadratic in the rotation unknowns (linear in (c, s)), so R b_i(x) − R b_i(c) =
+        ∇(R b_i)(y) (x − c) exactly at y = (x + c)/2; with ell = p + R b_i − a_i,
+        ell_k(x)² − ell_k(c)² = (ell_k(x) + ell_k(c)) (ell_k(x) − ell_k(c)).  Hence row i is
+        Σ_k (ell_ik(X) + ell_ik(c)) [e_k, ∇(R b_i)_k(Y)] with Y ∋ (x + c)/2, and the norm row is
+        (X_r + c_r) over the rotation unknowns r: about half as wide as the Jacobian over X
+        (docs/soundness.md §8, slopes).
+        """
+        N = X.shape[0]
+        p = self.n_pos
+        point = Interval._raw(c, c.copy())
+        if rb is None:
+            rb = self.rotated(self.rotation(X))
+        if rbc is None:
+            rbc = self.rotated(self.rotation(point))
+        ell = rb - self.a[None, :, :]
+        ellc = rbc - self.a[None, :, :]
+        if p:
+            ell = ell + X[:, None, :p]
+            ellc = ellc + point[:, None, :p]
+        s = ell + ellc                                        # (N, legs, dim)
+        with np.errstate(invalid="ignore", over="ignore"):
+            Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))  # ∋ (x + c)/2
+        S = Interval._raw(np.zeros((N, self.n, self.n)), np.zeros((N, self.n, self.n)))
+        legs = self.legs
+        for k in range(p):
+            S[:, :legs, k] = s[..., k]
+        for r, drb in enumerate(self._rotated_derivatives(Y)):  # ∂(R b_i)_k / ∂r over Y: (N, legs, dim)
+            col = s[..., 0] * drb[..., 0]
+            for k in range(1, drb.shape[-1]):
+                col = col + s[..., k] * drb[..., k]
+            S[:, :legs, p + r] = col
+        for k in range(p, self.n):
+            S[:, legs, k] = X[:, k] + point[:, k]
+        return S
+
+    def _rotated_derivatives(self, X: Interval):
+        """∂(R b_i)/∂r over the boxes for each rotation unknown r: a list of (N, legs, dim).
+
+        Quaternion: ∂(R b_i)_k/∂q_r = Σ_s G[s, r, i, k] q_s is linear in q, each q_s once
+        (``_quaternion_tables``), so its range over the box is mid ± radius, enclosed in
+        midpoint-radius arithmetic (``linalg.product_midrad``: one float matrix product and a
+        proved rounding bound).  Planar: constant matrices, ``rotated`` of ``_rotation_derivatives``."""
+        if self.kind == "planar-3rpr":
+            return [self.rotated(dR) for dR in self._rotation_derivatives(X)]
+        from intervals.linalg import midrad, product_midrad
+        Gm, Gr = self._quaternion_tables()
+        p = self.n_pos
+        N = X.shape[0]
+        with np.errstate(invalid="ignore", over="ignore"):
+            qm, qr = midrad(X.lo[:, p:], X.hi[:, p:])
+            m, r = product_midrad(qm, qr, Gm, Gr)                        # (N, 4 legs dim)
+            lo, hi = down(m - r), up(m + r)
+            bad = ~(np.isfinite(lo) & np.isfinite(hi))
+        lo = np.where(bad, -np.inf, lo).reshape(N, 4, self.legs, -1)
+        hi = np.where(bad, np.inf, hi).reshape(N, 4, self.legs, -1)
+        return [Interval._raw(lo[:, k], hi[:, k]) for k in range(4)]
+
+    def _quaternion_tables(self):
+        """(Gm, Gr), (4, 4 legs dim): ∂(R b_i)_k/∂q_r = Σ_s G[s, r, i, k] q_s with G in [Gm ± Gr].
+        Each row of dR/dq_r (``_rotation_derivatives``) holds distinct unknowns, so each entry is
+        c b_ij for one j, c in {±2, ±4}: a scaling by a power of two, exact on the enclosure of b_ij."""
+        tables = self.__dict__.get("_quaternion_tables_")
+        if tables is None:
+            from intervals.linalg import midrad
+            bm, br = midrad(self.b.lo, self.b.hi)                          # (legs, dim)
+            legs, dim = bm.shape
+            Gm, Gr = np.zeros((4, 4, legs, dim)), np.zeros((4, 4, legs, dim))
+            coef = np.array([0.0, 2.0, 2.0, 2.0, 2.0, -2.0, -2.0, -2.0, -2.0, -4.0, -4.0, -4.0, -4.0])
+            var = np.array([-1, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3])
+            for r in range(4):
+                for k in range(3):
+                    for j in range(3):
+                        t = _DQ_INDEX[r, k, j]
+                        if t:
+                            Gm[var[t], r, :, k] += coef[t] * bm[:, j]
+                            Gr[var[t], r, :, k] += abs(coef[t]) * br[:, j]
+            tables = self._quaternion_tables_ = (Gm.reshape(4, -1), Gr.reshape(4, -1))
+        return tables
 
     def _rotation_derivatives(self, X: Interval):
         """dR/dr for each rotation unknown r (each (N, dim, dim); linear in the unknowns)."""
