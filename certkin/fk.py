@@ -827,8 +827,7 @@ def _length_enclosures(robot, lengths):
     """(enclosures (M, legs), rows of exact texts, whether the input was a batch): ``_parse_lengths``
     as arrays, with a direct path for one set of floats or plain decimal texts (a float stands for
     its text repr(v), as there; anything else, or any doubt, takes ``_parse_lengths``)."""
-    from decimal import Decimal, InvalidOperation
-    from intervals.rounding import enclose_decimal
+    from intervals.rounding import enclose_plain
     items = lengths.split(",") if isinstance(lengths, str) else lengths
     if isinstance(items, (list, tuple)) and len(items) == robot.n_legs:
         lo, hi, texts = [], [], []
@@ -839,15 +838,10 @@ def _length_enclosures(robot, lengths):
                 t = v.strip()
             else:
                 break
-            try:
-                d = Decimal(t)
-            except InvalidOperation:
+            ab = enclose_plain(t)
+            if ab is None or not (ab[0] >= 0 and ab[1] < np.inf):
                 break
-            if not d.is_finite():
-                break
-            a, b = enclose_decimal(d)
-            if not (a >= 0 and b < np.inf):
-                break
+            a, b = ab
             lo.append(a)
             hi.append(b)
             texts.append(t)

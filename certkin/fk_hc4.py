@@ -215,7 +215,6 @@ def _hc4_planar(system, lo, hi, L: Interval):
     step 6 — so the same floats (``tests/test_fk_hc4.py`` compares them bit for bit) in fewer
     operations."""
     lo, hi = np.array(lo, dtype=np.float64), np.array(hi, dtype=np.float64)
-    N = len(lo)
     with np.errstate(all="ignore"):
         # 1. the norm equation: c from s, then s from the new c
         c = root(Interval._raw(lo[:, 2], hi[:, 2]), 1.0 - sqr(Interval._raw(lo[:, 3], hi[:, 3])))

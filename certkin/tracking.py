@@ -35,14 +35,13 @@ runs in one batched evaluation, so the interval work per step is small.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from decimal import Decimal, InvalidOperation
 import math
 import time
 
 import numpy as np
 
 from intervals import Interval, linalg, sqr
-from intervals.rounding import enclose_decimal
+from intervals.rounding import enclose_plain
 
 from .fk import FKResult, _pose_names, float_inverse, unique_in
 from .robots.fk_stacked import StackedFKSystem
@@ -110,11 +109,11 @@ def _planar_float_system(g, x, L2):
     return f, J
 
 
-def _solve(J, f):
-    """J⁻¹ f by Gaussian elimination with partial pivoting (Python floats); None if J is singular
-    or the result is not finite."""
-    n = len(f)
-    A = [row[:] + [v] for row, v in zip(J, f)]
+def _gauss_jordan(J, B):
+    """J⁻¹ B (row lists, Python floats) by Gauss-Jordan elimination with partial pivoting on
+    [J | B]; None if J is singular or the result is not finite.  An estimate, never a proof."""
+    n, m = len(J), len(B[0])
+    A = [list(row) + list(extra) for row, extra in zip(J, B)]
     for k in range(n):
         piv, big = k, abs(A[k][k])
         for i in range(k + 1, n):
@@ -124,16 +123,22 @@ def _solve(J, f):
             return None
         A[k], A[piv] = A[piv], A[k]
         rk = A[k]
-        for i in range(k + 1, n):
-            m = A[i][k] / rk[k]
-            if m:
-                ri = A[i]
-                for j in range(k, n + 1):
-                    ri[j] -= m * rk[j]
-    out = [0.0] * n
-    for k in range(n - 1, -1, -1):
-        out[k] = (A[k][n] - sum(A[k][j] * out[j] for j in range(k + 1, n))) / A[k][k]
-    return out if all(math.isfinite(v) for v in out) else None
+        inv = 1.0 / rk[k]
+        for j in range(n + m):
+            rk[j] *= inv
+        for i in range(n):
+            if i != k and A[i][k]:
+                ri, c = A[i], A[i][k]
+                for j in range(n + m):
+                    ri[j] -= c * rk[j]
+    out = [row[n:] for row in A]
+    return out if all(math.isfinite(v) for row in out for v in row) else None
+
+
+def _solve(J, f):
+    """J⁻¹ f (Python floats); None if J is singular or the result is not finite."""
+    out = _gauss_jordan(J, [[v] for v in f])
+    return None if out is None else [row[0] for row in out]
 
 
 def _newton_planar(system, x, L2, scale, steps, model):
@@ -196,26 +201,11 @@ def _root_radius_one(system, x, L2, model):
     err = [abs(fi) + ci * d1 * d1 + 2.0 ** -49 * (gi + ((li + p2) if k < n - 1 else 0.0))
            for k, (fi, ci, gi, li) in enumerate(zip(f[0].tolist(), curve.tolist(), geometry.tolist(),
                                                     L2 + [0.0]))]
-    A = [row + [1.0 if i == j else 0.0 for j in range(n)] for i, row in enumerate(J[0].tolist())]
-    for k in range(n):                              # Gauss-Jordan with partial pivoting: A -> [I | J⁻¹]
-        piv, big = k, abs(A[k][k])
-        for i in range(k + 1, n):
-            if abs(A[i][k]) > big:
-                piv, big = i, abs(A[i][k])
-        if not big > 0.0:
-            return None
-        A[k], A[piv] = A[piv], A[k]
-        rk = A[k]
-        inv = 1.0 / rk[k]
-        for j in range(2 * n):
-            rk[j] *= inv
-        for i in range(n):
-            if i != k and A[i][k]:
-                ri, m = A[i], A[i][k]
-                for j in range(2 * n):
-                    ri[j] -= m * rk[j]
-    rad = [ROOT_SLACK * sum(abs(c) * e for c, e in zip(row[n:], err)) + 2.0 ** -50 * abs(xi) + 1e-300
-           for row, xi in zip(A, x)]
+    Jinv = _gauss_jordan(J[0].tolist(), [[1.0 if i == j else 0.0 for j in range(n)] for i in range(n)])
+    if Jinv is None:
+        return None
+    rad = [ROOT_SLACK * sum(abs(c) * e for c, e in zip(row, err)) + 2.0 ** -50 * abs(xi) + 1e-300
+           for row, xi in zip(Jinv, x)]
     return np.array(rad) if all(math.isfinite(r) for r in rad) else None
 
 
@@ -367,14 +357,8 @@ def _pose_guess(robot, previous):
         for v in parts:
             if isinstance(v, float):
                 lo = hi = float(v)
-            elif isinstance(v, str):
-                try:
-                    d = Decimal(v)
-                except InvalidOperation:
-                    break
-                if not d.is_finite():
-                    break
-                lo, hi = enclose_decimal(d)
+            elif isinstance(v, str) and (ab := enclose_plain(v)) is not None:
+                lo, hi = ab
             else:
                 break
             if not (-np.inf < lo and hi < np.inf):

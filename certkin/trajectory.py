@@ -155,19 +155,32 @@ class TrajectoryProblem:
                          evidence={"state": state, "mlo": mlo, "mhi": mhi}, split_at=self._cuts(lo, hi, seg, state, refine),
                          keep_narrow_evidence=True)
 
+    def _estimates(self, lo, hi, seg, cols, cands, reach=0.0):
+        """Float crossing estimates t (segment's t) and half-widths d = max(δ, 2·error) of the
+        candidate polynomials ``cands`` of column ``cols[i]`` on box i (``crossing_points``),
+        looked for ``reach`` beyond each box; (items, len(cands)) arrays, NaN where none."""
+        coefficients, radii = self.crossings
+        rows, ta, tb, base, h = self._local(lo, hi, seg)
+        k, w = len(cands), coefficients.shape[-1]
+        pick = (rows[:, None], np.asarray(cols)[:, None], np.asarray(cands)[None, :])
+        r = reach / h
+        t, err = crossing_points(coefficients[pick].reshape(-1, w), np.repeat(ta - r, k), np.repeat(tb + r, k),
+                                 radii=radii[pick].reshape(-1, w))
+        t = base[:, None] + h[:, None] * t.reshape(-1, k)
+        d = np.maximum(self.delta, 2.0 * h[:, None] * np.nan_to_num(err.reshape(-1, k)))
+        return t, d
+
     def presplit(self, lo, hi, seg):
         """Initial pieces cut again at t* ± d around every estimated crossing of a column inside
         them (as ``_cuts`` would after a first evaluation), so that most pieces are decided in
         the first round.  Returns the new (lo, hi, segment of each piece); they tile the old ones."""
         if self.crossings is None:
             return lo, hi, seg
-        coefficients, radii = self.crossings
-        rows, ta, tb, base, h = self._local(lo[:, 0], hi[:, 0], seg)
-        B, K, w = len(rows), coefficients.shape[1], coefficients.shape[-1]
-        t, err = crossing_points(coefficients[rows, :, :2].reshape(-1, w), np.repeat(ta, 2 * K), np.repeat(tb, 2 * K),
-                                 radii=radii[rows, :, :2].reshape(-1, w))
-        t = base[:, None] + h[:, None] * t.reshape(B, 2 * K)
-        d = np.maximum(self.delta, 2.0 * h[:, None] * np.nan_to_num(err.reshape(B, 2 * K)))
+        K = self.crossings[0].shape[1]
+        B = len(lo)
+        t, d = self._estimates(np.repeat(lo[:, 0], K), np.repeat(hi[:, 0], K), np.repeat(seg, K),
+                               np.tile(np.arange(K), B), [0, 1])
+        t, d = t.reshape(B, 2 * K), d.reshape(B, 2 * K)
         a, b = lo[:, :1], hi[:, :1]
         cuts = np.concatenate([t - d, t + d], axis=1)
         cuts = np.where((cuts - a >= 1.5 * self.delta) & (b - cuts >= 1.5 * self.delta), cuts, np.nan)
@@ -185,26 +198,18 @@ class TrajectoryProblem:
         wider than the estimate's error, so that the rest of the box is clear of it."""
         if self.crossings is None:
             return None
-        coefficients, radii = self.crossings
         out = np.full(len(lo), np.inf)
         for mask, cands, eps in ((refine & ~(state == UNKNOWN).any(axis=1)[:, None], [2], 2.0 ** -10),
                                  (state == UNKNOWN, [0, 1], 0.0)):
             box, col = np.nonzero(mask)
             if not len(box):
                 continue
-            rows, ta, tb, base, h = self._local(lo[box, 0], hi[box, 0], seg[box])
-            k = len(cands)
-            w = coefficients.shape[-1]
-            reach = 4.0 * self.delta / h                                       # look this far beyond the box
-            t, err = crossing_points(coefficients[rows, col][:, cands].reshape(-1, w), np.repeat(ta - reach, k),
-                                     np.repeat(tb + reach, k), radii=radii[rows, col][:, cands].reshape(-1, w))
-            t, err = t.reshape(-1, k), err.reshape(-1, k)
+            a, b = lo[box, 0], hi[box, 0]
+            t, d = self._estimates(a, b, seg[box], col, cands, reach=4.0 * self.delta)
             first = np.argmin(np.where(np.isnan(t), np.inf, t), axis=1)
             pick = np.arange(len(box))
-            t = base + h * t[pick, first]                                      # back to the segment's t
-            err = h * err[pick, first]
-            a, b = lo[box, 0], hi[box, 0]
-            d = np.maximum(np.maximum(self.delta, eps * (b - a)), 2.0 * np.where(np.isnan(err), 0.0, err))
+            t = t[pick, first]
+            d = np.maximum(d[pick, first], eps * (b - a))
             cut = np.where(t - d > a + 1.5 * self.delta, t - d, t + d)
             useful = (cut - a >= 1.5 * self.delta) & (b - cut >= 1.5 * self.delta)   # not a crossing at an end
             np.minimum.at(out, box, np.where(np.isnan(t) | ~useful, np.inf, cut))

@@ -287,7 +287,6 @@ def bernstein_weights(a, b, n):
     """Enclosures (W_lo, W_hi), both ≥ 0, shape (..., n+1, n+1), of the map c -> Bernstein
     coefficients on [a, b] (a ≥ 0): W[i, j] = Σ_k T[i, k] h^k C(j, k) a^(j−k), h = b − a.
     Every factor is ≥ 0, so products and sums of lower (upper) bounds are lower (upper) bounds."""
-    shape = np.shape(a)
     d = b - a
     base_lo = np.stack([np.asarray(a, dtype=np.float64), np.maximum(down_sum(d), 0.0)])   # (2, ...): a, h
     base_hi = np.stack([np.asarray(a, dtype=np.float64), up_sum(d)])

@@ -106,16 +106,21 @@ def to_fraction(value) -> Fraction:
         if not math.isfinite(value):
             raise ValueError(f"not a finite number: {value!r}")
         return Fraction(float(value))
+    if isinstance(value, (str, Decimal)):
+        return Fraction(_finite_decimal(value))
+    raise ValueError(f"not a number: {value!r}")
+
+
+def _finite_decimal(value) -> Decimal:
+    """The exact finite ``Decimal`` of a decimal string or ``Decimal`` (ValueError otherwise)."""
     if isinstance(value, str):
         try:
             value = Decimal(value.strip())
         except InvalidOperation as exc:
             raise ValueError(f"not a decimal number: {value!r}") from exc
-    if isinstance(value, Decimal):
-        if not value.is_finite():
-            raise ValueError(f"not a finite number: {value}")
-        return Fraction(value)
-    raise ValueError(f"not a number: {value!r}")
+    if not value.is_finite():
+        raise ValueError(f"not a finite number: {value}")
+    return value
 
 
 def enclose_fraction(q: Fraction) -> tuple[float, float]:
@@ -162,21 +167,23 @@ def enclose_decimal(d: Decimal) -> tuple[float, float]:
     return enclose_fraction(Fraction(d))
 
 
+def enclose_plain(text: str) -> tuple[float, float] | None:
+    """``enclose`` of a plain finite decimal text, or None for anything else (no exception)."""
+    try:
+        d = Decimal(text)
+    except InvalidOperation:
+        return None
+    return enclose_decimal(d) if d.is_finite() else None
+
+
 def enclose(value) -> tuple[float, float]:
     """Outward float enclosure ``(lo, hi)`` of an exact number (see ``to_fraction``)."""
     if isinstance(value, (float, np.floating)):
         if math.isnan(value):
             raise ValueError("NaN is not a number an interval can enclose")
         return float(value), float(value)
-    if isinstance(value, str):
-        try:
-            value = Decimal(value.strip())
-        except InvalidOperation as exc:
-            raise ValueError(f"not a decimal number: {value!r}") from exc
-    if isinstance(value, Decimal):
-        if not value.is_finite():
-            raise ValueError(f"not a finite number: {value}")
-        return enclose_decimal(value)
+    if isinstance(value, (str, Decimal)):
+        return enclose_decimal(_finite_decimal(value))
     return enclose_fraction(to_fraction(value))
 
 
