@@ -109,3 +109,24 @@ def test_tracked_platform_points_are_those_of_the_root_box():
         for i in range(3):
             for c in range(2):
                 assert got[i][c].lo == ref.lo[0, i, c] and got[i][c].hi == ref.hi[0, i, c]
+
+
+def test_direct_length_enclosures_equal_the_parser():
+    """One set of leg lengths as floats or plain decimal texts is enclosed directly: the same floats
+    and texts as the general parser; anything else goes through the parser (and its errors)."""
+    import pytest
+    from certkin.errors import InputError
+    from certkin.fk import _length_enclosures, _parse_lengths
+    robot = robot_from_dict(SIX)
+    for lengths in (["14.98", "15.38", "12"], " 14.98, 15.38 ,12 ", [14.98, 15.38, 12.0],
+                    [np.float64(14.98), 0.1, 1e-300], ["-0", "0.1", "1e5"], ["1_000", "2E-3", "7"],
+                    [np.float32(14.98), 1.0, 2.0], [15, 15, 12], np.array([14.98, 15.38, 12.0])):
+        rho, texts, batch = _length_enclosures(robot, lengths)
+        rows, ref_texts, ref_batch = _parse_lengths(robot, lengths)
+        assert texts == ref_texts and batch == ref_batch
+        assert rho.lo.tolist() == [[float(v.lo) for v in r] for r in rows]
+        assert rho.hi.tolist() == [[float(v.hi) for v in r] for r in rows]
+    for bad in (["-1", "2", "3"], ["1", "2"], ["1", "2", "3deg"], ["1", "nan", "3"], ["1", "2", "1e400"],
+                [1.0, 2.0, -3.0]):
+        with pytest.raises(InputError):
+            _length_enclosures(robot, bad)
