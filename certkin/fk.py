@@ -35,11 +35,13 @@ proved and every root's R lies inside the domain.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from decimal import Decimal, InvalidOperation
 import time
 
 import numpy as np
 
 from intervals import Interval, linalg, sqr
+from intervals.rounding import enclose_decimal
 
 from .engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
 from .errors import InputError
@@ -779,8 +781,6 @@ def _length_enclosures(robot, lengths):
     """(enclosures (M, legs), rows of exact texts, whether the input was a batch): ``_parse_lengths``
     as arrays, with a direct path for one set of floats or plain decimal texts (a float stands for
     its text repr(v), as there; anything else, or any doubt, takes ``_parse_lengths``)."""
-    from decimal import Decimal, InvalidOperation
-    from intervals.rounding import enclose_decimal
     items = lengths.split(",") if isinstance(lengths, str) else lengths
     if isinstance(items, (list, tuple)) and len(items) == robot.n_legs:
         lo, hi, texts = [], [], []
