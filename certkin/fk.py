@@ -407,7 +407,8 @@ def root_boxes(system, star_lo, star_hi, L: Interval, newton_steps: int = 6):
             step = np.linalg.solve(np.where(ok[:, None, None], J, np.eye(n)), f[..., None])[..., 0]
             step = np.where(ok[:, None] & np.isfinite(step), step, 0.0)
             x = x - step
-            if np.all(np.abs(step) <= 2.0 ** -40 * size):   # converged (a guess: the proof is below)
+            # converged (a guess: the proof is below): steps at the rounding level of x or of X*'s width
+            if np.all(np.abs(step) <= 2.0 ** -40 * np.maximum(size, np.abs(x))):
                 break
         f, J = system.float_system(x, L2)
         C, failed = float_inverse(J)
