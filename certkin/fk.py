@@ -44,6 +44,7 @@ import time
 import numpy as np
 
 from intervals import Interval, linalg, sqr
+from intervals.rounding import enclose_plain
 
 from .engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
 from .errors import InputError
@@ -453,7 +454,8 @@ def root_boxes(system, star_lo, star_hi, L: Interval, newton_steps: int = 6):
             step = np.linalg.solve(np.where(ok[:, None, None], J, np.eye(n)), f[..., None])[..., 0]
             step = np.where(ok[:, None] & np.isfinite(step), step, 0.0)
             x = x - step
-            if np.all(np.abs(step) <= 2.0 ** -40 * size):   # converged (a guess: the proof is below)
+            # converged (a guess: the proof is below): steps at the rounding level of x or of X*'s width
+            if np.all(np.abs(step) <= 2.0 ** -40 * np.maximum(size, np.abs(x))):
                 break
         f, J = system.float_system(x, L2)
         C, failed = float_inverse(J)
@@ -827,7 +829,6 @@ def _length_enclosures(robot, lengths):
     """(enclosures (M, legs), rows of exact texts, whether the input was a batch): ``_parse_lengths``
     as arrays, with a direct path for one set of floats or plain decimal texts (a float stands for
     its text repr(v), as there; anything else, or any doubt, takes ``_parse_lengths``)."""
-    from intervals.rounding import enclose_plain
     items = lengths.split(",") if isinstance(lengths, str) else lengths
     if isinstance(items, (list, tuple)) and len(items) == robot.n_legs:
         lo, hi, texts = [], [], []

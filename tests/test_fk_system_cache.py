@@ -126,6 +126,7 @@ def test_direct_length_enclosures_equal_the_parser():
         assert texts == ref_texts and batch == ref_batch
         assert rho.lo.tolist() == [[float(v.lo) for v in r] for r in rows]
         assert rho.hi.tolist() == [[float(v.hi) for v in r] for r in rows]
-    for bad in (["-1", "2", "3"], ["1", "2"], ["1", "2", "3deg"], ["1", "nan", "3"], ["1", "2", "1e400"], [1.0, 2.0, -3.0]):
+    for bad in (["-1", "2", "3"], ["1", "2"], ["1", "2", "3deg"], ["1", "nan", "3"], ["1", "2", "1e400"],
+                [1.0, 2.0, -3.0]):
         with pytest.raises(InputError):
             _length_enclosures(robot, bad)

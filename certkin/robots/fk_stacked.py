@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from intervals import Interval, mul, sqr
-from intervals.rounding import down, up
+from intervals.rounding import down, down_sum, up, up_sum
 
 from .fk_systems import FKSystem
 
@@ -40,11 +40,13 @@ def _scaled(x: Interval, k: float) -> Interval:
 
 
 def _sum_last(v: Interval) -> Interval:
-    """v[..., 0] + v[..., 1] + ... (left to right, as FKSystem sums)."""
-    out = v[..., 0]
-    for k in range(1, v.shape[-1]):
-        out = out + v[..., k]
-    return out
+    """v[..., 0] + v[..., 1] + ... (left to right, as FKSystem sums; Interval.__add__'s operations
+    on the endpoint arrays)."""
+    lo, hi = v.lo, v.hi
+    slo, shi = lo[..., 0], hi[..., 0]
+    for k in range(1, lo.shape[-1]):
+        slo, shi = down_sum(slo + lo[..., k]), up_sum(shi + hi[..., k])
+    return Interval._raw(slo, shi)
 
 
 class StackedFKSystem(FKSystem):
@@ -90,7 +92,8 @@ class StackedFKSystem(FKSystem):
     def rotated(self, R: Interval) -> Interval:
         """R b_i for every leg: (..., legs, dim) for R (..., dim, dim)."""
         b = self.b
-        prod = mul(R[..., None, :, :], Interval._raw(b.lo[:, None, :], b.hi[:, None, :]))
+        prod = mul(Interval._raw(R.lo[..., None, :, :], R.hi[..., None, :, :]),
+                   Interval._raw(b.lo[:, None, :], b.hi[:, None, :]))
         return _sum_last(prod)
 
     def _planar_drb(self) -> Interval:
