@@ -191,9 +191,14 @@ class FKProblem:
         lo[hc4_moved], hi[hc4_moved] = hlo[hc4_moved], hhi[hc4_moved]
         creason[hc4_moved] = 7
         # 1. the position is linear given the rotation: Gauss-Seidel contraction (after HC4: one
-        #    "hc4" contraction with the evidence P)
+        #    "hc4" contraction with the evidence P; spatial robots: its own "position" contraction
+        #    after the "hc4" one, on the centred enclosure of R b_i over the box after HC4)
         position_moved = np.zeros(n_box, dtype=bool)
-        rb = system.rotated(system.rotation(Interval._raw(lo, hi)))  # the rotation is final now
+        if self.slopes:
+            hc4_box = (lo.copy(), hi.copy())
+            rb = system.rotated_centred(Interval._raw(lo, hi))       # the rotation is final now
+        else:
+            rb = system.rotated(system.rotation(Interval._raw(lo, hi)))  # the rotation is final now
         if system.n_pos:
             plo, phi_, pempty, P = contract_position(system, Interval._raw(lo, hi), L, rb=rb)
             pempty &= status == OPEN
@@ -203,6 +208,8 @@ class FKProblem:
             position_moved = ~pempty & (shrink >= SHRINK) & (status == OPEN)
             lo[position_moved], hi[position_moved] = plo[position_moved], phi_[position_moved]
             creason[position_moved & ~hc4_moved] = 5
+            if self.slopes:
+                creason[position_moved] = 5
             cev["P"] = (position_moved, P[position_moved].astype(np.float32))
             P_empty = P
         # 2. exclusion by one equation
@@ -312,6 +319,10 @@ class FKProblem:
         stages = [(lo, hi), (lo2, hi2)]
         kcode = 9 if self.slopes else 3
         reasons, stage_evidence = [creason, np.full(n_box, kcode)], [cev, cev2]
+        if self.slopes:      # "hc4" (no evidence), then "position" (P), then the slope steps
+            stages.insert(0, hc4_box)
+            reasons.insert(0, np.full(n_box, 7))
+            stage_evidence.insert(0, {})
         if cev3:
             stages.append((lo3, hi3))
             reasons.append(np.full(n_box, kcode))
