@@ -95,16 +95,17 @@ class System:
             out.append([sum((R[k][j] * bi[j] for j in range(1, self.dim)), R[k][0] * bi[0]) for k in range(self.dim)])
         return out
 
-    def rotated_box(self, z):
+    def rotated_box(self, z, centre=None):
         """R b_i over the box z: the natural enclosure intersected, for a quaternion, with the centred
-        form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(y) (z_r − c_r), c the float midpoint of the box and y ∋ (x + c)/2:
-        exact since R b_i is quadratic in q, so every value of R b_i over the box lies in both."""
+        form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(y) (z_r − c_r), c the float midpoint of the box (of ``centre``,
+        a box given as (lo, hi) pairs or intervals, if given) and y ∋ (x + c)/2: exact since R b_i is
+        quadratic in q, so every value of R b_i over the box lies in both."""
         rb = self.rotated(self.rotation(z), self.b)
         if self.planar or all((v.a == v.b) is True for v in z):
             return rb
         p = self.n_pos
         c = []
-        for v in z:
+        for v in (z if centre is None else _intervals(centre)):
             lo, hi = float(v.a), float(v.b)
             c.append(min(max(0.5 * lo + 0.5 * hi, lo), hi))
         zc = [iv.mpf(x) for x in c]
@@ -249,9 +250,10 @@ class System:
             z[k] = _root(z[k], 1 - others)
             if z[k] is None:
                 return None
-        # 2. forward: R, u_i = R b_i, e_i = (u_i − a_i) + p
+        # 2. forward: R, u_i = R b_i (natural ∩ centred around the float midpoint of the given box),
+        #    e_i = (u_i − a_i) + p
         R = self.rotation(z)
-        u = self.rotated(R, self.b)
+        u = self.rotated_box(z, centre=box)
         a, b = self.a, self.b
         e = [[(u[i][k] - a[i][k]) + z[k] if p else u[i][k] - a[i][k] for k in range(dim)] for i in range(legs)]
         # 3. backward through each leg equation

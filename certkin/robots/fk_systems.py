@@ -145,14 +145,17 @@ class FKSystem:
             J[:, legs, k] = 2.0 * X[:, k]
         return J
 
-    def rotated_centred(self, X: Interval) -> Interval:
-        """R b_i over the boxes (N, legs, dim): the natural enclosure (``rotated``) intersected, for a
-        quaternion, with the centred form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r), c = X.mid()
-        and Y ∋ (x + c)/2 — exact for R b_i, quadratic in q (docs/soundness.md §8)."""
-        rb = self.rotated(self.rotation(X))
+    def rotated_centred(self, X: Interval, c: np.ndarray | None = None, rb: Interval | None = None) -> Interval:
+        """R b_i over the boxes (N, legs, dim): the natural enclosure (``rotated``, or ``rb``) intersected,
+        for a quaternion, with the centred form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r), c = X.mid()
+        unless given (any float points) and Y ∋ (x + c)/2 — exact for R b_i, quadratic in q
+        (docs/soundness.md §8)."""
+        if rb is None:
+            rb = self.rotated(self.rotation(X))
         if self.kind == "planar-3rpr":
             return rb
-        c = X.mid()
+        if c is None:
+            c = X.mid()
         p = self.n_pos
         acc = self.rotated(self.rotation(Interval._raw(c, c.copy())))
         with np.errstate(invalid="ignore", over="ignore"):
