@@ -232,12 +232,17 @@ class FKProblem:
         lo[hc4_moved], hi[hc4_moved] = hlo[hc4_moved], hhi[hc4_moved]
         creason[hc4_moved] = 7
         # 1. the position is linear given the rotation: Gauss-Seidel contraction (after HC4: one
-        #    "hc4" contraction with the evidence P)
+        #    "hc4" contraction with the evidence P; spatial robots: its own "position" contraction
+        #    after the "hc4" one, on the centred enclosure of R b_i over the box after HC4)
         #    (steps 1 and 2 evaluate only the boxes HC4 left, ``live``: the others are decided)
         position_moved = np.zeros(n_box, dtype=bool)
         live = np.nonzero(~hempty)[0]
         Xl, Ll = Interval._raw(lo[live], hi[live]), Interval._raw(L.lo[live], L.hi[live])
-        rbl = system.rotated(system.rotation(Xl))  # the rotation is final now
+        if self.slopes:
+            hc4_box = (lo.copy(), hi.copy())
+            rbl = system.rotated_centred(Xl)                 # the rotation is final now
+        else:
+            rbl = system.rotated(system.rotation(Xl))        # the rotation is final now
         rb = Interval._raw(np.zeros((n_box,) + rbl.shape[1:]), np.zeros((n_box,) + rbl.shape[1:]))
         rb.lo[live], rb.hi[live] = rbl.lo, rbl.hi
         if system.n_pos:
@@ -251,6 +256,8 @@ class FKProblem:
             position_moved = ~pempty & (shrink >= SHRINK) & (status == OPEN)
             lo[position_moved], hi[position_moved] = plo[position_moved], phi_[position_moved]
             creason[position_moved & ~hc4_moved] = 5
+            if self.slopes:
+                creason[position_moved] = 5
             cev["P"] = (position_moved, P[position_moved].astype(np.float32))
             P_empty = P
         # 2. exclusion by one equation
@@ -368,6 +375,10 @@ class FKProblem:
         stages = [(lo, hi), (lo2, hi2)] + [box for box, _ in more]
         reasons = [creason] + [np.full(n_box, kcode)] * (1 + len(more))
         stage_evidence = [cev, cev2] + [ev for _, ev in more]
+        if self.slopes:      # "hc4" (no evidence), then "position" (P), then the slope steps
+            stages.insert(0, hc4_box)
+            reasons.insert(0, np.full(n_box, 7))
+            stage_evidence.insert(0, {})
         return Decisions(status, reason, evidence, contracted=stages, contraction_reason=reasons,
                          contraction_evidence=stage_evidence, split=split)
 

@@ -95,10 +95,33 @@ class System:
             out.append([sum((R[k][j] * bi[j] for j in range(1, self.dim)), R[k][0] * bi[0]) for k in range(self.dim)])
         return out
 
+    def rotated_box(self, z, centre=None):
+        """R b_i over the box z: the natural enclosure intersected, for a quaternion, with the centred
+        form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(y) (z_r − c_r), c the float midpoint of the box (of ``centre``,
+        a box given as (lo, hi) pairs or intervals, if given) and y ∋ (x + c)/2: exact since R b_i is
+        quadratic in q, so every value of R b_i over the box lies in both."""
+        rb = self.rotated(self.rotation(z), self.b)
+        if self.planar or all((v.a == v.b) is True for v in z):
+            return rb
+        p = self.n_pos
+        c = []
+        for v in (z if centre is None else _intervals(centre)):
+            lo, hi = float(v.a), float(v.b)
+            c.append(min(max(0.5 * lo + 0.5 * hi, lo), hi))
+        zc = [iv.mpf(x) for x in c]
+        acc = self.rotated(self.rotation(zc), self.b)
+        rby = self.rotated(self.rotation(ad.variables([(v + x) / 2 for v, x in zip(z, zc)])), self._lift[1])
+        grads = [[ad.gradient(rby[i][k], self.n)[1] for k in range(self.dim)] for i in range(self.legs)]
+        for r in range(p, self.n):                  # in the solver's order (FKSystem.rotated_centred)
+            d = z[r] - zc[r]
+            for i in range(self.legs):
+                for k in range(self.dim):
+                    acc[i][k] = acc[i][k] + grads[i][k][r] * d
+        return [[iv.mpf([max(u.a, v.a), min(u.b, v.b)]) for u, v in zip(ru, rv)] for ru, rv in zip(rb, acc)]
+
     def equations(self, z, dual=False):
         a, b = self._lift if dual else (self.a, self.b)
-        R = self.rotation(z)
-        rb = self.rotated(R, b)
+        rb = self.rotated(self.rotation(z), b) if dual else self.rotated_box(z)
         out = []
         for i in range(self.legs):
             total = None
@@ -127,7 +150,7 @@ class System:
 
     def position_system(self, box):
         z = _intervals(box)
-        rb = self.rotated(self.rotation(z), self.b)
+        rb = self.rotated_box(z)
         a = self.a
         arb = [sum((a[i][k] * rb[i][k] for k in range(1, self.dim)), a[i][0] * rb[i][0]) for i in range(self.legs)]
         D, g = [], []
@@ -147,7 +170,7 @@ class System:
         zc = [iv.mpf(x) for x in c]
         y = [(zi + ci) / 2 for zi, ci in zip(z, zc)]              # holds (x + c)/2 for every x in the box
         p, n, dim = self.n_pos, self.n, self.dim
-        rb = self.rotated(self.rotation(z), self.b)
+        rb = self.rotated_box(z)
         rbc = self.rotated(self.rotation(zc), self.b)
         rby = self.rotated(self.rotation(ad.variables(y)), self._lift[1])   # Duals: ∇(R b_i) over y
         rows = []
@@ -227,9 +250,10 @@ class System:
             z[k] = _root(z[k], 1 - others)
             if z[k] is None:
                 return None
-        # 2. forward: R, u_i = R b_i, e_i = (u_i − a_i) + p
+        # 2. forward: R, u_i = R b_i (natural ∩ centred around the float midpoint of the given box),
+        #    e_i = (u_i − a_i) + p
         R = self.rotation(z)
-        u = self.rotated(R, self.b)
+        u = self.rotated_box(z, centre=box)
         a, b = self.a, self.b
         e = [[(u[i][k] - a[i][k]) + z[k] if p else u[i][k] - a[i][k] for k in range(dim)] for i in range(legs)]
         # 3. backward through each leg equation

@@ -145,6 +145,27 @@ class FKSystem:
             J[:, legs, k] = 2.0 * X[:, k]
         return J
 
+    def rotated_centred(self, X: Interval, c: np.ndarray | None = None, rb: Interval | None = None) -> Interval:
+        """R b_i over the boxes (N, legs, dim): the natural enclosure (``rotated``, or ``rb``) intersected,
+        for a quaternion, with the centred form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r), c = X.mid()
+        unless given (any float points) and Y ∋ (x + c)/2 — exact for R b_i, quadratic in q
+        (docs/soundness.md §8)."""
+        if rb is None:
+            rb = self.rotated(self.rotation(X))
+        if self.kind == "planar-3rpr":
+            return rb
+        if c is None:
+            c = X.mid()
+        p = self.n_pos
+        acc = self.rotated(self.rotation(Interval._raw(c, c.copy())))
+        with np.errstate(invalid="ignore", over="ignore"):
+            Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))
+            for r, drb in enumerate(self._rotated_derivatives(Y)):
+                k = p + r
+                d = Interval._raw(down_sum(X.lo[:, k] - c[:, k]), up_sum(X.hi[:, k] - c[:, k]))
+                acc = acc + drb * d[:, None, None]
+        return Interval._raw(np.fmax(rb.lo, acc.lo), np.fmin(rb.hi, acc.hi))
+
     def slope(self, X: Interval, c: np.ndarray, rb: Interval | None = None, rbc: Interval | None = None) -> Interval:
         """Enclosure of slope matrices of the equations at the points ``c`` (N, n) in the boxes X:
         (N, n, n) holding, for every x in X, a matrix S with f(x) − f(c) = S (x − c) (``rb``,
