@@ -137,6 +137,13 @@ def _vector(components) -> Poly:
     return Poly(lo, hi)
 
 
+def _stacked(polys, axis) -> Poly:
+    """Polynomials of one batch shape stacked on a new batch ``axis``, padded to one degree."""
+    n = max(p.degree for p in polys)
+    axis = axis if axis >= 0 else axis - 1
+    return Poly(np.stack([padded(p.lo, n) for p in polys], axis), np.stack([padded(p.hi, n) for p in polys], axis))
+
+
 def _sub(a, b):
     return [x - y for x, y in zip(a, b)]
 
@@ -204,6 +211,12 @@ class _Pose:
                                   np.stack([V[k].hi, np.broadcast_to(w[k].hi[:, None], shape)], -1)))
         self.R = R
         return self
+
+    def vector(self) -> Poly:
+        """Polynomial legs as one (S, n, 3) Poly (built once)."""
+        if getattr(self, "_vector", None) is None:
+            self._vector = _stacked(self.legs, 2)
+        return self._vector
 
     def rows(self, idx):
         """The same pose data restricted to the batch rows ``idx``."""
@@ -419,6 +432,9 @@ class Constraints:
     # ----- the functions of the pose (each returns a list of (M,) or (M, X) values) ------------
     def _legs_sq(self, pose: _Pose):
         L = pose.legs
+        if isinstance(L[0], Poly):
+            vec = pose.vector()
+            return [(vec * vec).sum(axis=-1)]
         return [_dot(L, L)]
 
     def _joint_functions(self, pose: _Pose):
@@ -443,6 +459,8 @@ class Constraints:
         """Per pair: line distance² − r² numerator E, Δ = |u×v|² and the feet numerators
         s, s − Δ, t, t − Δ of the common perpendicular (docs/soundness.md)."""
         L = pose.legs
+        if isinstance(L[0], Poly):
+            return self._pair_line_polynomials(pose.vector())
         u = [_cols(L[k], self.I) for k in range(3)]
         v = [_cols(L[k], self.J) for k in range(3)]
         w0 = self.w0
@@ -453,6 +471,28 @@ class Constraints:
         wc = _dot(w0, cross)
         s_num, t_num = b * e - c * d, a * e - b * d
         return [wc * wc - self.r2 * delta, delta, s_num, s_num - delta, t_num, t_num - delta]
+
+    def _pair_line_polynomials(self, vec: Poly):
+        """``_pair_line_functions`` for polynomial legs ``vec`` (S, n, 3): the same formulas, with
+        the products of one stage stacked into one outward-rounded product."""
+        u, v = vec[:, self.I], vec[:, self.J]                                   # (S, P, 3)
+        W = self._w0_vector()                                                   # (P, 3), degree 0
+        _, first, second = slice(None), [1, 2, 0], [2, 0, 1]
+        abc = (_stacked([u, u, v], 2) * _stacked([u, v, v], 2)).sum(axis=-1)    # a, b, c: (S, P, 3)
+        de = (_stacked([u, v], 2) * W[:, None]).sum(axis=-1)                    # d, e: (S, P, 2)
+        pq = _stacked([u[_, _, first], u[_, _, second]], 2) * _stacked([v[_, _, second], v[_, _, first]], 2)
+        cross = pq[_, _, 0] - pq[_, _, 1]                                       # u × v: (S, P, 3)
+        delta = (cross * cross).sum(axis=-1)
+        wc = (cross * W).sum(axis=-1)
+        a, b, c, d, e = abc[_, _, 0], abc[_, _, 1], abc[_, _, 2], de[_, _, 0], de[_, _, 1]
+        prod = _stacked([b, c, a, b, wc], 2) * _stacked([e, d, e, d, wc], 2)    # be, cd, ae, bd, wc²
+        s_num, t_num = prod[_, _, 0] - prod[_, _, 1], prod[_, _, 2] - prod[_, _, 3]
+        return [prod[_, _, 4] - self.r2 * delta, delta, s_num, s_num - delta, t_num, t_num - delta]
+
+    def _w0_vector(self) -> Poly:
+        if getattr(self, "_w0_poly", None) is None:
+            self._w0_poly = _stacked([Poly.from_coefficients([x]) for x in self.w0], 1)
+        return self._w0_poly
 
     def _pair_end_functions(self, pose: _Pose):
         """Per end point (A_i, B_i vs segment j; A_j, B_j vs segment i): τ numerator, τ − 1
@@ -930,21 +970,31 @@ def crossing_points(coefficients, tlo, thi, iterations: int = 60, radii=None):
     two ends have the same sign.  With ``radii`` (the coefficients' uncertainty),
     also an estimate of the estimate's error, (Σ r_k |t|^k + 2⁻⁴⁸ Σ |c_k t^k|) / |p'(t)|.
     A heuristic for cutting boxes, not a proof."""
+    coefficients = np.asarray(coefficients, dtype=np.float64)
+    m, n = coefficients.shape
     c = np.where(np.isnan(coefficients), 0.0, coefficients)
-    a, b = np.array(tlo, dtype=np.float64), np.array(thi, dtype=np.float64)
-    k = np.arange(c.shape[1], dtype=np.float64)
+    a = np.broadcast_to(np.asarray(tlo, dtype=np.float64), (m,))
+    b = np.broadcast_to(np.asarray(thi, dtype=np.float64), (m,))
+    k = np.arange(n, dtype=np.float64)
     dc = c[:, 1:] * k[1:]
 
-    def powers(x):
-        return np.power(x[:, None], k)
+    def powers(x):                      # x^0, ..., x^(n−1) by repeated products
+        out = np.empty((len(x), n))
+        out[:, 0] = 1.0
+        if n > 1:
+            out[:, 1:] = x[:, None]
+            np.cumprod(out[:, 1:], axis=1, out=out[:, 1:])
+        return out
 
     fa = np.einsum("ij,ij->i", powers(a), c)
     fb = np.einsum("ij,ij->i", powers(b), c)
     bracket = (np.sign(fa) * np.sign(fb) < 0) & ~np.isnan(coefficients[:, 0])
+    rows = np.nonzero(bracket)[0]           # only the bracketed rows are iterated
+    c, dc, a, b, fa, fb = c[rows], dc[rows], a[rows], b[rows], fa[rows], fb[rows]
     with np.errstate(all="ignore"):
-        x = np.where(bracket, a - fa * (b - a) / (fb - fa), 0.5 * (a + b))     # regula falsi start
+        x = a - fa * (b - a) / (fb - fa)                                           # regula falsi start
     x = np.where((x > a) & (x < b), x, 0.5 * (a + b))
-    for _ in range(iterations):
+    for _ in range(iterations if len(rows) else 0):
         xp = powers(x)
         f = np.einsum("ij,ij->i", xp, c)
         df = np.einsum("ij,ij->i", xp[:, :-1], dc)
@@ -958,13 +1008,15 @@ def crossing_points(coefficients, tlo, thi, iterations: int = 60, radii=None):
         x = np.where((newton > a) & (newton < b), newton,
                      np.where((secant > a) & (secant < b), secant, 0.5 * (a + b)))
         x = np.where(f == 0, previous, x)
-        if np.all((np.abs(x - previous) <= 2.0 ** -50 * np.abs(x)) | ~bracket):
+        if np.all(np.abs(x - previous) <= 2.0 ** -50 * np.abs(x)):
             break
-    t = np.where(bracket, x, np.nan)
+    t = np.full(m, np.nan)
+    t[rows] = x
     if radii is None:
         return t
-    xp = np.abs(powers(np.where(bracket, x, 0.0)))
+    xp = np.abs(powers(x))
+    err = np.full(m, np.nan)
     with np.errstate(all="ignore"):
-        err = (np.einsum("ij,ij->i", xp, radii) + 2.0 ** -48 * np.einsum("ij,ij->i", xp, np.abs(c))) \
+        err[rows] = (np.einsum("ij,ij->i", xp, radii[rows]) + 2.0 ** -48 * np.einsum("ij,ij->i", xp, np.abs(c))) \
             / np.abs(np.einsum("ij,ij->i", xp[:, :-1], dc))
-    return t, np.where(bracket, err, np.nan)
+    return t, err

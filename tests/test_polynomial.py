@@ -197,7 +197,8 @@ def test_compiled_model_on_polynomials_matches_mpmath():
 @given(st.lists(st.floats(min_value=-1e300, max_value=1e300, allow_nan=False), min_size=1, max_size=30),
        st.lists(st.floats(min_value=0.0, max_value=1e6, allow_nan=False), min_size=30, max_size=30))
 def test_sum_bounds_contain_the_exact_sum(values, widths):
-    """``rounding.sum_bounds`` (float sums widened by 4(n + 1)u Σ|x|) brackets the exact
+    """``rounding.sum_bounds`` (up to four terms: outward additions in turn; more: float sums
+    widened by 4(n + 1)u Σ|x|) brackets the exact
     rational sums of the lower and of the upper ends, whatever numpy's summation order."""
     from intervals.rounding import sum_bounds
     lo = np.array(values)

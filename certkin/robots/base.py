@@ -24,6 +24,7 @@ from intervals.elementary import pi as PI
 
 from ..errors import RobotFileError
 
+_RADIANS_PER_DEGREE = PI / Interval(180)   # an enclosure of π/180 (outward division)
 _COMPILED: dict = {}  # (kind, n_legs, what) -> CompiledExprs, shared by robots of one kind
 
 
@@ -48,10 +49,12 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
         if not angle:
             raise RobotFileError(source, field, f"'deg' is only allowed for angles, got {value!r}")
         try:
-            deg = Interval(text[:-3].strip())
-        except ValueError:
+            lo, hi = enclose(text[:-3].strip())
+        except (ValueError, TypeError):
             raise RobotFileError(source, field, f"not a number of degrees: {value!r}") from None
-        return deg * PI / Interval(180), text
+        if not (math.isfinite(lo) and math.isfinite(hi)):
+            raise RobotFileError(source, field, f"not a number of degrees: {value!r}")
+        return Interval._raw(np.array(lo), np.array(hi)) * _RADIANS_PER_DEGREE, text
     if isinstance(text, float):
         # tomllib with parse_float=Decimal never gives floats; Python callers may
         if not math.isfinite(text):
