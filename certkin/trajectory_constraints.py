@@ -498,6 +498,8 @@ class Constraints:
         """Per end point (A_i, B_i vs segment j; A_j, B_j vs segment i): τ numerator, τ − 1
         numerator, point-line numerator, |P − X|² − r², |P − Y|² − r², |Y − X|² (docs/soundness.md)."""
         L = pose.legs
+        if isinstance(L[0], Poly):
+            return self._pair_end_polynomials(pose.vector())
         u = [_cols(L[k], self.I) for k in range(3)]
         v = [_cols(L[k], self.J) for k in range(3)]
         w0, r2 = self.w0, self.r2
@@ -512,6 +514,27 @@ class Constraints:
             qe = _sub(q, seg)
             ends += [tau, tau - seg2, _dot(qc, qc) - r2 * seg2, _dot(q, q) - r2, _dot(qe, qe) - r2, seg2]
         return ends
+
+    def _pair_end_polynomials(self, vec: Poly):
+        """``_pair_end_functions`` for polynomial legs ``vec`` (S, n, 3): the four end points'
+        terms stacked on one axis, each stage one outward-rounded product."""
+        u, v = vec[:, self.I], vec[:, self.J]                                   # (S, P, 3)
+        _, first, second = slice(None), [1, 2, 0], [2, 0, 1]
+        W = self._w0_vector()
+        W = Poly(np.broadcast_to(padded(W.lo, u.degree), u.lo.shape), np.broadcast_to(padded(W.hi, u.degree), u.hi.shape))
+        q = _stacked([W, W + u, -W, v - W], 2)                                  # the end points − X: (S, P, 4, 3)
+        seg = _stacked([v, v, u, u], 2)                                         # the other segment
+        ac = (_stacked([u, v], 2) * _stacked([u, v], 2)).sum(axis=-1)           # |u|², |v|²: (S, P, 2)
+        seg2 = ac[_, _, [1, 1, 0, 0]]
+        tau = (q * seg).sum(axis=-1)
+        pq = _stacked([q[_, _, _, first], q[_, _, _, second]], 2) * _stacked([seg[_, _, _, second], seg[_, _, _, first]], 2)
+        qc = pq[_, _, 0] - pq[_, _, 1]                                          # q × seg: (S, P, 4, 3)
+        qc2 = (qc * qc).sum(axis=-1)
+        qe = q - seg
+        sq = (_stacked([q, qe], 2) * _stacked([q, qe], 2)).sum(axis=-1)         # |q|², |q − seg|²: (S, P, 2, 4)
+        r2 = self.r2[:, None]
+        terms = [tau, tau - seg2, qc2 - r2 * seg2, sq[_, _, 0] - r2, sq[_, _, 1] - r2, seg2]
+        return [t[_, _, e] for e in range(4) for t in terms]
 
     # ----- evaluation -------------------------------------------------------------------
     def polynomials(self, linear, P0: Interval) -> dict:

@@ -62,6 +62,8 @@ def padded(a, n):
 
 
 _BERNSTEIN = {}
+_TO_POWERS: dict = {}    # order -> _taylor_to_powers(order)
+_HALF = Interval(0.5)
 _LIMIT = [None]          # degree limit of products (``degree_limit``), None: exact
 
 
@@ -216,32 +218,61 @@ class Poly:
         return _bernstein_taylor(lo, hi, np.broadcast_to(a, shape), np.broadcast_to(b, shape), n)
 
 
+def _taylor_to_powers(order: int) -> tuple[np.ndarray, np.ndarray]:
+    """Enclosure of M[k, j] = C(k, j) (−1/2)^(k−j) / k!: Σ_k a_k (t − 1/2)^k / k! = Σ_j (Σ_k a_k M[k, j]) t^j."""
+    if order not in _TO_POWERS:
+        lo = np.zeros((order + 1, order + 1))
+        hi = np.zeros((order + 1, order + 1))
+        for k in range(order + 1):
+            for j in range(k + 1):
+                lo[k, j], hi[k, j] = enclose_fraction(Fraction(comb(k, j) * (-1) ** (k - j), 2 ** (k - j) * factorial(k)))
+        _TO_POWERS[order] = (lo, hi)
+    return _TO_POWERS[order]
+
+
 def _trig(x: Poly, kind: str, order: int) -> Poly:
     """cos or sin of x(t) = c_0 + c_1 t for t ∈ [0, 1]: Taylor expansion at t = 1/2,
     f(m + s) = Σ_{k≤order} f⁽ᵏ⁾(m) s^k / k! + R with s = c_1 (t − 1/2), m = c_0 + c_1/2 and
     |R| ≤ |s|^(order+1)/(order+1)! ≤ (|c_1|/2)^(order+1)/(order+1)! (Lagrange; |f⁽ᵏ⁾| ≤ 1).
+    The coefficient of t^j is Σ_k f⁽ᵏ⁾(m) c_1^k M[k, j] with the enclosed constants M of
+    ``_taylor_to_powers``: one outward-rounded product and sum for all of them.
     ``order`` None: the least order whose remainder bound is below 2⁻⁶⁰ (at most 12); the
-    bound actually added is computed in interval arithmetic either way."""
+    bound actually added is computed with upward rounding either way."""
     if x.degree > 1:
         raise NotImplementedError("cos/sin of a polynomial of degree above 1")
     c0 = x.coefficient(0)
     c1 = x.coefficient(1) if x.degree == 1 else Interval._raw(np.zeros_like(x.lo[..., 0]), np.zeros_like(x.lo[..., 0]))
-    half = Interval(0.5)
-    m = c0 + c1 * half
-    s = Poly.from_coefficients([-(c1 * half), c1])
-    r = float(np.max(np.maximum(np.abs(c1.lo), np.abs(c1.hi)), initial=0.0)) / 2
+    m = c0 + mul(c1, _HALF)
+    mag = np.maximum(np.abs(c1.lo), np.abs(c1.hi))
+    r = float(np.max(mag, initial=0.0)) / 2
     if order is None:         # the least order whose remainder is below 2⁻⁶⁰ (at most 12)
         order = next((k for k in range(1, 12) if r ** (k + 1) / factorial(k + 1) <= 2.0 ** -60), 12)
     cm, sm = _el.cos(m), _el.sin(m)
-    derivs = [cm, -sm, -cm, sm] if kind == "cos" else [sm, cm, -sm, -cm]
-    total = Poly.from_coefficients([derivs[0]])
-    power = Poly.from_coefficients([Interval(1.0)])
+    shape = np.broadcast_shapes(np.shape(cm.lo), np.shape(c1.lo))
+    # f⁽ᵏ⁾(m) for k = 0..order (the cycle cos, −sin, −cos, sin or sin, cos, −sin, −cos) and c_1^k
+    cycle = [cm, -sm, -cm, sm] if kind == "cos" else [sm, cm, -sm, -cm]
+    order_k = np.arange(order + 1) % 4
+    dlo = np.stack([np.broadcast_to(v.lo, shape) for v in cycle], -1)[..., order_k]
+    dhi = np.stack([np.broadcast_to(v.hi, shape) for v in cycle], -1)[..., order_k]
+    plo, phi = np.ones(shape + (order + 1,)), np.ones(shape + (order + 1,))
+    power = Interval._raw(plo[..., 0], phi[..., 0])
     for k in range(1, order + 1):
-        power = power * s
-        total = total + power * (derivs[k % 4] / float(factorial(k)))
-    mag = Interval._raw(np.maximum(np.abs(c1.lo), np.abs(c1.hi)), np.maximum(np.abs(c1.lo), np.abs(c1.hi)))
-    rem = (mag * half) ** (order + 1) / Interval(factorial(order + 1))
-    return total + Interval._raw(-rem.hi, rem.hi)
+        power = mul(power, c1)
+        plo[..., k], phi[..., k] = power.lo, power.hi
+    a = mul(Interval._raw(dlo, dhi), Interval._raw(plo, phi))
+    Mlo, Mhi = _taylor_to_powers(order)
+    terms = mul(Interval._raw(a.lo[..., :, None], a.hi[..., :, None]), Interval._raw(Mlo, Mhi))   # (..., k, j)
+    lo, hi = sum_bounds(terms.lo, terms.hi, axis=-2)
+    rem = up(mag * 0.5)                                    # (|c_1|/2)^(order+1)/(order+1)!, rounded up
+    bound = rem
+    for _ in range(order):
+        bound = up(bound * rem)
+    bound = up(bound / float(factorial(order + 1)))        # exact divisor (order ≤ 12)
+    lo[..., 0] = down_sum(lo[..., 0] - bound)
+    hi[..., 0] = up_sum(hi[..., 0] + bound)
+    if _LIMIT[0] is not None:
+        lo, hi = _fold(lo, hi, _LIMIT[0])
+    return Poly(lo, hi)
 
 
 def cos(x: Poly, order: int | None = None) -> Poly:
