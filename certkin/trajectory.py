@@ -348,13 +348,16 @@ def _conclude(r: TrajectoryResult) -> None:
     state = L["state"]
     dcol = c.det_column
     certain = False
+    lo_min, hi_min = L["mlo"].min(axis=0), L["mhi"].min(axis=0)
+    open_cols = (state != SATISFIED).any(axis=0)
     for k, inst in enumerate(c.instances):
-        lo, hi = L["mlo"][:, k], L["mhi"][:, k]
         if k == dcol:
             continue
         entry = inst.to_json()
-        entry["margin"] = _interval(lo.min(), hi.min())
+        entry["margin"] = _interval(lo_min[k], hi_min[k])
         r.margins.append(entry)
+        if not open_cols[k]:
+            continue
         for a, b in _runs(state[:, k] != SATISFIED, s_lo, s_hi):
             sure = bool((state[a:b + 1, k] == VIOLATED).any())
             certain |= sure

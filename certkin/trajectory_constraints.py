@@ -38,7 +38,8 @@ from intervals import Interval, cos, sqr, sqrt, stack
 from intervals.autodiff import Dual
 from intervals.linalg import laplace_det
 from intervals.polynomial import Poly, bernstein_weights, degree_limit, padded, ratio_range
-from intervals.rounding import down, up
+from intervals.interval import mul
+from intervals.rounding import down, down_sum, sum_bounds, up, up_sum
 
 from .errors import InputError
 from .robots.base import parse_number
@@ -262,11 +263,14 @@ _SIGNS = np.where((_SUBSETS.sum(axis=1) + 3) % 2 == 0, 1.0, -1.0)
 
 
 def _det3(X):
-    """det of 3 x 3 matrices of polynomials, X indexed [..., row, col] over the batch axes."""
-    e = lambda r, c: X[(slice(None),) * (X.ndim - 2) + (r, c)]  # noqa: E731
-    return (e(0, 0) * (e(1, 1) * e(2, 2) - e(1, 2) * e(2, 1))
-            - e(0, 1) * (e(1, 0) * e(2, 2) - e(1, 2) * e(2, 0))
-            + e(0, 2) * (e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0)))
+    """det of 3 x 3 matrices of polynomials, X indexed [..., row, col] over the batch axes:
+    x00 (x11 x22 − x12 x21) − x01 (x10 x22 − x12 x20) + x02 (x10 x21 − x11 x20), the six
+    products of the minors in one stacked product and the three of row 0 in another."""
+    pre = (slice(None),) * (X.ndim - 2)
+    p = X[pre + ([1] * 6, [1, 2, 0, 2, 0, 1])] * X[pre + ([2] * 6, [2, 1, 2, 0, 1, 0])]      # (..., 6)
+    minors = p[pre + (slice(0, None, 2),)] - p[pre + (slice(1, None, 2),)]                 # (..., 3)
+    t = X[pre + ([0, 0, 0], [0, 1, 2])] * minors
+    return t[pre + (0,)] - t[pre + (1,)] + t[pre + (2,)]
 
 
 def _gough_det_poly(V, w, base, C0):
@@ -274,15 +278,19 @@ def _gough_det_poly(V, w, base, C0):
 
     Rows [l_i, (A_i − C) × l_i] = [V_i + t w, (A_i − C_0 − t w) × R b_i] with
     R b_i = V_i + A_i − C_0 constant: both blocks are linear in t."""
-    Rb = [V[k] + (base[k][None, :] - C0[k][:, None]) for k in range(3)]        # (M, 6)
-    arm0 = [base[k][None, :] - C0[k][:, None] for k in range(3)]
-    m0 = _cross(arm0, Rb)
     shape = V[0].shape
-    wb = [Interval._raw(np.broadcast_to(w[k].lo[:, None], shape), np.broadcast_to(w[k].hi[:, None], shape))
-          for k in range(3)]
-    m1 = _cross(wb, Rb)
-    L = [Poly(np.stack([V[k].lo, wb[k].lo], -1), np.stack([V[k].hi, wb[k].hi], -1)) for k in range(3)]
-    M = [Poly(np.stack([m0[k].lo, -m1[k].hi], -1), np.stack([m0[k].hi, -m1[k].lo], -1)) for k in range(3)]
+    st = lambda xs, end: np.stack([np.broadcast_to(getattr(x, end), shape) for x in xs], -1)  # noqa: E731
+    arm0 = [base[k][None, :] - C0[k][:, None] for k in range(3)]                 # A_i − C_0: (M, 6)
+    arm = Interval._raw(st(arm0, "lo"), st(arm0, "hi"))                         # (M, 6, 3)
+    wb = Interval._raw(st([w[k][:, None] for k in range(3)], "lo"), st([w[k][:, None] for k in range(3)], "hi"))
+    Vs = Interval._raw(st(V, "lo"), st(V, "hi"))
+    Rb = Vs + arm                                                                # R b_i = V_i + A_i − C_0
+    first, second = [1, 2, 0], [2, 0, 1]
+    X = Interval._raw(np.stack([arm.lo, wb.lo]), np.stack([arm.hi, wb.hi]))    # (2, M, 6, 3): arm, w
+    m = mul(X[..., first], Rb[..., second]) - mul(X[..., second], Rb[..., first])   # arm × R b_i, w × R b_i
+    L = [Poly(np.stack([Vs.lo[..., k], wb.lo[..., k]], -1), np.stack([Vs.hi[..., k], wb.hi[..., k]], -1)) for k in range(3)]
+    M = [Poly(np.stack([m.lo[0, ..., k], -m.hi[1, ..., k]], -1), np.stack([m.hi[0, ..., k], -m.lo[1, ..., k]], -1))
+         for k in range(3)]
     return _block_det(L, M)
 
 
@@ -403,12 +411,25 @@ class Constraints:
             R = [r if isinstance(r, Interval) else Interval(r) for r in R]
             R = [Interval._raw(np.broadcast_to(r.lo, (S,)), np.broadcast_to(r.hi, (S,))) for r in R]
             C = [P0[:, position[k]] if k < len(position) else zero for k in range(3)]
-            plat = self.platform
-            V = [_stack_rows(R[3 * k], plat[0]) + _stack_rows(R[3 * k + 1], plat[1]) + _stack_rows(R[3 * k + 2], plat[2])
-                 + (_stack_rows(C[k], Interval(np.ones(self.n))) - self.base[k]) for k in range(3)]
+            Rm = Interval._raw(np.stack([r.lo for r in R], -1).reshape(S, 3, 3, 1),
+                               np.stack([r.hi for r in R], -1).reshape(S, 3, 3, 1))
+            plat, base = self._stacked_points()
+            Rb = mul(Rm, plat)                                                    # R_kj b_ij: (S, 3, 3, n)
+            lo, hi = sum_bounds(Rb.lo, Rb.hi, axis=2)                              # (R b_i)_k: (S, 3, n)
+            Clo = np.stack([c.lo for c in C], -1)[:, :, None]
+            Chi = np.stack([c.hi for c in C], -1)[:, :, None]
+            lo, hi = down_sum(down_sum(lo + Clo) - base.hi), up_sum(up_sum(hi + Chi) - base.lo)
+            V = [Interval._raw(lo[:, k], hi[:, k]) for k in range(3)]
             return {"V": V, "w": w, "R": R if self.with_R else None}
         out = _Pose(self.vectors.evaluate(variables, robot.parameters), self.n, S, self.with_R)
         return {"V": out.legs, "w": w, "R": out.R}
+
+    def _stacked_points(self):
+        """The platform points as a (3, n) Interval and the base points as (3, n), built once."""
+        if getattr(self, "_points", None) is None:
+            self._points = tuple(Interval._raw(np.stack([p[k].lo for k in range(3)]), np.stack([p[k].hi for k in range(3)]))
+                                 for p in (self.platform, self.base))
+        return self._points
 
     @staticmethod
     def rows_of(linear, rows):
