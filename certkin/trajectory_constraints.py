@@ -622,11 +622,10 @@ class Constraints:
             if isinstance(p, Poly):
                 rad[:, col, cand, :c.shape[-1]] = 0.5 * (p.hi - p.lo)
         if "legs" in self._cols:
-            sq = polys["_legs_sq"][0]
-            for i, col in enumerate(range(self._cols["legs"].start, self._cols["legs"].stop)):
-                put(col, 0, sq[:, i] - sqr(self.rho_min[i]))
-                put(col, 1, -sq[:, i] + sqr(self.rho_max[i]))
-                put(col, 2, _derivative(mid(sq[:, i])))
+            sq, cols = polys["_legs_sq"][0], self._cols["legs"]          # (S, n), one column per leg
+            put(cols, 0, sq - sqr(self.rho_min))
+            put(cols, 1, -sq + sqr(self.rho_max))
+            put(cols, 2, _derivative(mid(sq)))
         if "joints" in self._cols:
             fns, k = polys["_joint_functions"], 0
             for col, f in zip(range(self._cols["joints"].start, self._cols["joints"].stop), self.facets):
@@ -638,9 +637,8 @@ class Constraints:
             E, delta = polys["_pair_line_functions"][:2]
             e, d = mid(E), mid(delta)
             stationary = _float_mul(_derivative(e), d) - _float_mul(e, _derivative(d))     # (E/Δ)' Δ²
-            for j, col in enumerate(range(self._cols["pairs"].start, self._cols["pairs"].stop)):
-                put(col, 0, E[:, j])
-                put(col, 2, stationary[:, j])
+            put(self._cols["pairs"], 0, E)                                 # (S, pairs), one column per pair
+            put(self._cols["pairs"], 2, stationary)
         if "det" in polys:
             put(self._cols["det"].start, 0, polys["det"][0])
         return out, rad
