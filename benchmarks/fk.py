@@ -540,7 +540,7 @@ def main():
     ap.add_argument("--batch-repeat", type=int, default=5, help="repeats of the batch (it takes ~15 s)")
     ap.add_argument("--starts", type=int, default=256, help="Newton starts per instance (numpy peer)")
     ap.add_argument("--codac-cap", type=float, default=60.0, help="seconds allowed to each codac pave")
-    ap.add_argument("--codac-eps", type=float, default=1e-3, help="codac pave resolution")
+    ap.add_argument("--codac-eps", type=float, default=1e-9, help="codac pave resolution (issue #4: 1e-9)")
     ap.add_argument("--codac-sample", type=int, default=20, help="batch instances run through codac (extrapolated)")
     ap.add_argument("--gough-full", type=float, default=0.0, metavar="SECONDS",
                     help="also run the Gough full-domain search (all 24 postures) with this time budget; 0: skip")

@@ -191,6 +191,28 @@ class TrajectoryProblem:
         box, k = np.nonzero(pieces)
         return points[box, k][:, None], points[box, k + 1][:, None], seg[box]
 
+    def seed_best(self, lo, hi, seg):
+        """Start each path's refinement target ``best`` from point evaluations: at the ends of the
+        pieces and at the estimated minima of the margins inside them (``crossing_polynomials``:
+        stationary points of ρ² and E/Δ).  The upper bound of a margin at any instant bounds its
+        minimum over the path, so ``best`` stays an upper bound; the intervals far from the minimum
+        are then settled at once instead of after the minimum's interval has been narrowed."""
+        if self.rtol is None:
+            return
+        t, s = [lo[:, 0], hi[:, 0]], [seg, seg]
+        if self.crossings is not None:
+            K, B = self.c.K, len(lo)
+            est, _ = self._estimates(np.repeat(lo[:, 0], K), np.repeat(hi[:, 0], K), np.repeat(seg, K),
+                                     np.tile(np.arange(K), B), [2])
+            est, where = est.reshape(-1), np.repeat(seg, K)
+            found = np.isfinite(est)
+            t.append(est[found])
+            s.append(where[found])
+        points = np.unique(np.stack([np.concatenate(s).astype(np.float64), np.concatenate(t)], axis=1), axis=0)
+        S, T = points[:, 0].astype(np.int64), points[:, 1]
+        _, _, mhi = self.evaluate(T, T, S, upper=True)
+        np.fmin.at(self.best, self.segment_path[S], mhi)
+
     def _cuts(self, lo, hi, seg, state, refine):
         """Per box, a cut near an estimated crossing of an unknown column, or else around an
         estimated extremum of a margin being refined (``Constraints.crossing_polynomials``).
@@ -300,6 +322,7 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     problem = TrajectoryProblem(cons, P0, D, piece_segment, seg_path, len(paths), rtol, budget.min_width, linear)
     lo, hi, piece_segment = problem.presplit(lo, hi, piece_segment)
     problem.piece_segment = piece_segment
+    problem.seed_best(lo, hi, piece_segment)
     found = search(problem, lo, hi, scale=np.ones(1), budget=budget, progress=progress, min_batch=64, max_rounds=5)
     tree = found.tree
     leaves = tree.leaves()
@@ -324,7 +347,7 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
         r = TrajectoryResult(robot, path, cons)
         r.leaves = {"segment": local[order], "tlo": tlo[mine][order], "thi": thi[mine][order],
                     "state": state[mine][order], "mlo": mlo[mine][order], "mhi": mhi[mine][order]}
-        _conclude(r)
+        _conclude(r, problem.best[p_index])
         if indices:
             r.indices = _mean_indices(problem, cons, segs)
         r.stats = {"boxes": int(found.boxes), "leaves": int(mine.sum()), "seconds": round(time.perf_counter() - t0, 6),
@@ -340,7 +363,9 @@ def verify_trajectory(robot, start, goal, waypoints=(), constraints=None, budget
     return verify_trajectories(robot, [path], constraints, budget, progress, indices)[0]
 
 
-def _conclude(r: TrajectoryResult) -> None:
+def _conclude(r: TrajectoryResult, best=None) -> None:
+    """The verdict, margins and violations of a path from its leaves; ``best``: upper bounds of
+    the minimum margins found during the search (intervals or instants evaluated), per column."""
     c = r.constraints
     L = r.leaves
     s_lo = L["segment"] + L["tlo"]
@@ -349,6 +374,8 @@ def _conclude(r: TrajectoryResult) -> None:
     dcol = c.det_column
     certain = False
     lo_min, hi_min = L["mlo"].min(axis=0), L["mhi"].min(axis=0)
+    if best is not None:
+        hi_min = np.minimum(hi_min, best)
     open_cols = (state != SATISFIED).any(axis=0)
     for k, inst in enumerate(c.instances):
         if k == dcol:
