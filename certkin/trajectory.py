@@ -32,7 +32,7 @@ import time
 import numpy as np
 
 from intervals import Interval
-from intervals.rounding import down, up
+from intervals.rounding import down, sum_bounds, up
 
 from .engine.search import OPEN, PROVED, EXCLUDED, Budget, search
 from .errors import InputError
@@ -193,13 +193,14 @@ class TrajectoryProblem:
 
     def seed_best(self, lo, hi, seg):
         """Start each path's refinement target ``best`` from point evaluations: at the ends of the
-        pieces and at the estimated minima of the margins inside them (``crossing_polynomials``:
+        segments and at the estimated minima of the margins inside the pieces (``crossing_polynomials``:
         stationary points of ρ² and E/Δ).  The upper bound of a margin at any instant bounds its
         minimum over the path, so ``best`` stays an upper bound; the intervals far from the minimum
         are then settled at once instead of after the minimum's interval has been narrowed."""
         if self.rtol is None:
             return
-        t, s = [lo[:, 0], hi[:, 0]], [seg, seg]
+        segments = np.unique(seg)
+        t, s = [np.zeros(len(segments)), np.ones(len(segments))], [segments, segments]
         if self.crossings is not None:
             K, B = self.c.K, len(lo)
             est, _ = self._estimates(np.repeat(lo[:, 0], K), np.repeat(hi[:, 0], K), np.repeat(seg, K),
@@ -440,22 +441,10 @@ def _mean_indices(problem, cons, segs) -> list:
     tlo = np.tile(edges[:-1], len(segs))
     thi = np.tile(edges[1:], len(segs))
     _, mlo, mhi = problem.evaluate(tlo, thi, seg)
-    n = Interval(INDEX_STEPS * len(segs))
+    mean = Interval._raw(*sum_bounds(mlo, mhi, axis=0)) / Interval(INDEX_STEPS * len(segs))   # every column at once
     out = []
     for k, inst in enumerate(cons.instances):
         if k == cons.det_column:
             continue
-        mean = _interval_sum(mlo[:, k], mhi[:, k]) / n
-        lo, hi = float(mean.lo), float(mean.hi)
-        out.append({**inst.to_json(), "mean_margin": [float(lo), float(hi)]})
+        out.append({**inst.to_json(), "mean_margin": [float(mean.lo[k]), float(mean.hi[k])]})
     return out
-
-
-def _interval_sum(lo, hi) -> Interval:
-    """Enclosure of the sum of intervals [lo_i, hi_i] (pairwise, each addition rounded outward)."""
-    acc = Interval._raw(np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64))
-    while acc.shape[0] > 1:
-        if acc.shape[0] % 2:
-            acc = Interval._raw(np.append(acc.lo, 0.0), np.append(acc.hi, 0.0))
-        acc = acc[0::2] + acc[1::2]
-    return acc[0]
