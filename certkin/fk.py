@@ -102,7 +102,7 @@ def float_inverse(M):
     return linalg.mid_inverse(M)
 
 
-def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False):
+def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False, rbc=None, drbs=None):
     """(K, C, S): the Krawczyk image with a slope matrix S in place of the Jacobian,
     K = c − C f(c) + (I − C S(X, c))(X − c), c = the midpoint, C ≈ mid(S)⁻¹ (float32 values
     with ``compact``).  Every root in X lies in K (f(x) = f(c) + S (x − c) with S in S(X, c)),
@@ -111,10 +111,11 @@ def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False):
     (``FKSystem.slope``; docs/soundness.md §8)."""
     c = X.mid()
     point = Interval._raw(c, c.copy())
-    rbc = system.rotated(system.rotation(point))
+    if rbc is None:
+        rbc = system.rotated(system.rotation(point))
     fc = system.equations(point, L, rb=rbc)
-    S = system.slope(X, c, rb=rb, rbc=rbc)
-    C = linalg.mid_inverse(S)[0]
+    S = system.slope(X, c, rb=rb, rbc=rbc, drbs=drbs)
+    C = float_inverse(S.mid())[0]
     if compact:
         C = _compact(C)
     res = linalg.krawczyk(fc, S, X, c, C)
@@ -240,7 +241,7 @@ class FKProblem:
         Xl, Ll = Interval._raw(lo[live], hi[live]), Interval._raw(L.lo[live], L.hi[live])
         if self.slopes:
             hc4_box = (lo.copy(), hi.copy())
-            rbl = system.rotated_centred(Xl)                 # the rotation is final now
+            rbl, rbcl, drbl = system.rotated_centred(Xl, parts=True)   # the rotation is final now
         else:
             rbl = system.rotated(system.rotation(Xl))        # the rotation is final now
         rb = Interval._raw(np.zeros((n_box,) + rbl.shape[1:]), np.zeros((n_box,) + rbl.shape[1:]))
@@ -286,7 +287,9 @@ class FKProblem:
             rlo, rhi = lo[rest], hi[rest]
             Lr = Interval._raw(L.lo[rest], L.hi[rest])
             if self.slopes:
-                K, C, J = slope_boxes(system, Interval._raw(rlo, rhi), Lr, rb=rb[rest], compact=True)
+                at = np.searchsorted(live, rest)    # R b_i at the midpoints, derivatives: the rotation is unchanged
+                K, C, J = slope_boxes(system, Interval._raw(rlo, rhi), Lr, rb=rb[rest], compact=True,
+                                      rbc=rbcl[at], drbs=[d[at] for d in drbl])
             else:
                 K, C, J = krawczyk_boxes(system, Interval._raw(rlo, rhi), Lr, with_jacobian=True, rb=rb[rest],
                                          compact=True)

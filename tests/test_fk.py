@@ -505,6 +505,14 @@ def test_centred_rotated_points_enclose_exact_values():
                     v = sum(R[k][j] * b[i][j] for j in range(3))
                     assert Fraction(T.lo[n, i, k]) <= v <= Fraction(T.hi[n, i, k])
                     assert _frac(mp.mpf(U[i][k].a)) <= v <= _frac(mp.mpf(U[i][k].b))
+    # the parts reused by the slope step: R b_i at the midpoints, derivatives over Y (as ``slope`` computes them)
+    T2, rbc, drbs = s.rotated_centred(X, parts=True)
+    m = X.mid()
+    S, S2 = s.slope(X, m, rb=T2), s.slope(X, m, rb=T2, rbc=rbc, drbs=drbs)
+    assert np.array_equal(T2.lo, T.lo) and np.array_equal(S.lo, S2.lo) and np.array_equal(S.hi, S2.hi)
+    # an empty batch (every box of a batch emptied by HC4) has empty enclosures
+    E = s.rotated_centred(Interval._raw(np.zeros((0, 7)), np.zeros((0, 7))))
+    assert E.shape == (0, 6, 3)
 
 
 def test_tampered_slope_evidence_is_rejected():
