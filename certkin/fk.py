@@ -18,7 +18,9 @@ engine; each box is decided by
    replaces X (widened by a relative 2⁻²⁰ so that an independent
    re-computation still fits inside) when it is substantially smaller;
 5. otherwise X is bisected, along the rotation unknown where the equations
-   vary most (the position follows from the rotation by steps 0 and 4).
+   vary most (planar) or the widest scaled side (spatial: in practice a
+   quaternion unknown); the position follows from the rotation by steps 0
+   and 4.
 
 K(X) = c − C f(c) + (I − C J(X))(X − c) with c the midpoint and C the
 float inverse of the midpoint Jacobian (Neumaier 1990, ch. 5).  For the
@@ -294,17 +296,19 @@ class FKProblem:
                 K, C, J = krawczyk_boxes(system, Interval._raw(rlo, rhi), Lr, with_jacobian=True, rb=rb[rest],
                                          compact=True)
             C_rows[rest] = C
-            # bisect where the equations vary most: the largest sum_i |J_ij| w_j ("smear", Kearfott 1996),
-            # among the rotation unknowns (HC4 and Gauss-Seidel then narrow the position) unless the
-            # position is much wider (scaled) than the rotation
-            smear = np.sum(J.mag(), axis=1) * (rhi - rlo)
-            smear = np.where(np.isfinite(smear), smear, np.inf)
-            pn = system.n_pos
-            if pn:
-                scaled = (rhi - rlo) / self.scale
-                rot_first = np.max(scaled[:, :pn], axis=1) <= ROTATION_FIRST * np.max(scaled[:, pn:], axis=1)
-                smear[:, :pn] = np.where(rot_first[:, None], -1.0, smear[:, :pn])
-            split[rest] = np.argmax(smear, axis=1)
+            # planar: bisect where the equations vary most: the largest sum_i |J_ij| w_j ("smear", Kearfott
+            # 1996), among the rotation unknowns (HC4 and Gauss-Seidel then narrow the position) unless the
+            # position is much wider (scaled) than the rotation; spatial (quaternion): the widest scaled
+            # side, the engine's choice (fewer boxes than the smear there)
+            if not self.slopes:
+                smear = np.sum(J.mag(), axis=1) * (rhi - rlo)
+                smear = np.where(np.isfinite(smear), smear, np.inf)
+                pn = system.n_pos
+                if pn:
+                    scaled = (rhi - rlo) / self.scale
+                    rot_first = np.max(scaled[:, :pn], axis=1) <= ROTATION_FIRST * np.max(scaled[:, pn:], axis=1)
+                    smear[:, :pn] = np.where(rot_first[:, None], -1.0, smear[:, :pn])
+                split[rest] = np.argmax(smear, axis=1)
             finite = np.all(np.isfinite(K.lo) & np.isfinite(K.hi), axis=1)
             empty = np.any((K.hi < rlo) | (K.lo > rhi), axis=1) & finite
             unique = unique_in(K, rlo, rhi) & ~empty
