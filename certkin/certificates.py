@@ -82,7 +82,7 @@ def fk_claim(result) -> dict:
             out = {"leaf": name, "box": box}
             if name == "equation":
                 out["equation"] = int(tree.evidence_of(i, ("equation",))["equation"])
-            elif name in ("krawczyk-empty", "slope-empty"):
+            elif name in ("krawczyk-empty", "slope-empty", "slope-gs-empty"):
                 out["C"] = tree.evidence_of(i, ("C",))["C"]
             elif name == "hc4-empty":
                 pass                          # no evidence: the checker repeats the contraction
@@ -111,7 +111,7 @@ def fk_claim(result) -> dict:
         name = tree.reason_name(i)
         child = int(tree.first_child[i])
         out = {"contract": name, "box": _box(tree.lo[child], tree.hi[child])}
-        out.update(tree.evidence_of(i, ("C",) if name in ("krawczyk", "slope") else ("P",)))
+        out.update(tree.evidence_of(i, ("C",) if name in ("krawczyk", "slope", "slope-gs") else ("P",)))
         return out
 
     claim["tree"] = tree.nested(result.node, leaf, contraction)

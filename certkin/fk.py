@@ -18,13 +18,16 @@ engine; each box is decided by
    replaces X (widened by a relative 2⁻²⁰ so that an independent
    re-computation still fits inside) when it is substantially smaller;
 5. otherwise X is bisected, along the rotation unknown where the equations
-   vary most (the position follows from the rotation by steps 0 and 4).
+   vary most (planar) or the widest scaled side (spatial: in practice a
+   quaternion unknown); the position follows from the rotation by steps 0
+   and 4.
 
 K(X) = c − C f(c) + (I − C J(X))(X − c) with c the midpoint and C the
 float inverse of the midpoint Jacobian (Neumaier 1990, ch. 5).  For the
-spatial robots steps 2 and 4 use the slope form K_S (``slope_boxes``: a
-slope matrix, about half as wide as J(X), in place of J; ``slope-empty``
-and ``slope``), and a box whose K_S lies inside it goes to the test of
+spatial robots steps 2 and 4 use a slope matrix S, about half as wide as
+J(X), and the Hansen-Sengupta operator (one preconditioned Gauss-Seidel
+sweep on C S (x − c) = −C f(c): ``slope_boxes``; ``slope-gs-empty`` and
+``slope-gs``), and a box whose image lies inside it goes to the test of
 step 3 with J(X).
 
 Each proved box's root is then enclosed tightly: Krawczyk iterates from
@@ -102,23 +105,24 @@ def float_inverse(M):
     return linalg.mid_inverse(M)
 
 
-def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False):
-    """(K, C, S): the Krawczyk image with a slope matrix S in place of the Jacobian,
-    K = c − C f(c) + (I − C S(X, c))(X − c), c = the midpoint, C ≈ mid(S)⁻¹ (float32 values
-    with ``compact``).  Every root in X lies in K (f(x) = f(c) + S (x − c) with S in S(X, c)),
-    so K ∩ X = ∅ proves X root-free and K ∩ X is a contraction; uniqueness is not proved
-    by K (``krawczyk_boxes`` does that).  S is about half as wide as J(X)
-    (``FKSystem.slope``; docs/soundness.md §8)."""
+def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False, rbc=None, drbs=None):
+    """(H, C, S, empty): the Hansen-Sengupta operator with a slope matrix S of the equations at the
+    midpoint c (``linalg.hansen_sengupta``): one Gauss-Seidel sweep on C S(X, c) (x − c) = −C f(c),
+    C ≈ mid(S)⁻¹ (float32 values with ``compact``).  Every root in X satisfies f(x) = f(c) +
+    S (x − c) for some S in S(X, c), so it stays in H ⊆ X: ``empty`` proves X root-free and H is a
+    contraction; uniqueness is not proved (``krawczyk_boxes`` does that).  S is about half as wide
+    as J(X) (``FKSystem.slope``; docs/soundness.md §8)."""
     c = X.mid()
     point = Interval._raw(c, c.copy())
-    rbc = system.rotated(system.rotation(point))
+    if rbc is None:
+        rbc = system.rotated(system.rotation(point))
     fc = system.equations(point, L, rb=rbc)
-    S = system.slope(X, c, rb=rb, rbc=rbc)
-    C = linalg.mid_inverse(S)[0]
+    S = system.slope(X, c, rb=rb, rbc=rbc, drbs=drbs)
+    C = float_inverse(S.mid())[0]
     if compact:
         C = _compact(C)
-    res = linalg.krawczyk(fc, S, X, c, C)
-    return res.K, res.C, S
+    H, empty = linalg.hansen_sengupta(fc, S, X, c, C)
+    return H, C, S, empty
 
 
 def _for_batch(system, n_box):
@@ -195,7 +199,7 @@ class FKProblem:
     """Decides boxes of FK unknowns for a batch of instances (one root box per instance)."""
 
     reasons = ("equation", "krawczyk-empty", "krawczyk-unique", "krawczyk", "position-empty", "position",
-               "hc4-empty", "hc4", "slope-empty", "slope")
+               "hc4-empty", "hc4", "slope-empty", "slope", "slope-gs-empty", "slope-gs")
 
     def __init__(self, system, L: Interval, scale, slopes: bool = False):
         self.system = system
@@ -240,7 +244,7 @@ class FKProblem:
         Xl, Ll = Interval._raw(lo[live], hi[live]), Interval._raw(L.lo[live], L.hi[live])
         if self.slopes:
             hc4_box = (lo.copy(), hi.copy())
-            rbl = system.rotated_centred(Xl)                 # the rotation is final now
+            rbl, rbcl, drbl = system.rotated_centred(Xl, parts=True)   # the rotation is final now
         else:
             rbl = system.rotated(system.rotation(Xl))        # the rotation is final now
         rb = Interval._raw(np.zeros((n_box,) + rbl.shape[1:]), np.zeros((n_box,) + rbl.shape[1:]))
@@ -286,28 +290,32 @@ class FKProblem:
             rlo, rhi = lo[rest], hi[rest]
             Lr = Interval._raw(L.lo[rest], L.hi[rest])
             if self.slopes:
-                K, C, J = slope_boxes(system, Interval._raw(rlo, rhi), Lr, rb=rb[rest], compact=True)
+                at = np.searchsorted(live, rest)    # R b_i at the midpoints, derivatives: the rotation is unchanged
+                K, C, J, kempty = slope_boxes(system, Interval._raw(rlo, rhi), Lr, rb=rb[rest], compact=True,
+                                              rbc=rbcl[at], drbs=[d[at] for d in drbl])
             else:
                 K, C, J = krawczyk_boxes(system, Interval._raw(rlo, rhi), Lr, with_jacobian=True, rb=rb[rest],
                                          compact=True)
             C_rows[rest] = C
-            # bisect where the equations vary most: the largest sum_i |J_ij| w_j ("smear", Kearfott 1996),
-            # among the rotation unknowns (HC4 and Gauss-Seidel then narrow the position) unless the
-            # position is much wider (scaled) than the rotation
-            smear = np.sum(J.mag(), axis=1) * (rhi - rlo)
-            smear = np.where(np.isfinite(smear), smear, np.inf)
-            pn = system.n_pos
-            if pn:
-                scaled = (rhi - rlo) / self.scale
-                rot_first = np.max(scaled[:, :pn], axis=1) <= ROTATION_FIRST * np.max(scaled[:, pn:], axis=1)
-                smear[:, :pn] = np.where(rot_first[:, None], -1.0, smear[:, :pn])
-            split[rest] = np.argmax(smear, axis=1)
+            # planar: bisect where the equations vary most: the largest sum_i |J_ij| w_j ("smear", Kearfott
+            # 1996), among the rotation unknowns (HC4 and Gauss-Seidel then narrow the position) unless the
+            # position is much wider (scaled) than the rotation; spatial (quaternion): the widest scaled
+            # side, the engine's choice (fewer boxes than the smear there)
+            if not self.slopes:
+                smear = np.sum(J.mag(), axis=1) * (rhi - rlo)
+                smear = np.where(np.isfinite(smear), smear, np.inf)
+                pn = system.n_pos
+                if pn:
+                    scaled = (rhi - rlo) / self.scale
+                    rot_first = np.max(scaled[:, :pn], axis=1) <= ROTATION_FIRST * np.max(scaled[:, pn:], axis=1)
+                    smear[:, :pn] = np.where(rot_first[:, None], -1.0, smear[:, :pn])
+                split[rest] = np.argmax(smear, axis=1)
             finite = np.all(np.isfinite(K.lo) & np.isfinite(K.hi), axis=1)
-            empty = np.any((K.hi < rlo) | (K.lo > rhi), axis=1) & finite
+            empty = kempty if self.slopes else np.any((K.hi < rlo) | (K.lo > rhi), axis=1) & finite
             unique = unique_in(K, rlo, rhi) & ~empty
             if self.slopes:     # a slope image inside X: the Krawczyk test proper (with the Jacobian) decides
                 unique = self._unique(system, rlo, rhi, Lr, C, unique)
-            status[rest[empty]], reason[rest[empty]] = EXCLUDED, 8 if self.slopes else 1
+            status[rest[empty]], reason[rest[empty]] = EXCLUDED, 10 if self.slopes else 1
             status[rest[unique]], reason[rest[unique]] = PROVED, 2
             C_mask[rest[empty | unique]] = True
             open_ = ~(empty | unique)
@@ -334,15 +342,15 @@ class FKProblem:
                 X2 = Interval._raw(cur_lo[strong], cur_hi[strong])
                 L2 = Interval._raw(L.lo[strong], L.hi[strong])
                 if self.slopes:
-                    K2, C2, _ = slope_boxes(system, X2, L2, compact=True)
+                    K2, C2, _, empty2 = slope_boxes(system, X2, L2, compact=True)
                 else:
                     K2, C2 = krawczyk_boxes(system, X2, L2, compact=True)
-                finite2 = np.all(np.isfinite(K2.lo) & np.isfinite(K2.hi), axis=1)
-                empty2 = np.any((K2.hi < X2.lo) | (K2.lo > X2.hi), axis=1) & finite2
+                    finite2 = np.all(np.isfinite(K2.lo) & np.isfinite(K2.hi), axis=1)
+                    empty2 = np.any((K2.hi < X2.lo) | (K2.lo > X2.hi), axis=1) & finite2
                 unique2 = unique_in(K2, X2.lo, X2.hi) & ~empty2
                 if self.slopes:
                     unique2 = self._unique(system, X2.lo, X2.hi, L2, C2, unique2)
-                status[strong[empty2]], reason[strong[empty2]] = EXCLUDED, 8 if self.slopes else 1
+                status[strong[empty2]], reason[strong[empty2]] = EXCLUDED, 10 if self.slopes else 1
                 status[strong[unique2]], reason[strong[unique2]] = PROVED, 2
                 C_rows[strong[empty2 | unique2]] = C2[empty2 | unique2]
                 C_mask[strong[empty2 | unique2]] = True
@@ -371,7 +379,7 @@ class FKProblem:
         evidence["C"] = (C_mask, C_rows[C_mask].astype(np.float32))
         if star_mask.any():
             evidence["star"] = (star_mask, stars[star_mask])
-        kcode = 9 if self.slopes else 3
+        kcode = 11 if self.slopes else 3
         stages = [(lo, hi), (lo2, hi2)] + [box for box, _ in more]
         reasons = [creason] + [np.full(n_box, kcode)] * (1 + len(more))
         stage_evidence = [cev, cev2] + [ev for _, ev in more]

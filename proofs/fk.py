@@ -21,7 +21,8 @@ A claim lists ``solutions`` (boxes R_j of unknowns, each with a float
 matrix C_j such that the Krawczyk image K(R_j) lies in the interior of R_j:
 exactly one root in R_j), pairwise disjoint, inside the ``domain``; and a
 ``tree`` covering the domain whose leaves are excluded (``equation``,
-``krawczyk-empty``, ``slope-empty``, ``position-empty``, ``hc4-empty``) or proved (``krawczyk-unique``:
+``krawczyk-empty``, ``slope-empty``, ``slope-gs-empty``, ``position-empty``, ``hc4-empty``) or proved
+(``krawczyk-unique``:
 K(X*) ⊂ int X* for X* ⊇ leaf, and the solution it names lies in X*, so the
 leaf's only possible root is that solution — or, with ``twin``, the
 solution with q negated, the same posture; or ``outside``: a box proved to
@@ -29,7 +30,9 @@ hold X*'s root misses the leaf, which then holds no root).  Solutions are
 distinct postures: their boxes, and (spatial robots) their boxes with the
 quaternion negated, are pairwise disjoint.  Contractions (``krawczyk``:
 K(X) ∩ X, ``slope``: the same with slope matrices in place of the Jacobian
-(``System.slope``), ``position``: one Gauss-Seidel sweep of (P D) p = P g, ``hc4``:
+(``System.slope``), ``slope-gs``: one Gauss-Seidel sweep of (C S) (x − c) = −C f(c) with those
+slope matrices (``System.slope_gauss_seidel``), ``position``: one Gauss-Seidel sweep of
+(P D) p = P g, ``hc4``:
 one forward-backward pass, ``System.hc4``, then the sweep if P is given) must
 land inside the child box.  With ``complete`` true, no leaf is undecided, so the
 solutions are all the roots in the domain; with ``covers`` =
@@ -213,6 +216,32 @@ class System:
                 acc = acc + r * (iv.mpf([box[j][0], box[j][1]]) - iv.mpf(c[j]))
             K.append(acc)
         return K
+
+    def slope_gauss_seidel(self, box, C):
+        """The Hansen-Sengupta step with slope matrices: one Gauss-Seidel sweep on
+        (C S) y = −C f(c), y = x − c, c the float midpoint, S = ``slope(box, c)``, from y = box − c.
+        Every root x in the box has f(c) + S (x − c) = 0 for some S in the slope enclosure, so
+        y = x − c solves the preconditioned system and stays in each update.  Returns the intervals
+        c + y (a box holding every root of the box), or None when the sweep empties the box."""
+        c = [min(max(0.5 * lo + 0.5 * hi, lo), hi) for lo, hi in box]
+        fc = self.values([(x, x) for x in c])
+        S = self.slope(box, c)
+        n = self.n
+        Cm = [[iv.mpf(C[i][k]) for k in range(n)] for i in range(n)]
+        G = [[sum((Cm[i][k] * S[k][j] for k in range(1, n)), Cm[i][0] * S[0][j]) for j in range(n)]
+             for i in range(n)]
+        r = [-sum((Cm[i][k] * fc[k] for k in range(1, n)), Cm[i][0] * fc[0]) for i in range(n)]
+        y = [iv.mpf([lo, hi]) - iv.mpf(x) for (lo, hi), x in zip(box, c)]
+        for i in range(n):
+            num = r[i]
+            for j in range(n):
+                if j != i:
+                    num = num - G[i][j] * y[j]
+            new = _divide_into(num, G[i][i], y[i])
+            if new is None:
+                return None
+            y[i] = new
+        return [yi + iv.mpf(x) for yi, x in zip(y, c)]
 
     def gauss_seidel(self, box, P):
         """One Gauss-Seidel sweep on (P D) p = P g; returns the new position intervals or None (empty).
@@ -557,6 +586,13 @@ def _contraction(system, node, box, child, at):
                 continue  # K ∩ X is empty: no root in X at all
             if not ((low >= clo) is True and (high <= chi) is True):
                 raise Rejected(f"{at}: {rule} contraction: K ∩ X not inside the child box on dim {k}")
+    elif rule == "slope-gs":
+        z = system.slope_gauss_seidel(box, _matrix(node.get("C"), system.n, system.n, f"{at}: C"))
+        if z is None:
+            return  # no root in X at all
+        for k in range(system.n):
+            if not ((z[k].a >= child[k][0]) is True and (z[k].b <= child[k][1]) is True):
+                raise Rejected(f"{at}: slope-gs contraction: Gauss-Seidel result not inside the child box on dim {k}")
     elif rule == "hc4":
         z = system.hc4(box)
         if z is not None and "P" in node:  # then one Gauss-Seidel sweep on the position
@@ -583,7 +619,7 @@ def _contraction(system, node, box, child, at):
             if child[k] != box[k]:
                 raise Rejected(f"{at}: a position contraction changes only the position")
     else:
-        raise Rejected(f"{at}: unknown contraction {rule!r} (known: krawczyk, slope, position, hc4)")
+        raise Rejected(f"{at}: unknown contraction {rule!r} (known: krawczyk, slope, slope-gs, position, hc4)")
 
 
 def _leaf(system, node, box, solutions, complete, at):
@@ -606,6 +642,10 @@ def _leaf(system, node, box, solutions, complete, at):
         if not any((K[k] < lo) is True or (K[k] > hi) is True for k, (lo, hi) in enumerate(box)):
             raise Rejected(f"{at}: {'slope' if rule == 'slope-empty' else 'Krawczyk'} image meets the box: "
                            "emptiness not proved")
+        return
+    if rule == "slope-gs-empty":
+        if system.slope_gauss_seidel(box, _matrix(node.get("C"), n, n, f"{at}: C")) is not None:
+            raise Rejected(f"{at}: slope Gauss-Seidel sweep does not empty the box: emptiness not proved")
         return
     if rule == "hc4-empty":
         if system.hc4(box) is not None:

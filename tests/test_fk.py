@@ -315,6 +315,16 @@ def _first(node, want):
     raise AssertionError("no such node")
 
 
+def _all(node, want):
+    """Every node of a certificate tree for which ``want`` holds, depth first."""
+    stack = [node]
+    while stack:
+        n = stack.pop()
+        if want(n):
+            yield n
+        stack.extend(n.get("children", []) + ([n["child"]] if "child" in n else []))
+
+
 def test_tampered_fk_certificates_are_rejected(planar_certificate):
     cert = planar_certificate
     claim = lambda c: c["claims"][0]  # noqa: E731
@@ -505,24 +515,38 @@ def test_centred_rotated_points_enclose_exact_values():
                     v = sum(R[k][j] * b[i][j] for j in range(3))
                     assert Fraction(T.lo[n, i, k]) <= v <= Fraction(T.hi[n, i, k])
                     assert _frac(mp.mpf(U[i][k].a)) <= v <= _frac(mp.mpf(U[i][k].b))
+    # the parts reused by the slope step: R b_i at the midpoints, derivatives over Y (as ``slope`` computes them)
+    T2, rbc, drbs = s.rotated_centred(X, parts=True)
+    m = X.mid()
+    S, S2 = s.slope(X, m, rb=T2), s.slope(X, m, rb=T2, rbc=rbc, drbs=drbs)
+    assert np.array_equal(T2.lo, T.lo) and np.array_equal(S.lo, S2.lo) and np.array_equal(S.hi, S2.hi)
+    # an empty batch (every box of a batch emptied by HC4) has empty enclosures
+    E = s.rotated_centred(Interval._raw(np.zeros((0, 7)), np.zeros((0, 7))))
+    assert E.shape == (0, 6, 3)
 
 
 def test_tampered_slope_evidence_is_rejected():
-    """The spherical 8-mode search excludes and contracts boxes by the slope form; the checker accepts each
-    such step and rejects it when the matrix C or the contracted box is changed."""
+    """The spherical 8-mode search excludes and contracts boxes by the Hansen-Sengupta step with slope
+    matrices (``slope-gs-empty``, ``slope-gs``); the checker accepts each such step and rejects it when
+    the matrix C or the contracted box is changed.  The Krawczyk form of the slope step (``slope-empty``,
+    ``slope``: older certificates) is still checked, and tampering with it is rejected too."""
     from proofs.fk import System, _contraction, _leaf
     from proofs.report import Rejected
     lengths = ["2.277", "2.473", "1.902"]
     cert = forward_kinematics(robot_from_dict(SPHERICAL_8), lengths).certificate()
     system = System(cert["model"], cert["robot"], lengths)
-    leaf = _first(cert["claims"][0]["tree"], lambda n: n.get("leaf") == "slope-empty")
+    tree = cert["claims"][0]["tree"]
+    leaf = _first(tree, lambda n: n.get("leaf") == "slope-gs-empty")
     box = [tuple(b) for b in leaf["box"]]
     _leaf(system, leaf, box, [], True, "leaf")
     bad = copy.deepcopy(leaf)
     bad["C"] = [[0.0] * 4 for _ in range(4)]
-    with pytest.raises(Rejected, match="slope image meets the box"):
+    with pytest.raises(Rejected, match="does not empty the box"):
         _leaf(system, bad, box, [], True, "leaf")
-    parent = _first(cert["claims"][0]["tree"], lambda n: n.get("child", {}).get("contract") == "slope")
+    wider = [(lo - 1.0, hi + 1.0) for lo, hi in box]     # the same evidence on a box holding roots
+    with pytest.raises(Rejected, match="does not empty the box"):
+        _leaf(system, dict(leaf, box=[list(b) for b in wider]), wider, [], True, "leaf")
+    parent = _first(tree, lambda n: n.get("child", {}).get("contract") == "slope-gs")
     node, box = parent["child"], [tuple(b) for b in parent["box"]]   # the box before the slope contraction
     child = [tuple(b) for b in node["box"]]
     _contraction(system, node, box, child, "node")
@@ -530,8 +554,27 @@ def test_tampered_slope_evidence_is_rejected():
     mid = 0.5 * (child[dim][0] + child[dim][1])
     shrunk = list(child)
     shrunk[dim] = (mid, mid)
-    with pytest.raises(Rejected, match="slope contraction"):
+    with pytest.raises(Rejected, match="slope-gs contraction"):
         _contraction(system, node, box, shrunk, "node")
+    bad = dict(node, C=[[0.0] * 4 for _ in range(4)])
+    with pytest.raises(Rejected, match="slope-gs contraction"):
+        _contraction(system, bad, box, child, "node")
+    # the Krawczyk form with the same C: some of these leaves are proved empty by it as well
+    legacy = None
+    for cand in _all(tree, lambda n: n.get("leaf") == "slope-gs-empty"):
+        try:
+            _leaf(system, dict(cand, leaf="slope-empty"), [tuple(b) for b in cand["box"]], [], True, "leaf")
+        except Rejected:
+            continue
+        legacy = cand
+        break
+    assert legacy is not None
+    lbox = [tuple(b) for b in legacy["box"]]
+    with pytest.raises(Rejected, match="slope image meets the box"):
+        _leaf(system, dict(legacy, leaf="slope-empty", C=[[0.0] * 4 for _ in range(4)]), lbox, [], True, "leaf")
+    _contraction(system, dict(node, contract="slope"), box, box, "node")    # K ∩ X ⊆ X
+    with pytest.raises(Rejected, match="slope contraction"):
+        _contraction(system, dict(node, contract="slope"), box, shrunk, "node")
 
 
 @pytest.mark.slow
@@ -544,7 +587,7 @@ def test_gough_certificate_with_slope_steps_rechecks():
                            domain="x=-0.9:-0.8,y=-0.4:-0.3,z=0.5:0.6,psi=-4:4,theta=-4:4,phi=-4:4")
     assert r.complete and len(r.solutions) == 1
     cert = r.certificate()
-    assert _first(cert["claims"][0]["tree"], lambda n: n.get("contract") == "slope")
+    assert _first(cert["claims"][0]["tree"], lambda n: n.get("contract") == "slope-gs")
     checked(r)
 
 

@@ -9,7 +9,7 @@ from hypothesis import given, settings, strategies as st
 from intervals import Interval, stack
 from intervals.linalg import _gs_update
 from intervals.linalg import (
-    det, gauss_seidel, hadamard_bound, identity, krawczyk, matmul, matvec, mid_inverse, point,
+    det, gauss_seidel, hadamard_bound, hansen_sengupta, identity, krawczyk, matmul, matvec, mid_inverse, point,
 )
 from intervals.rounding import enclose_fraction
 
@@ -264,6 +264,46 @@ def test_gauss_seidel_keeps_solution(seed, n, width, xwidth, precond):
         for i in range(n):
             assert inside(xstar[i], y.lo[i], y.hi[i])
 
+
+
+@SETTINGS
+@given(st.integers(0, 2 ** 32 - 1), st.integers(1, 5), st.sampled_from([0.0, 1e-6, 0.01, 0.3, 2.0]),
+       st.sampled_from([1e-3, 0.1, 1.0, 10.0]), st.sampled_from(["mid", "eye", "random"]))
+def test_hansen_sengupta_keeps_zero(seed, n, width, xwidth, precond):
+    """f(x) = M (x − x*) with M in A: f(c) enclosed exactly (Fractions), A as the slope enclosure; the
+    operator's box keeps x*, lies in x, and is never called empty."""
+    rng = np.random.default_rng(seed)
+    A, _, x, xstar = _solution_problem(rng, n, width, xwidth)
+    M = sample_point(rng, A)
+    c = x.mid()
+    fc = [sum((M[i, j] * (Fraction(float(c[j])) - xstar[j]) for j in range(n)), Fraction(0)) for i in range(n)]
+    enc = [enclose_fraction(v) for v in fc]
+    f = Interval(np.array([[e[0] for e in enc]]), np.array([[e[1] for e in enc]]))
+    C = {"mid": mid_inverse(A)[0], "eye": np.eye(n), "random": rng.normal(size=(n, n))}[precond]
+    X = Interval(x.lo[None], x.hi[None])
+    H, empty = hansen_sengupta(f, Interval(A.lo[None], A.hi[None]), X, c[None], C[None])
+    assert not empty[0]
+    assert np.all(H.lo >= X.lo) and np.all(H.hi <= X.hi)
+    for i in range(n):
+        assert inside(xstar[i], H.lo[0, i], H.hi[0, i])
+
+
+def test_hansen_sengupta_empty_far_and_tight_near():
+    """x² − 2 = 0 and y − 1 = 0 with slopes at c: a box far from the root is proved empty, one around
+    it is contracted onto it (one sweep, batched)."""
+    lo = np.array([[3.0, 0.0], [1.3, 0.9]])
+    hi = np.array([[4.0, 2.0], [1.5, 1.1]])
+    X = Interval(lo, hi)
+    c = X.mid()
+    f = Interval(np.stack([c[:, 0] ** 2 - 2, c[:, 1] - 1], 1)) + Interval(-1e-15, 1e-15)
+    S = Interval(np.zeros((2, 2, 2)), np.zeros((2, 2, 2)))
+    S.lo[:, 0, 0], S.hi[:, 0, 0] = lo[:, 0] + c[:, 0], hi[:, 0] + c[:, 0]   # x² − c² = (x + c)(x − c)
+    S.lo[:, 1, 1], S.hi[:, 1, 1] = 1.0, 1.0
+    C = np.linalg.inv(S.mid())
+    H, empty = hansen_sengupta(f, S, X, c, C)
+    assert empty.tolist() == [True, False]
+    assert H.lo[1, 0] <= 2 ** 0.5 <= H.hi[1, 0] and H.hi[1, 0] - H.lo[1, 0] < 0.05
+    assert H.lo[1, 1] <= 1.0 <= H.hi[1, 1] and H.hi[1, 1] - H.lo[1, 1] < 1e-12
 
 def test_gauss_seidel_contracts_and_detects_empty():
     rng = np.random.default_rng(5)

@@ -145,11 +145,13 @@ class FKSystem:
             J[:, legs, k] = 2.0 * X[:, k]
         return J
 
-    def rotated_centred(self, X: Interval, c: np.ndarray | None = None, rb: Interval | None = None) -> Interval:
+    def rotated_centred(self, X: Interval, c: np.ndarray | None = None, rb: Interval | None = None,
+                        parts: bool = False):
         """R b_i over the boxes (N, legs, dim): the natural enclosure (``rotated``, or ``rb``) intersected,
         for a quaternion, with the centred form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r), c = X.mid()
         unless given (any float points) and Y ∋ (x + c)/2 — exact for R b_i, quadratic in q
-        (docs/soundness.md §8)."""
+        (docs/soundness.md §8).  ``parts`` (quaternion): also R b_i at c and the derivatives over Y,
+        which ``slope`` at the same c reuses (they depend only on the rotation part of X and c)."""
         if rb is None:
             rb = self.rotated(self.rotation(X))
         if self.kind == "planar-3rpr":
@@ -157,19 +159,23 @@ class FKSystem:
         if c is None:
             c = X.mid()
         p = self.n_pos
-        acc = self.rotated(self.rotation(Interval._raw(c, c.copy())))
+        rbc = self.rotated(self.rotation(Interval._raw(c, c.copy())))
+        acc = rbc
         with np.errstate(invalid="ignore", over="ignore"):
             Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))
-            for r, drb in enumerate(self._rotated_derivatives(Y)):
+            drbs = self._rotated_derivatives(Y)
+            for r, drb in enumerate(drbs):
                 k = p + r
                 d = Interval._raw(down_sum(X.lo[:, k] - c[:, k]), up_sum(X.hi[:, k] - c[:, k]))
                 acc = acc + drb * d[:, None, None]
-        return Interval._raw(np.fmax(rb.lo, acc.lo), np.fmin(rb.hi, acc.hi))
+        out = Interval._raw(np.fmax(rb.lo, acc.lo), np.fmin(rb.hi, acc.hi))
+        return (out, rbc, drbs) if parts else out
 
-    def slope(self, X: Interval, c: np.ndarray, rb: Interval | None = None, rbc: Interval | None = None) -> Interval:
+    def slope(self, X: Interval, c: np.ndarray, rb: Interval | None = None, rbc: Interval | None = None,
+              drbs: list | None = None) -> Interval:
         """Enclosure of slope matrices of the equations at the points ``c`` (N, n) in the boxes X:
         (N, n, n) holding, for every x in X, a matrix S with f(x) − f(c) = S (x − c) (``rb``,
-        ``rbc``: R b_i over X and at c, if known).
+        ``rbc``, ``drbs``: R b_i over X, at c and its derivatives over Y below, if known).
 
         R b_i is quadratic in the rotation unknowns (linear in (c, s)), so R b_i(x) − R b_i(c) =
         ∇(R b_i)(y) (x − c) exactly at y = (x + c)/2; with ell = p + R b_i − a_i,
@@ -197,7 +203,9 @@ class FKSystem:
         legs = self.legs
         for k in range(p):
             S[:, :legs, k] = s[..., k]
-        for r, drb in enumerate(self._rotated_derivatives(Y)):  # ∂(R b_i)_k / ∂r over Y: (N, legs, dim)
+        if drbs is None:
+            drbs = self._rotated_derivatives(Y)
+        for r, drb in enumerate(drbs):                          # ∂(R b_i)_k / ∂r over Y: (N, legs, dim)
             col = s[..., 0] * drb[..., 0]
             for k in range(1, drb.shape[-1]):
                 col = col + s[..., k] * drb[..., k]
@@ -224,8 +232,8 @@ class FKSystem:
             m, r = product_midrad(qm, qr, Gm, Gr)                        # (N, 4 legs dim)
             lo, hi = down(m - r), up(m + r)
             bad = ~(np.isfinite(lo) & np.isfinite(hi))
-        lo = np.where(bad, -np.inf, lo).reshape(N, 4, self.legs, -1)
-        hi = np.where(bad, np.inf, hi).reshape(N, 4, self.legs, -1)
+        lo = np.where(bad, -np.inf, lo).reshape(N, 4, self.legs, self.b.shape[1])
+        hi = np.where(bad, np.inf, hi).reshape(N, 4, self.legs, self.b.shape[1])
         return [Interval._raw(lo[:, k], hi[:, k]) for k in range(4)]
 
     def _quaternion_tables(self):
