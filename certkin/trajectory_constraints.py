@@ -50,7 +50,7 @@ PIECE_DEGREES = (6, 8)   # degrees tried for the per-piece polynomials of a movi
 PIECE_TRUNCATION = 2.0 ** -40   # wanted size of a truncated term, relative: (angle change per piece)^(d+1)/(d+1)!
 
 
-def piece_plan(angle_step: float, least: int = 8, most: int = 64) -> tuple[int, int]:
+def piece_plan(angle_step: float, least: int = 4, most: int = 64) -> tuple[int, int]:
     """(pieces per segment, degree) for a moving orientation whose angles change by at most
     ``angle_step`` (radians) along a segment: the cheapest (pieces · (degree + 1)²) power-of-two
     count of pieces in [least, most] with (angle_step / pieces)^(degree+1)/(degree+1)! below
