@@ -520,7 +520,8 @@ class Constraints:
         numerator, point-line numerator, |P − X|² − r², |P − Y|² − r², |Y − X|² (docs/soundness.md)."""
         L = pose.legs
         if isinstance(L[0], Poly):
-            return self._pair_end_polynomials(pose.vector())
+            vec = pose.vector()
+            return self._pair_end_polynomials(vec[:, self.I], vec[:, self.J], self._w0_vector(), self.r2)
         u = [_cols(L[k], self.I) for k in range(3)]
         v = [_cols(L[k], self.J) for k in range(3)]
         w0, r2 = self.w0, self.r2
@@ -536,26 +537,35 @@ class Constraints:
             ends += [tau, tau - seg2, _dot(qc, qc) - r2 * seg2, _dot(q, q) - r2, _dot(qe, qe) - r2, seg2]
         return ends
 
-    def _pair_end_polynomials(self, vec: Poly):
-        """``_pair_end_functions`` for polynomial legs ``vec`` (S, n, 3): the four end points'
+    def _pair_end_polynomials(self, u: Poly, v: Poly, W: Poly, r2: Interval):
+        """``_pair_end_functions`` for polynomial legs u, v (batch shape (..., 3)), the constant
+        A_i − A_j ``W`` (degree 0, broadcast to u) and r² (batch shape (...)): the four end points'
         terms stacked on one axis, each stage one outward-rounded product."""
-        u, v = vec[:, self.I], vec[:, self.J]                                   # (S, P, 3)
         _, first, second = slice(None), [1, 2, 0], [2, 0, 1]
-        W = self._w0_vector()
+        pre = (_,) * (u.ndim - 1)
         W = Poly(np.broadcast_to(padded(W.lo, u.degree), u.lo.shape), np.broadcast_to(padded(W.hi, u.degree), u.hi.shape))
-        q = _stacked([W, W + u, -W, v - W], 2)                                  # the end points − X: (S, P, 4, 3)
-        seg = _stacked([v, v, u, u], 2)                                         # the other segment
-        ac = (_stacked([u, v], 2) * _stacked([u, v], 2)).sum(axis=-1)           # |u|², |v|²: (S, P, 2)
-        seg2 = ac[_, _, [1, 1, 0, 0]]
+        axis = u.ndim - 1
+        q = _stacked([W, W + u, -W, v - W], axis)                               # the end points − X: (..., 4, 3)
+        seg = _stacked([v, v, u, u], axis)                                      # the other segment
+        ac = (_stacked([u, v], axis) * _stacked([u, v], axis)).sum(axis=-1)     # |u|², |v|²: (..., 2)
+        seg2 = ac[pre + ([1, 1, 0, 0],)]
         tau = (q * seg).sum(axis=-1)
-        pq = _stacked([q[_, _, _, first], q[_, _, _, second]], 2) * _stacked([seg[_, _, _, second], seg[_, _, _, first]], 2)
-        qc = pq[_, _, 0] - pq[_, _, 1]                                          # q × seg: (S, P, 4, 3)
+        pq = _stacked([q[pre + (_, first)], q[pre + (_, second)]], axis) * \
+            _stacked([seg[pre + (_, second)], seg[pre + (_, first)]], axis)
+        qc = pq[pre + (0,)] - pq[pre + (1,)]                                    # q × seg: (..., 4, 3)
         qc2 = (qc * qc).sum(axis=-1)
         qe = q - seg
-        sq = (_stacked([q, qe], 2) * _stacked([q, qe], 2)).sum(axis=-1)         # |q|², |q − seg|²: (S, P, 2, 4)
-        r2 = self.r2[:, None]
-        terms = [tau, tau - seg2, qc2 - r2 * seg2, sq[_, _, 0] - r2, sq[_, _, 1] - r2, seg2]
-        return [t[_, _, e] for e in range(4) for t in terms]
+        sq = (_stacked([q, qe], axis) * _stacked([q, qe], axis)).sum(axis=-1)   # |q|², |q − seg|²: (..., 2, 4)
+        r2 = r2[..., None]
+        terms = [tau, tau - seg2, qc2 - r2 * seg2, sq[pre + (0,)] - r2, sq[pre + (1,)] - r2, seg2]
+        return [t[pre + (e,)] for e in range(4) for t in terms]
+
+    def pair_end_items(self, vec: Poly, rows, pairs):
+        """The 24 end-point polynomials (items,) of the (row, pair) items of the polynomial legs ``vec``."""
+        u = Poly(vec.lo[rows, self.I[pairs]], vec.hi[rows, self.I[pairs]])
+        v = Poly(vec.lo[rows, self.J[pairs]], vec.hi[rows, self.J[pairs]])
+        W = self._w0_vector()
+        return self._pair_end_polynomials(u, v, Poly(W.lo[pairs], W.hi[pairs]), self.r2[pairs])
 
     # ----- evaluation -------------------------------------------------------------------
     def polynomials(self, linear, P0: Interval) -> dict:
@@ -955,32 +965,31 @@ class _PolyPath:
 
     def pair_ends(self, fn, rows, pairs):
         """End-point terms (items, 4, 6) of the (interval, pair) items ``rows``, ``pairs`` and the
-        point-line distance² − r² (items, 4); their polynomials are built for a row (segment or
-        piece) when it first needs them, at the degree of the other families when not above it
-        (one Bernstein map for all)."""
+        point-line distance² − r² (items, 4); their polynomials are built for a (row, pair) (row:
+        segment or piece) when it first needs them, at the degree of the other families when not
+        above it (one Bernstein map for all)."""
         key = fn.__name__
         seg = self.rows[rows]
+        P = len(self.c.pair_list)
         if key not in self.polys:
             S = self.polys["pose"].legs[0].shape[0]
             n = self._stacked()[0].shape[-1] - 1
-            self.polys[key] = (np.zeros((S, 24 * len(self.c.pair_list), n + 1)),
-                               np.zeros((S, 24 * len(self.c.pair_list), n + 1)), np.zeros(S, dtype=bool))
+            self.polys[key] = (np.zeros((S, 24 * P, n + 1)), np.zeros((S, 24 * P, n + 1)), np.zeros((S, P), dtype=bool))
         lo, hi, built = self.polys[key]
-        todo = np.unique(seg[~built[seg]])
-        if len(todo):                  # built for the rows that need them, once
+        need = ~built[seg, pairs]
+        if need.any():                 # built for the (row, pair) items that need them, once
+            todo = np.unique(np.stack([seg[need], pairs[need]], 1), axis=0)
             with degree_limit(self.polys.get("degree_limit")):
                 ends = [p if isinstance(p, Poly) else Poly.from_coefficients([p])
-                        for p in fn(self.polys["pose"].rows(todo))]
+                        for p in self.c.pair_end_items(self.polys["pose"].vector(), todo[:, 0], todo[:, 1])]
             m = max(p.degree for p in ends)
             if m + 1 > lo.shape[-1]:
                 lo, hi = padded(lo, m), padded(hi, m)
-            P = len(self.c.pair_list)
             for k, p in enumerate(ends):                   # term-major: column k * P + pair
-                lo[todo, k * P:(k + 1) * P, :p.degree + 1] = p.lo
-                hi[todo, k * P:(k + 1) * P, :p.degree + 1] = p.hi
-            built[todo] = True
+                lo[todo[:, 0], k * P + todo[:, 1], :p.degree + 1] = p.lo
+                hi[todo[:, 0], k * P + todo[:, 1], :p.degree + 1] = p.hi
+            built[todo[:, 0], todo[:, 1]] = True
             self.polys[key] = (lo, hi, built)
-        P = len(self.c.pair_list)
         cols = (np.arange(24)[None, :] * P + pairs[:, None])     # (items, 24)
         W = self._weights(lo.shape[-1] - 1)
         b = Poly(lo[seg[:, None], cols], hi[seg[:, None], cols]).bernstein(self.tlo[rows, None], self.thi[rows, None],
