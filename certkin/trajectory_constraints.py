@@ -588,7 +588,10 @@ class Constraints:
         var = [Poly.from_coefficients([P0[:, k] + A * D[:, k], H * D[:, k]]) for k in range(d)]
         try:
             with degree_limit(degree):
-                pose = _Pose.from_polys(self.vectors.evaluate(var, robot.parameters), self.n, S, self.with_R)
+                if robot.rigid_legs():       # l_i = C + R b_i − a_i: R, then one stacked product
+                    pose = self._rigid_pose(var, S)
+                else:
+                    pose = _Pose.from_polys(self.vectors.evaluate(var, robot.parameters), self.n, S, self.with_R)
                 out = self._families(pose)
                 if self.det is not None:
                     if self.det.laplace:
@@ -602,6 +605,28 @@ class Constraints:
                 out["degree_limit"] = degree   # the pair end-point terms, built when needed, too
         except NotImplementedError:
             return None
+        return out
+
+    def _rigid_pose(self, var, S) -> _Pose:
+        """Leg vectors C + R b_i − a_i (and R) from the polynomial pose coordinates ``var`` of a
+        robot with rigid legs (``Robot.rigid_legs``): R from the compiled model, then R b_i for
+        every leg in one product (inside the caller's degree limit)."""
+        robot = self.robot
+        R = [r if isinstance(r, Poly) else Poly.from_coefficients([r if isinstance(r, Interval) else Interval(r)])
+             for r in robot._compiled("R").evaluate(var, robot.parameters)]
+        d = max(r.degree for r in R)
+        Rm = Poly(np.stack([np.broadcast_to(padded(r.lo, d), (S, d + 1)) for r in R], 1).reshape(S, 3, 3, d + 1),
+                  np.stack([np.broadcast_to(padded(r.hi, d), (S, d + 1)) for r in R], 1).reshape(S, 3, 3, d + 1))
+        plat, base = self._stacked_points()                                  # (3, n): [coordinate, leg]
+        Rb = (Rm[:, :, :, None] * plat).sum(axis=2)                           # (R b_i)_k: (S, 3, n)
+        position = [k for k, name in enumerate(robot.pose_names) if name not in robot.angle_names]
+        if position:                                                          # C (S, 3, 1); spherical: none
+            zero = Poly(np.zeros((S, 1)), np.zeros((S, 1)))
+            Rb = Rb + _stacked([var[position[k]] if k < len(position) else zero for k in range(3)], 1)[:, :, None]
+        legs = Rb - base
+        out = _Pose.__new__(_Pose)
+        out.legs = [legs[:, k] for k in range(3)]
+        out.R = [Rm[:, k // 3, k % 3] for k in range(9)] if self.with_R else None
         return out
 
     def _families(self, pose) -> dict:
