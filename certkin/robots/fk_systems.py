@@ -93,12 +93,56 @@ class FKSystem:
         return _cat([_cat(r) for r in rows], axis=-2)
 
     def rotated(self, R: Interval) -> Interval:
-        """R b_i for every leg: (N, legs, dim)."""
+        """R b_i for every leg: (..., legs, dim) for R (..., dim, dim).
+
+        Planar: interval products and sums.  Quaternion: midpoint-radius form (``rotated_midrad``),
+        the same enclosure up to a few units in the last place, in about a third of the operations."""
+        if self.kind != "planar-3rpr":
+            m, r = self.rotated_midrad(R)
+            return _from_midrad(m, r)
         b = self.b
         out = R[:, None, :, 0] * b[None, :, 0, None]
         for j in range(1, b.shape[1]):
             out = out + R[:, None, :, j] * b[None, :, j, None]
         return out
+
+    def _b_midrad(self):
+        """(bm, inner, outer) (legs, dim): b_ij in [bm ± br], inner = (n + 1) u |bm| + br, outer = |bm| + br
+        (n = dim), the factors of ``rotated_midrad``'s radius; computed once."""
+        t = self.__dict__.get("_b_midrad_")
+        if t is None:
+            from intervals.linalg import _U, midrad
+            bm, br = midrad(self.b.lo, self.b.hi)
+            dim = bm.shape[1]
+            t = self._b_midrad_ = (bm, (dim + 1) * _U * np.abs(bm) + br, np.abs(bm) + br)
+        return t
+
+    def rotated_midrad(self, R: Interval, columns: bool = False):
+        """(m, r): R b_i in [m ± r] for every R in the interval matrices (..., dim, dim) and every b_ij
+        in its enclosure: (..., legs, dim) each.  With R_kj in [Rm ± Rr], b_ij in [bm ± br],
+        |R_kj b_ij − Rm bm| ≤ |Rm| br + Rr (|bm| + br); the float sum of the dim products
+        Rm_kj bm_ij is within γ_dim Σ_j |Rm_kj||bm_ij| + dim·2⁻¹⁰²² of the exact one (Higham 2002,
+        eq. 3.5, γ_n ≤ (n + 1) u), and the float radius is bounded by ``linalg._upper``
+        (docs/soundness.md §8, "midpoint-radius").  ``columns``: also the per-column terms
+        (mids Rm_kj bm_ij, radii), (..., legs, dim, dim) each, for the sums that leave one column out."""
+        from intervals.linalg import _ETA, _upper, midrad
+        bm, inner, outer = self._b_midrad()
+        dim = bm.shape[1]
+        with np.errstate(invalid="ignore", over="ignore"):
+            Rm, Rr = midrad(R.lo, R.hi)
+            Rm, Rr = Rm[..., None, :, :], Rr[..., None, :, :]          # (..., 1, k, j)
+            P = Rm * bm[:, None, :]                                     # (..., legs, k, j): Rm_kj bm_ij
+            Q = np.abs(Rm) * inner[:, None, :] + Rr * outer[:, None, :]
+            m = P[..., 0]
+            r = Q[..., 0]
+            for j in range(1, dim):
+                m = m + P[..., j]
+                r = r + Q[..., j]
+            r = _upper(r, 4 * dim + 4) + dim * _ETA
+            bad = ~(np.isfinite(m) & np.isfinite(r))
+            if bad.any():
+                m, r = np.where(bad, 0.0, m), np.where(bad, np.inf, r)
+        return (m, r, P, Q) if columns else (m, r)
 
     # ----- equations -----------------------------------------------------------
     def equations(self, X: Interval, L: Interval, R: Interval | None = None, rb: Interval | None = None) -> Interval:
@@ -156,20 +200,33 @@ class FKSystem:
             rb = self.rotated(self.rotation(X))
         if self.kind == "planar-3rpr":
             return rb
+        from intervals.linalg import _ETA, _U, _upper, midrad
         if c is None:
             c = X.mid()
         p = self.n_pos
-        rbc = self.rotated(self.rotation(Interval._raw(c, c.copy())))
-        acc = rbc
+        rbc = self.rotation(Interval._raw(c, c.copy()))
+        cm, cr = self.rotated_midrad(rbc)
         with np.errstate(invalid="ignore", over="ignore"):
             Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))
-            drbs = self._rotated_derivatives(Y)
-            for r, drb in enumerate(drbs):
-                k = p + r
-                d = Interval._raw(down_sum(X.lo[:, k] - c[:, k]), up_sum(X.hi[:, k] - c[:, k]))
-                acc = acc + drb * d[:, None, None]
-        out = Interval._raw(np.fmax(rb.lo, acc.lo), np.fmin(rb.hi, acc.hi))
-        return (out, rbc, drbs) if parts else out
+            Dm, Dr = self._rotated_derivatives_midrad(Y)                     # (N, 4, legs, dim)
+            em, er = midrad(down_sum(X.lo[:, p:] - c[:, p:]), up_sum(X.hi[:, p:] - c[:, p:]))   # X_r − c_r
+            # R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r) in midpoint-radius form: the five-term sum
+            # cm + Σ_r Dm_r em_r within γ_5 (|cm| + Σ_r |Dm_r em_r|) + 5·2⁻¹⁰²² of its float value
+            # (Higham 2002, eq. 3.5), the exact radius cr + Σ_r |Dm_r| er_r + Dr_r (|em_r| + er_r)
+            # evaluated in floats and bounded by ``_upper`` (at most 40 roundings)
+            mid, mag, rad = cm, np.abs(cm), cr
+            for r in range(4):
+                e_m, e_r = em[:, r, None, None], er[:, r, None, None]
+                t = Dm[:, r] * e_m
+                mid = mid + t
+                mag = mag + np.abs(t)
+                rad = rad + (np.abs(Dm[:, r]) * e_r + Dr[:, r] * (np.abs(e_m) + e_r))
+            rad = _upper(rad + 6.0 * _U * mag, 40) + 5 * _ETA
+            lo, hi = down(mid - rad), up(mid + rad)
+            out = Interval._raw(np.fmax(rb.lo, lo), np.fmin(rb.hi, hi))   # NaN (non-finite input): natural
+        if not parts:
+            return out
+        return out, _from_midrad(cm, cr), self._derivatives_from_midrad(Dm, Dr)
 
     def slope(self, X: Interval, c: np.ndarray, rb: Interval | None = None, rbc: Interval | None = None,
               drbs: list | None = None) -> Interval:
@@ -223,6 +280,11 @@ class FKSystem:
         proved rounding bound).  Planar: constant matrices, ``rotated`` of ``_rotation_derivatives``."""
         if self.kind == "planar-3rpr":
             return [self.rotated(dR) for dR in self._rotation_derivatives(X)]
+        return self._derivatives_from_midrad(*self._rotated_derivatives_midrad(X))
+
+    def _rotated_derivatives_midrad(self, X: Interval):
+        """Quaternion: (m, r), (N, 4, legs, dim): ∂(R b_i)_k/∂q_r over the boxes lies in [m ± r]
+        (``linalg.product_midrad``; rows with a non-finite input: m = 0, r = ∞)."""
         from intervals.linalg import midrad, product_midrad
         Gm, Gr = self._quaternion_tables()
         p = self.n_pos
@@ -230,11 +292,16 @@ class FKSystem:
         with np.errstate(invalid="ignore", over="ignore"):
             qm, qr = midrad(X.lo[:, p:], X.hi[:, p:])
             m, r = product_midrad(qm, qr, Gm, Gr)                        # (N, 4 legs dim)
-            lo, hi = down(m - r), up(m + r)
-            bad = ~(np.isfinite(lo) & np.isfinite(hi))
-        lo = np.where(bad, -np.inf, lo).reshape(N, 4, self.legs, self.b.shape[1])
-        hi = np.where(bad, np.inf, hi).reshape(N, 4, self.legs, self.b.shape[1])
-        return [Interval._raw(lo[:, k], hi[:, k]) for k in range(4)]
+            bad = ~(np.isfinite(m) & np.isfinite(r))
+        if bad.any():
+            m, r = np.where(bad, 0.0, m), np.where(bad, np.inf, r)
+        shape = (N, 4, self.legs, self.b.shape[1])
+        return m.reshape(shape), r.reshape(shape)
+
+    def _derivatives_from_midrad(self, m, r):
+        """The list of the 4 derivative enclosures (N, legs, dim) from (m, r) (N, 4, legs, dim)."""
+        D = _from_midrad(m, r)
+        return [Interval._raw(D.lo[:, k], D.hi[:, k]) for k in range(4)]
 
     def _quaternion_tables(self):
         """(Gm, Gr), (4, 4 legs dim): ∂(R b_i)_k/∂q_r = Σ_s G[s, r, i, k] q_s with G in [Gm ± Gr].
@@ -434,6 +501,13 @@ _DQ_INDEX = np.array([[[0, 8, 3], [4, 0, 6], [7, 2, 0]],
                       [[0, 3, 4], [3, 10, 5], [4, 1, 10]],
                       [[11, 2, 1], [2, 0, 4], [5, 4, 11]],
                       [[12, 5, 2], [1, 12, 3], [2, 3, 0]]])
+
+
+def _from_midrad(m, r) -> Interval:
+    """[m ± r] outward rounded (an infinite r gives the entire line)."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        lo, hi = down(m - r), up(m + r)
+    return Interval._raw(np.where(np.isnan(lo), -np.inf, lo), np.where(np.isnan(hi), np.inf, hi))
 
 
 def _sum2(v: Interval) -> Interval:
