@@ -292,7 +292,7 @@ class FKProblem:
             if self.slopes:
                 at = np.searchsorted(live, rest)    # R b_i at the midpoints, derivatives: the rotation is unchanged
                 K, C, J, kempty = slope_boxes(system, Interval._raw(rlo, rhi), Lr, rb=rb[rest], compact=True,
-                                              rbc=rbcl[at], drbs=[d[at] for d in drbl])
+                                              rbc=rbcl[at], drbs=(drbl[0][at], drbl[1][at]))
             else:
                 K, C, J = krawczyk_boxes(system, Interval._raw(rlo, rhi), Lr, with_jacobian=True, rb=rb[rest],
                                          compact=True)

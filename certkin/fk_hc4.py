@@ -43,7 +43,6 @@ import numpy as np
 
 from intervals import Interval, mul, sqr
 from intervals.interval import div
-from intervals.linalg import _ETA, _upper
 from intervals.rounding import down, up
 
 # R_kj = 2(q_a q_b + σ q_c q_d) for the quaternion rotation (see robots/fk_systems.py):
@@ -180,12 +179,8 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False):
             legs_j = np.nonzero(nonzero[:, j])[0]
             if not len(legs_j):
                 continue
-            if quaternion:  # Σ_{j'≠j} R_kj' b_ij' in midpoint-radius form (``rotated_midrad``'s bound)
-                others = [jj for jj in range(dim) if jj != j]
-                rm, rr = Pm[..., others[0]], Pr[..., others[0]]
-                for jj in others[1:]:
-                    rm, rr = rm + Pm[..., jj], rr + Pr[..., jj]
-                rest = _from_midrad(rm, _upper(rr, 4 * dim + 4) + dim * _ETA)
+            if quaternion:  # Σ_{j'≠j} R_kj' b_ij' in midpoint-radius form (``rotated_midrad``)
+                rest = _from_midrad(Pm[..., j], Pr[..., j])
             else:
                 rest = None
                 for jj in range(dim):

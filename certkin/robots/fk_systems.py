@@ -107,42 +107,50 @@ class FKSystem:
         return out
 
     def _b_midrad(self):
-        """(bm, inner, outer) (legs, dim): b_ij in [bm ± br], inner = (n + 1) u |bm| + br, outer = |bm| + br
-        (n = dim), the factors of ``rotated_midrad``'s radius; computed once."""
+        """(bm, inner, outer), each (dim, legs) [one per left-out column j: (dim, dim, legs)]: b_ij in
+        [bm ± br], inner = (n + 1) u |bm| + br, outer = |bm| + br (n = dim), the factors of
+        ``rotated_midrad``; the left-out versions have column j set to 0.  Computed once."""
         t = self.__dict__.get("_b_midrad_")
         if t is None:
             from intervals.linalg import _U, midrad
             bm, br = midrad(self.b.lo, self.b.hi)
             dim = bm.shape[1]
-            t = self._b_midrad_ = (bm, (dim + 1) * _U * np.abs(bm) + br, np.abs(bm) + br)
+            full = (bm.T.copy(), ((dim + 1) * _U * np.abs(bm) + br).T.copy(), (np.abs(bm) + br).T.copy())
+            keep = 1.0 - np.eye(dim)[:, :, None]                                # (j, j', 1): 0 where j' = j
+            t = self._b_midrad_ = (full, tuple(keep * v[None] for v in full))
         return t
 
     def rotated_midrad(self, R: Interval, columns: bool = False):
         """(m, r): R b_i in [m ± r] for every R in the interval matrices (..., dim, dim) and every b_ij
         in its enclosure: (..., legs, dim) each.  With R_kj in [Rm ± Rr], b_ij in [bm ± br],
         |R_kj b_ij − Rm bm| ≤ |Rm| br + Rr (|bm| + br); the float sum of the dim products
-        Rm_kj bm_ij is within γ_dim Σ_j |Rm_kj||bm_ij| + dim·2⁻¹⁰²² of the exact one (Higham 2002,
-        eq. 3.5, γ_n ≤ (n + 1) u), and the float radius is bounded by ``linalg._upper``
-        (docs/soundness.md §8, "midpoint-radius").  ``columns``: also the per-column terms
-        (mids Rm_kj bm_ij, radii), (..., legs, dim, dim) each, for the sums that leave one column out."""
+        Rm_kj bm_ij (a float matrix product, any order) is within γ_dim Σ_j |Rm_kj||bm_ij| +
+        dim·2⁻¹⁰²² of the exact one (Higham 2002, eq. 3.5, γ_n ≤ (n + 1) u), and the float radius is
+        bounded by ``linalg._upper`` (docs/soundness.md §8, "midpoint-radius R b_i"): the bound of
+        ``linalg.product_midrad``.  ``columns``: also, per column j, the same for the sums that leave
+        column j out, Σ_{j'≠j} R_kj' b_ij': (..., legs, dim, dim) each, j last."""
         from intervals.linalg import _ETA, _upper, midrad
-        bm, inner, outer = self._b_midrad()
-        dim = bm.shape[1]
+        (bm, inner, outer), left_out = self._b_midrad()
+        dim, legs = bm.shape
+        lead = R.shape[:-2]
         with np.errstate(invalid="ignore", over="ignore"):
             Rm, Rr = midrad(R.lo, R.hi)
-            Rm, Rr = Rm[..., None, :, :], Rr[..., None, :, :]          # (..., 1, k, j)
-            P = Rm * bm[:, None, :]                                     # (..., legs, k, j): Rm_kj bm_ij
-            Q = np.abs(Rm) * inner[:, None, :] + Rr * outer[:, None, :]
-            m = P[..., 0]
-            r = Q[..., 0]
-            for j in range(1, dim):
-                m = m + P[..., j]
-                r = r + Q[..., j]
-            r = _upper(r, 4 * dim + 4) + dim * _ETA
-            bad = ~(np.isfinite(m) & np.isfinite(r))
-            if bad.any():
-                m, r = np.where(bad, 0.0, m), np.where(bad, np.inf, r)
-        return (m, r, P, Q) if columns else (m, r)
+            Rm, Rr = Rm.reshape(-1, dim), Rr.reshape(-1, dim)
+            aRm = np.abs(Rm)
+
+            def product(bm, inner, outer):
+                m = Rm @ bm
+                r = _upper(aRm @ inner + Rr @ outer, 4 * dim + 4) + dim * _ETA
+                bad = ~(np.isfinite(m) & np.isfinite(r))
+                if bad.any():
+                    m, r = np.where(bad, 0.0, m), np.where(bad, np.inf, r)
+                return (np.swapaxes(m.reshape(lead + (dim, legs)), -1, -2),
+                        np.swapaxes(r.reshape(lead + (dim, legs)), -1, -2))
+            m, r = product(bm, inner, outer)
+            if not columns:
+                return m, r
+            parts = [product(*(v[j] for v in left_out)) for j in range(dim)]
+        return m, r, np.stack([q[0] for q in parts], -1), np.stack([q[1] for q in parts], -1)
 
     # ----- equations -----------------------------------------------------------
     def equations(self, X: Interval, L: Interval, R: Interval | None = None, rb: Interval | None = None) -> Interval:
@@ -194,8 +202,9 @@ class FKSystem:
         """R b_i over the boxes (N, legs, dim): the natural enclosure (``rotated``, or ``rb``) intersected,
         for a quaternion, with the centred form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r), c = X.mid()
         unless given (any float points) and Y ∋ (x + c)/2 — exact for R b_i, quadratic in q
-        (docs/soundness.md §8).  ``parts`` (quaternion): also R b_i at c and the derivatives over Y,
-        which ``slope`` at the same c reuses (they depend only on the rotation part of X and c)."""
+        (docs/soundness.md §8).  ``parts`` (quaternion): also R b_i at c and the derivatives over Y
+        (midpoints and radii, (N, 4, legs, dim) each), which ``slope`` at the same c reuses (they
+        depend only on the rotation part of X and c)."""
         if rb is None:
             rb = self.rotated(self.rotation(X))
         if self.kind == "planar-3rpr":
@@ -226,7 +235,7 @@ class FKSystem:
             out = Interval._raw(np.fmax(rb.lo, lo), np.fmin(rb.hi, hi))   # NaN (non-finite input): natural
         if not parts:
             return out
-        return out, _from_midrad(cm, cr), self._derivatives_from_midrad(Dm, Dr)
+        return out, _from_midrad(cm, cr), (Dm, Dr)
 
     def slope(self, X: Interval, c: np.ndarray, rb: Interval | None = None, rbc: Interval | None = None,
               drbs: list | None = None) -> Interval:
@@ -260,13 +269,24 @@ class FKSystem:
         legs = self.legs
         for k in range(p):
             S[:, :legs, k] = s[..., k]
-        if drbs is None:
-            drbs = self._rotated_derivatives(Y)
-        for r, drb in enumerate(drbs):                          # ∂(R b_i)_k / ∂r over Y: (N, legs, dim)
-            col = s[..., 0] * drb[..., 0]
-            for k in range(1, drb.shape[-1]):
-                col = col + s[..., k] * drb[..., k]
-            S[:, :legs, p + r] = col
+        if self.kind != "planar-3rpr":
+            # quaternion: Σ_k s_k ∂(R b_i)_k/∂q_r(Y), interval products and sums, the 4 unknowns at once
+            Dm, Dr = self._rotated_derivatives_midrad(Y) if drbs is None else drbs   # (N, 4, legs, dim)
+            D = _from_midrad(Dm, Dr)
+            s4 = Interval._raw(s.lo[:, None], s.hi[:, None])
+            col = s4[..., 0] * D[..., 0]
+            for k in range(1, D.shape[-1]):
+                col = col + s4[..., k] * D[..., k]                                 # (N, 4, legs)
+            S.lo[:, :legs, p:] = np.swapaxes(col.lo, 1, 2)
+            S.hi[:, :legs, p:] = np.swapaxes(col.hi, 1, 2)
+        else:
+            if drbs is None:
+                drbs = self._rotated_derivatives(Y)
+            for r, drb in enumerate(drbs):                      # ∂(R b_i)_k / ∂r over Y: (N, legs, dim)
+                col = s[..., 0] * drb[..., 0]
+                for k in range(1, drb.shape[-1]):
+                    col = col + s[..., k] * drb[..., k]
+                S[:, :legs, p + r] = col
         for k in range(p, self.n):
             S[:, legs, k] = X[:, k] + point[:, k]
         return S
