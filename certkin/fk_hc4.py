@@ -180,14 +180,15 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False):
             if not len(legs_j):
                 continue
             if quaternion:  # Σ_{j'≠j} R_kj' b_ij' in midpoint-radius form (``rotated_midrad``)
-                rest = _from_midrad(Pm[..., j], Pr[..., j])
+                rest = _from_midrad(Pm[..., j][:, legs_j], Pr[..., j][:, legs_j])
+                num = u[:, legs_j] - rest                    # (N, legs_j, k)
             else:
                 rest = None
                 for jj in range(dim):
                     if jj != j:
                         rest = T[..., jj] if rest is None else rest + T[..., jj]
-            num = u - rest                                   # (N, legs, k)
-            cand = num[:, legs_j] * inverse[legs_j, j][None, :, None]   # ÷ b_ij, as × an enclosure of 1/b_ij
+                num = (u - rest)[:, legs_j]                  # (N, legs_j, k)
+            cand = num * inverse[legs_j, j][None, :, None]   # ÷ b_ij, as × an enclosure of 1/b_ij
             Rlo[:, :, j] = np.maximum(Rlo[:, :, j], np.max(cand.lo, axis=1))
             Rhi[:, :, j] = np.minimum(Rhi[:, :, j], np.min(cand.hi, axis=1))
         empty |= np.any(Rlo > Rhi, axis=(1, 2))

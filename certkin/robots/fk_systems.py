@@ -107,17 +107,19 @@ class FKSystem:
         return out
 
     def _b_midrad(self):
-        """(bm, inner, outer), each (dim, legs) [one per left-out column j: (dim, dim, legs)]: b_ij in
-        [bm ± br], inner = (n + 1) u |bm| + br, outer = |bm| + br (n = dim), the factors of
-        ``rotated_midrad``; the left-out versions have column j set to 0.  Computed once."""
+        """(bm, inner, outer), each (dim, (dim + 1) legs): b_ij in [bm ± br], inner = (n + 1) u |bm| + br,
+        outer = |bm| + br (n = dim), the factors of ``rotated_midrad``: the first legs columns for
+        R b_i, then, for each column j of R, the same with b_ij set to 0 (the sums that leave column j
+        out).  Computed once."""
         t = self.__dict__.get("_b_midrad_")
         if t is None:
             from intervals.linalg import _U, midrad
             bm, br = midrad(self.b.lo, self.b.hi)
             dim = bm.shape[1]
-            full = (bm.T.copy(), ((dim + 1) * _U * np.abs(bm) + br).T.copy(), (np.abs(bm) + br).T.copy())
-            keep = 1.0 - np.eye(dim)[:, :, None]                                # (j, j', 1): 0 where j' = j
-            t = self._b_midrad_ = (full, tuple(keep * v[None] for v in full))
+            full = (bm.T, ((dim + 1) * _U * np.abs(bm) + br).T, (np.abs(bm) + br).T)   # (dim, legs)
+            keep = np.concatenate([np.ones((1, dim)), 1.0 - np.eye(dim)])[:, :, None]   # (dim + 1, dim, 1)
+            t = self._b_midrad_ = tuple(np.ascontiguousarray(np.moveaxis(keep * v[None], 0, 1).reshape(dim, -1))
+                                        for v in full)
         return t
 
     def rotated_midrad(self, R: Interval, columns: bool = False):
@@ -128,29 +130,30 @@ class FKSystem:
         dim·2⁻¹⁰²² of the exact one (Higham 2002, eq. 3.5, γ_n ≤ (n + 1) u), and the float radius is
         bounded by ``linalg._upper`` (docs/soundness.md §8, "midpoint-radius R b_i"): the bound of
         ``linalg.product_midrad``.  ``columns``: also, per column j, the same for the sums that leave
-        column j out, Σ_{j'≠j} R_kj' b_ij': (..., legs, dim, dim) each, j last."""
+        column j out, Σ_{j'≠j} R_kj' b_ij' (b_ij set to 0): (..., legs, dim, dim) each, j last."""
         from intervals.linalg import _ETA, _upper, midrad
-        (bm, inner, outer), left_out = self._b_midrad()
-        dim, legs = bm.shape
+        bm, inner, outer = self._b_midrad()
+        dim = bm.shape[0]
+        legs = self.legs
+        if not columns:
+            bm, inner, outer = bm[:, :legs], inner[:, :legs], outer[:, :legs]
         lead = R.shape[:-2]
         with np.errstate(invalid="ignore", over="ignore"):
             Rm, Rr = midrad(R.lo, R.hi)
             Rm, Rr = Rm.reshape(-1, dim), Rr.reshape(-1, dim)
-            aRm = np.abs(Rm)
-
-            def product(bm, inner, outer):
-                m = Rm @ bm
-                r = _upper(aRm @ inner + Rr @ outer, 4 * dim + 4) + dim * _ETA
-                bad = ~(np.isfinite(m) & np.isfinite(r))
-                if bad.any():
-                    m, r = np.where(bad, 0.0, m), np.where(bad, np.inf, r)
-                return (np.swapaxes(m.reshape(lead + (dim, legs)), -1, -2),
-                        np.swapaxes(r.reshape(lead + (dim, legs)), -1, -2))
-            m, r = product(bm, inner, outer)
-            if not columns:
-                return m, r
-            parts = [product(*(v[j] for v in left_out)) for j in range(dim)]
-        return m, r, np.stack([q[0] for q in parts], -1), np.stack([q[1] for q in parts], -1)
+            m = Rm @ bm
+            r = _upper(np.abs(Rm) @ inner + Rr @ outer, 4 * dim + 4) + dim * _ETA
+            bad = ~(np.isfinite(m) & np.isfinite(r))
+            if bad.any():
+                m, r = np.where(bad, 0.0, m), np.where(bad, np.inf, r)
+        if not columns:
+            return (np.swapaxes(m.reshape(lead + (dim, legs)), -1, -2),
+                    np.swapaxes(r.reshape(lead + (dim, legs)), -1, -2))
+        m = m.reshape(lead + (dim, dim + 1, legs))                # (..., k, block, i)
+        r = r.reshape(lead + (dim, dim + 1, legs))
+        full = (np.swapaxes(m[..., 0, :], -1, -2), np.swapaxes(r[..., 0, :], -1, -2))
+        left_out = tuple(np.moveaxis(v[..., 1:, :], (-3, -2, -1), (-2, -1, -3)) for v in (m, r))   # (..., i, k, j)
+        return full + left_out
 
     # ----- equations -----------------------------------------------------------
     def equations(self, X: Interval, L: Interval, R: Interval | None = None, rb: Interval | None = None) -> Interval:
@@ -210,7 +213,8 @@ class FKSystem:
         if self.kind == "planar-3rpr":
             return rb
         from intervals.linalg import _ETA, _U, _upper, midrad
-        if c is None:
+        centre_of_box = c is None
+        if centre_of_box:
             c = X.mid()
         p = self.n_pos
         rbc = self.rotation(Interval._raw(c, c.copy()))
@@ -218,19 +222,25 @@ class FKSystem:
         with np.errstate(invalid="ignore", over="ignore"):
             Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))
             Dm, Dr = self._rotated_derivatives_midrad(Y)                     # (N, 4, legs, dim)
-            em, er = midrad(down_sum(X.lo[:, p:] - c[:, p:]), up_sum(X.hi[:, p:] - c[:, p:]))   # X_r − c_r
-            # R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r) in midpoint-radius form: the five-term sum
-            # cm + Σ_r Dm_r em_r within γ_5 (|cm| + Σ_r |Dm_r em_r|) + 5·2⁻¹⁰²² of its float value
-            # (Higham 2002, eq. 3.5), the exact radius cr + Σ_r |Dm_r| er_r + Dr_r (|em_r| + er_r)
-            # evaluated in floats and bounded by ``_upper`` (at most 40 roundings)
-            mid, mag, rad = cm, np.abs(cm), cr
-            for r in range(4):
-                e_m, e_r = em[:, r, None, None], er[:, r, None, None]
-                t = Dm[:, r] * e_m
-                mid = mid + t
-                mag = mag + np.abs(t)
-                rad = rad + (np.abs(Dm[:, r]) * e_r + Dr[:, r] * (np.abs(e_m) + e_r))
-            rad = _upper(rad + 6.0 * _U * mag, 40) + 5 * _ETA
+            if centre_of_box:
+                # c = X.mid(): X_r − c_r ⊆ [−h_r, h_r], so Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r) ⊆ ±Σ_r (|Dm_r| + Dr_r) h_r,
+                # and R b_i(c) + that lies in [cm ± (cr + Σ_r (|Dm_r| + Dr_r) h_r)], whose float radius
+                # (non-negative terms, at most 8 roundings) is bounded by ``_upper``
+                h = np.maximum(up_sum(c[:, p:] - X.lo[:, p:]), up_sum(X.hi[:, p:] - c[:, p:]))      # (N, 4)
+                rad = _upper(cr + np.add.reduce((np.abs(Dm) + Dr) * h[:, :, None, None], axis=1), 8)
+                mid = cm
+            else:
+                # any c: X_r − c_r in [em ± er]; the five-term sum cm + Σ_r Dm_r em_r is within
+                # γ_5 (|cm| + Σ_r |Dm_r em_r|) + 5·2⁻¹⁰²² of its float value (Higham 2002, eq. 3.5), the exact
+                # radius cr + Σ_r |Dm_r| er_r + Dr_r (|em_r| + er_r) is evaluated in floats and bounded by
+                # ``_upper`` (at most 40 roundings)
+                em, er = midrad(down_sum(X.lo[:, p:] - c[:, p:]), up_sum(X.hi[:, p:] - c[:, p:]))
+                em, er = em[:, :, None, None], er[:, :, None, None]
+                t = Dm * em
+                mid = cm + np.add.reduce(t, axis=1)
+                rad = np.add.reduce(np.abs(Dm) * er + Dr * (np.abs(em) + er), axis=1)
+                mag = np.abs(cm) + np.add.reduce(np.abs(t), axis=1)
+                rad = _upper(cr + rad + 6.0 * _U * mag, 40) + 5 * _ETA
             lo, hi = down(mid - rad), up(mid + rad)
             out = Interval._raw(np.fmax(rb.lo, lo), np.fmin(rb.hi, hi))   # NaN (non-finite input): natural
         if not parts:
