@@ -47,7 +47,7 @@ import time
 import numpy as np
 
 from intervals import Interval, linalg, sqr
-from intervals.rounding import enclose_plain
+from intervals.rounding import down, enclose_plain, up
 
 from .engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
 from .errors import InputError
@@ -183,8 +183,14 @@ def contract_position(system, X: Interval, L: Interval, rb=None):
         except np.linalg.LinAlgError:
             P = np.linalg.pinv(Dm)
     P = _compact(np.where(np.isfinite(P), P, 0.0))   # float32 values: any float P keeps the solutions
-    Ab = linalg.matmul(P, Interval._raw(np.concatenate([D.lo, g.lo[..., None]], -1),   # P [D | g]: the
-                                        np.concatenate([D.hi, g.hi[..., None]], -1)))  # products of P D, P g
+    with np.errstate(invalid="ignore", over="ignore"):   # P [D | g] (the products P D, P g) in midpoint-radius
+        Dm, Dr = linalg.midrad(np.concatenate([D.lo, g.lo[..., None]], -1),   # form: a float matrix product and
+                               np.concatenate([D.hi, g.hi[..., None]], -1))   # its proved bound (product_midrad)
+        m, r = linalg.product_midrad(P, None, Dm, Dr)
+        Ab = Interval._raw(down(m - r), up(m + r))
+        bad = ~(np.isfinite(Ab.lo) & np.isfinite(Ab.hi))
+        if bad.any():
+            Ab = Interval._raw(np.where(bad, -np.inf, Ab.lo), np.where(bad, np.inf, Ab.hi))
     A, b = Ab[..., :p], Ab[..., p]
     box = Interval._raw(X.lo[:, :p], X.hi[:, :p])
     new, empty = linalg.gauss_seidel(A, b, box, C=False)
@@ -292,7 +298,7 @@ class FKProblem:
             if self.slopes:
                 at = np.searchsorted(live, rest)    # R b_i at the midpoints, derivatives: the rotation is unchanged
                 K, C, J, kempty = slope_boxes(system, Interval._raw(rlo, rhi), Lr, rb=rb[rest], compact=True,
-                                              rbc=rbcl[at], drbs=[d[at] for d in drbl])
+                                              rbc=rbcl[at], drbs=(drbl[0][at], drbl[1][at]))
             else:
                 K, C, J = krawczyk_boxes(system, Interval._raw(rlo, rhi), Lr, with_jacobian=True, rb=rb[rest],
                                          compact=True)
@@ -600,6 +606,8 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     scale = np.max(np.where(feasible[:, None], hi - lo, 0.0), axis=0)
     scale = np.where(scale > 0, scale, 1.0)
     scale[:system.n_pos] *= POSITION_SCALE  # bisect the rotation first: the position follows from it
+    if system.kind != "planar-3rpr":    # the quaternion's components alike (q0's range is half the others'):
+        scale[system.n_pos:] = 2.0      # the extent of the unit sphere (seed 002 full domain: −22 % boxes)
     budget = budget or Budget(max_boxes=max(200_000, 20_000 * M), max_seconds=60.0, min_width=1e-10)
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]

@@ -91,6 +91,11 @@ def _inverse(system) -> Interval:
     return inverse
 
 
+def _from_midrad(m, r) -> Interval:
+    from .robots.fk_systems import _from_midrad as f
+    return f(m, r)
+
+
 def _meet(x: Interval, y: Interval) -> Interval:
     return Interval._raw(np.maximum(x.lo, y.lo), np.minimum(x.hi, y.hi))
 
@@ -107,6 +112,7 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False):
     lo, hi = np.array(lo, dtype=np.float64), np.array(hi, dtype=np.float64)
     N, n = lo.shape
     p = system.n_pos
+    quaternion = system.kind != "planar-3rpr"
     empty = np.zeros(N, dtype=bool)
     with np.errstate(all="ignore"):
         z = [Interval._raw(lo[:, k], hi[:, k]) for k in range(n)]
@@ -129,10 +135,14 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False):
         # 2. forward: R, u_i = R b_i, e_i = (u_i − a_i) + p
         R = system.rotation(X)                               # (N, dim, dim)
         b = system.b
-        T = R[:, None, :, :] * b[None, :, None, :]           # (N, legs, k, j): R_kj b_ij, also for step 6
-        u = T[..., 0]                                        # u_i = R b_i: the products and sums of
-        for j in range(1, T.shape[-1]):                      # FKSystem.rotated, in its order
-            u = u + T[..., j]
+        if quaternion:      # u_i = R b_i in midpoint-radius form, and its column terms for step 6
+            um, ur, Pm, Pr = system.rotated_midrad(R, columns=True)
+            u = _from_midrad(um, ur)
+        else:
+            T = R[:, None, :, :] * b[None, :, None, :]       # (N, legs, k, j): R_kj b_ij, also for step 6
+            u = T[..., 0]                                    # u_i = R b_i: the products and sums of
+            for j in range(1, T.shape[-1]):                  # FKSystem.rotated, in its order
+                u = u + T[..., j]
         # ∩ the centred form around the midpoint of the given box (FKSystem.rotated_centred)
         u = system.rotated_centred(X, c=Interval._raw(lo, hi).mid(), rb=u)
         a = system.a[None, :, :]
@@ -169,12 +179,16 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False):
             legs_j = np.nonzero(nonzero[:, j])[0]
             if not len(legs_j):
                 continue
-            rest = None
-            for jj in range(dim):
-                if jj != j:
-                    rest = T[..., jj] if rest is None else rest + T[..., jj]
-            num = u - rest                                   # (N, legs, k)
-            cand = num[:, legs_j] * inverse[legs_j, j][None, :, None]   # ÷ b_ij, as × an enclosure of 1/b_ij
+            if quaternion:  # Σ_{j'≠j} R_kj' b_ij' in midpoint-radius form (``rotated_midrad``)
+                rest = _from_midrad(Pm[..., j][:, legs_j], Pr[..., j][:, legs_j])
+                num = u[:, legs_j] - rest                    # (N, legs_j, k)
+            else:
+                rest = None
+                for jj in range(dim):
+                    if jj != j:
+                        rest = T[..., jj] if rest is None else rest + T[..., jj]
+                num = (u - rest)[:, legs_j]                  # (N, legs_j, k)
+            cand = num * inverse[legs_j, j][None, :, None]   # ÷ b_ij, as × an enclosure of 1/b_ij
             Rlo[:, :, j] = np.maximum(Rlo[:, :, j], np.max(cand.lo, axis=1))
             Rhi[:, :, j] = np.minimum(Rhi[:, :, j], np.min(cand.hi, axis=1))
         empty |= np.any(Rlo > Rhi, axis=(1, 2))

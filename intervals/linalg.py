@@ -547,9 +547,14 @@ def hansen_sengupta(f, J, x, c, C):
         ylo, yhi = down_sum(x.lo - c), up_sum(x.hi - c)
         ym, yr = midrad(ylo, yhi)
         empty = np.zeros(x.shape[:-1], dtype=bool)
+        aGm = np.abs(Gm)
         for i in range(n):
-            sm, sr = _product_midrad(Gm[..., i:i + 1, :], Gr[..., i:i + 1, :], ym[..., None], yr[..., None])
-            sm, sr = sm[..., 0, 0], sr[..., 0, 0]                            # Σ_{j≠i} G_ij y_j ⊆ [sm ± sr]
+            # Σ_{j≠i} G_ij y_j ⊆ [sm ± sr]: ``_product_midrad``'s bound, its sums taken elementwise (the
+            # bound holds for any order of summation)
+            sm = np.add.reduce(Gm[..., i, :] * ym, axis=-1)
+            sr = np.add.reduce(aGm[..., i, :] * ((n + 1) * _U * np.abs(ym) + yr) + Gr[..., i, :] * (np.abs(ym) + yr),
+                               axis=-1)
+            sr = _upper(sr, 4 * n + 4) + n * _ETA
             num = Interval._raw(down_sum(rlo[..., i] - up_sum(sm + sr)), up_sum(rhi[..., i] - down_sum(sm - sr)))
             new = _gs_update(num, Interval._raw(dlo[..., i], dhi[..., i]), Interval._raw(ylo[..., i], yhi[..., i]))
             ylo[..., i], yhi[..., i] = new.lo, new.hi

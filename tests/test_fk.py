@@ -481,6 +481,41 @@ def test_rotated_derivatives_enclose_sympy_derivatives():
                         assert Fraction(D[r].lo[n, i, k]) <= v <= Fraction(D[r].hi[n, i, k])
 
 
+def test_rotated_midrad_encloses_exact_products():
+    """R b_i in midpoint-radius form (quaternion kinds, ``FKSystem.rotated_midrad``): for random interval
+    matrices R it holds every exact Σ_j R_kj b_ij (Fractions, b_ij the exact decimals) at random points
+    of R, is at most a few ulps wider than the interval products, and its per-column terms bound the
+    sums that leave one column out (HC4 step 6)."""
+    from certkin import load_robot
+    from certkin.robots.fk_systems import FKSystem, _from_midrad
+    from intervals import Interval
+    robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
+    s = FKSystem(robot)
+    b = [[Fraction(t) for t in p] for p in robot.to_dict()["platform"]]
+    rng = np.random.default_rng(11)
+    N = 12
+    c = rng.uniform(-1, 1, (N, 3, 3))
+    w = rng.uniform(0, 0.1, (N, 3, 3)) * (rng.random((N, 1, 1)) < 0.8)
+    R = Interval._raw(c - w, c + w)
+    U = s.rotated(R)
+    m, r, P, Q = s.rotated_midrad(R, columns=True)
+    natural = sum((R[:, None, :, j] * s.b[None, :, j, None] for j in range(1, 3)), R[:, None, :, 0] * s.b[None, :, 0, None])
+    assert np.all(U.hi - U.lo <= (natural.hi - natural.lo) * (1 + 1e-12) + 1e-14)
+    for n in range(N):
+        for _ in range(3):
+            t = rng.random((3, 3))
+            Rx = [[Fraction(float(R.lo[n, k, j])) + Fraction(t[k, j]) * (Fraction(float(R.hi[n, k, j])) - Fraction(float(R.lo[n, k, j])))
+                   for j in range(3)] for k in range(3)]
+            for i in range(6):
+                for k in range(3):
+                    v = sum(Rx[k][j] * b[i][j] for j in range(3))
+                    assert Fraction(U.lo[n, i, k]) <= v <= Fraction(U.hi[n, i, k])
+                    for j in range(3):
+                        rest = _from_midrad(P[n, i, k, j], Q[n, i, k, j])
+                        v = sum(Rx[k][jj] * b[i][jj] for jj in range(3) if jj != j)
+                        assert Fraction(float(rest.lo)) <= v <= Fraction(float(rest.hi))
+
+
 def test_centred_rotated_points_enclose_exact_values():
     """R b_i over random quaternion boxes, natural ∩ centred (solver FKSystem.rotated_centred, checker
     System.rotated_box): holds the exact R(q) b_i (Fractions) at random points; it is narrower than the

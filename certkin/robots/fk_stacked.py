@@ -90,7 +90,10 @@ class StackedFKSystem(FKSystem):
         return Interval._raw(lo.reshape(lead + (3, 3)), hi.reshape(lead + (3, 3)))
 
     def rotated(self, R: Interval) -> Interval:
-        """R b_i for every leg: (..., legs, dim) for R (..., dim, dim)."""
+        """R b_i for every leg: (..., legs, dim) for R (..., dim, dim) (quaternion: ``FKSystem.rotated``,
+        elementwise already)."""
+        if self.kind != "planar-3rpr":
+            return FKSystem.rotated(self, R)
         b = self.b
         prod = mul(Interval._raw(R.lo[..., None, :, :], R.hi[..., None, :, :]),
                    Interval._raw(b.lo[:, None, :], b.hi[:, None, :]))

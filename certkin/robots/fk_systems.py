@@ -93,12 +93,67 @@ class FKSystem:
         return _cat([_cat(r) for r in rows], axis=-2)
 
     def rotated(self, R: Interval) -> Interval:
-        """R b_i for every leg: (N, legs, dim)."""
+        """R b_i for every leg: (..., legs, dim) for R (..., dim, dim).
+
+        Planar: interval products and sums.  Quaternion: midpoint-radius form (``rotated_midrad``),
+        the same enclosure up to a few units in the last place, in about a third of the operations."""
+        if self.kind != "planar-3rpr":
+            m, r = self.rotated_midrad(R)
+            return _from_midrad(m, r)
         b = self.b
         out = R[:, None, :, 0] * b[None, :, 0, None]
         for j in range(1, b.shape[1]):
             out = out + R[:, None, :, j] * b[None, :, j, None]
         return out
+
+    def _b_midrad(self):
+        """(bm, inner, outer), each (dim, (dim + 1) legs): b_ij in [bm ± br], inner = (n + 1) u |bm| + br,
+        outer = |bm| + br (n = dim), the factors of ``rotated_midrad``: the first legs columns for
+        R b_i, then, for each column j of R, the same with b_ij set to 0 (the sums that leave column j
+        out).  Computed once."""
+        t = self.__dict__.get("_b_midrad_")
+        if t is None:
+            from intervals.linalg import _U, midrad
+            bm, br = midrad(self.b.lo, self.b.hi)
+            dim = bm.shape[1]
+            full = (bm.T, ((dim + 1) * _U * np.abs(bm) + br).T, (np.abs(bm) + br).T)   # (dim, legs)
+            keep = np.concatenate([np.ones((1, dim)), 1.0 - np.eye(dim)])[:, :, None]   # (dim + 1, dim, 1)
+            t = self._b_midrad_ = tuple(np.ascontiguousarray(np.moveaxis(keep * v[None], 0, 1).reshape(dim, -1))
+                                        for v in full)
+        return t
+
+    def rotated_midrad(self, R: Interval, columns: bool = False):
+        """(m, r): R b_i in [m ± r] for every R in the interval matrices (..., dim, dim) and every b_ij
+        in its enclosure: (..., legs, dim) each.  With R_kj in [Rm ± Rr], b_ij in [bm ± br],
+        |R_kj b_ij − Rm bm| ≤ |Rm| br + Rr (|bm| + br); the float sum of the dim products
+        Rm_kj bm_ij (a float matrix product, any order) is within γ_dim Σ_j |Rm_kj||bm_ij| +
+        dim·2⁻¹⁰²² of the exact one (Higham 2002, eq. 3.5, γ_n ≤ (n + 1) u), and the float radius is
+        bounded by ``linalg._upper`` (docs/soundness.md §8, "midpoint-radius R b_i"): the bound of
+        ``linalg.product_midrad``.  ``columns``: also, per column j, the same for the sums that leave
+        column j out, Σ_{j'≠j} R_kj' b_ij' (b_ij set to 0): (..., legs, dim, dim) each, j last."""
+        from intervals.linalg import _ETA, _upper, midrad
+        bm, inner, outer = self._b_midrad()
+        dim = bm.shape[0]
+        legs = self.legs
+        if not columns:
+            bm, inner, outer = bm[:, :legs], inner[:, :legs], outer[:, :legs]
+        lead = R.shape[:-2]
+        with np.errstate(invalid="ignore", over="ignore"):
+            Rm, Rr = midrad(R.lo, R.hi)
+            Rm, Rr = Rm.reshape(-1, dim), Rr.reshape(-1, dim)
+            m = Rm @ bm
+            r = _upper(np.abs(Rm) @ inner + Rr @ outer, 4 * dim + 4) + dim * _ETA
+            bad = ~(np.isfinite(m) & np.isfinite(r))
+            if bad.any():
+                m, r = np.where(bad, 0.0, m), np.where(bad, np.inf, r)
+        if not columns:
+            return (np.swapaxes(m.reshape(lead + (dim, legs)), -1, -2),
+                    np.swapaxes(r.reshape(lead + (dim, legs)), -1, -2))
+        m = m.reshape(lead + (dim, dim + 1, legs))                # (..., k, block, i)
+        r = r.reshape(lead + (dim, dim + 1, legs))
+        full = (np.swapaxes(m[..., 0, :], -1, -2), np.swapaxes(r[..., 0, :], -1, -2))
+        left_out = tuple(np.moveaxis(v[..., 1:, :], (-3, -2, -1), (-2, -1, -3)) for v in (m, r))   # (..., i, k, j)
+        return full + left_out
 
     # ----- equations -----------------------------------------------------------
     def equations(self, X: Interval, L: Interval, R: Interval | None = None, rb: Interval | None = None) -> Interval:
@@ -150,26 +205,47 @@ class FKSystem:
         """R b_i over the boxes (N, legs, dim): the natural enclosure (``rotated``, or ``rb``) intersected,
         for a quaternion, with the centred form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r), c = X.mid()
         unless given (any float points) and Y ∋ (x + c)/2 — exact for R b_i, quadratic in q
-        (docs/soundness.md §8).  ``parts`` (quaternion): also R b_i at c and the derivatives over Y,
-        which ``slope`` at the same c reuses (they depend only on the rotation part of X and c)."""
+        (docs/soundness.md §8).  ``parts`` (quaternion): also R b_i at c and the derivatives over Y
+        (midpoints and radii, (N, 4, legs, dim) each), which ``slope`` at the same c reuses (they
+        depend only on the rotation part of X and c)."""
         if rb is None:
             rb = self.rotated(self.rotation(X))
         if self.kind == "planar-3rpr":
             return rb
-        if c is None:
+        from intervals.linalg import _ETA, _U, _upper, midrad
+        centre_of_box = c is None
+        if centre_of_box:
             c = X.mid()
         p = self.n_pos
-        rbc = self.rotated(self.rotation(Interval._raw(c, c.copy())))
-        acc = rbc
+        rbc = self.rotation(Interval._raw(c, c.copy()))
+        cm, cr = self.rotated_midrad(rbc)
         with np.errstate(invalid="ignore", over="ignore"):
             Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))
-            drbs = self._rotated_derivatives(Y)
-            for r, drb in enumerate(drbs):
-                k = p + r
-                d = Interval._raw(down_sum(X.lo[:, k] - c[:, k]), up_sum(X.hi[:, k] - c[:, k]))
-                acc = acc + drb * d[:, None, None]
-        out = Interval._raw(np.fmax(rb.lo, acc.lo), np.fmin(rb.hi, acc.hi))
-        return (out, rbc, drbs) if parts else out
+            Dm, Dr = self._rotated_derivatives_midrad(Y)                     # (N, 4, legs, dim)
+            if centre_of_box:
+                # c = X.mid(): X_r − c_r ⊆ [−h_r, h_r], so Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r) ⊆ ±Σ_r (|Dm_r| + Dr_r) h_r,
+                # and R b_i(c) + that lies in [cm ± (cr + Σ_r (|Dm_r| + Dr_r) h_r)], whose float radius
+                # (non-negative terms, at most 8 roundings) is bounded by ``_upper``
+                h = np.maximum(up_sum(c[:, p:] - X.lo[:, p:]), up_sum(X.hi[:, p:] - c[:, p:]))      # (N, 4)
+                rad = _upper(cr + np.add.reduce((np.abs(Dm) + Dr) * h[:, :, None, None], axis=1), 8)
+                mid = cm
+            else:
+                # any c: X_r − c_r in [em ± er]; the five-term sum cm + Σ_r Dm_r em_r is within
+                # γ_5 (|cm| + Σ_r |Dm_r em_r|) + 5·2⁻¹⁰²² of its float value (Higham 2002, eq. 3.5), the exact
+                # radius cr + Σ_r |Dm_r| er_r + Dr_r (|em_r| + er_r) is evaluated in floats and bounded by
+                # ``_upper`` (at most 40 roundings)
+                em, er = midrad(down_sum(X.lo[:, p:] - c[:, p:]), up_sum(X.hi[:, p:] - c[:, p:]))
+                em, er = em[:, :, None, None], er[:, :, None, None]
+                t = Dm * em
+                mid = cm + np.add.reduce(t, axis=1)
+                rad = np.add.reduce(np.abs(Dm) * er + Dr * (np.abs(em) + er), axis=1)
+                mag = np.abs(cm) + np.add.reduce(np.abs(t), axis=1)
+                rad = _upper(cr + rad + 6.0 * _U * mag, 40) + 5 * _ETA
+            lo, hi = down(mid - rad), up(mid + rad)
+            out = Interval._raw(np.fmax(rb.lo, lo), np.fmin(rb.hi, hi))   # NaN (non-finite input): natural
+        if not parts:
+            return out
+        return out, _from_midrad(cm, cr), (Dm, Dr)
 
     def slope(self, X: Interval, c: np.ndarray, rb: Interval | None = None, rbc: Interval | None = None,
               drbs: list | None = None) -> Interval:
@@ -203,13 +279,24 @@ class FKSystem:
         legs = self.legs
         for k in range(p):
             S[:, :legs, k] = s[..., k]
-        if drbs is None:
-            drbs = self._rotated_derivatives(Y)
-        for r, drb in enumerate(drbs):                          # ∂(R b_i)_k / ∂r over Y: (N, legs, dim)
-            col = s[..., 0] * drb[..., 0]
-            for k in range(1, drb.shape[-1]):
-                col = col + s[..., k] * drb[..., k]
-            S[:, :legs, p + r] = col
+        if self.kind != "planar-3rpr":
+            # quaternion: Σ_k s_k ∂(R b_i)_k/∂q_r(Y), interval products and sums, the 4 unknowns at once
+            Dm, Dr = self._rotated_derivatives_midrad(Y) if drbs is None else drbs   # (N, 4, legs, dim)
+            D = _from_midrad(Dm, Dr)
+            s4 = Interval._raw(s.lo[:, None], s.hi[:, None])
+            col = s4[..., 0] * D[..., 0]
+            for k in range(1, D.shape[-1]):
+                col = col + s4[..., k] * D[..., k]                                 # (N, 4, legs)
+            S.lo[:, :legs, p:] = np.swapaxes(col.lo, 1, 2)
+            S.hi[:, :legs, p:] = np.swapaxes(col.hi, 1, 2)
+        else:
+            if drbs is None:
+                drbs = self._rotated_derivatives(Y)
+            for r, drb in enumerate(drbs):                      # ∂(R b_i)_k / ∂r over Y: (N, legs, dim)
+                col = s[..., 0] * drb[..., 0]
+                for k in range(1, drb.shape[-1]):
+                    col = col + s[..., k] * drb[..., k]
+                S[:, :legs, p + r] = col
         for k in range(p, self.n):
             S[:, legs, k] = X[:, k] + point[:, k]
         return S
@@ -223,6 +310,11 @@ class FKSystem:
         proved rounding bound).  Planar: constant matrices, ``rotated`` of ``_rotation_derivatives``."""
         if self.kind == "planar-3rpr":
             return [self.rotated(dR) for dR in self._rotation_derivatives(X)]
+        return self._derivatives_from_midrad(*self._rotated_derivatives_midrad(X))
+
+    def _rotated_derivatives_midrad(self, X: Interval):
+        """Quaternion: (m, r), (N, 4, legs, dim): ∂(R b_i)_k/∂q_r over the boxes lies in [m ± r]
+        (``linalg.product_midrad``; rows with a non-finite input: m = 0, r = ∞)."""
         from intervals.linalg import midrad, product_midrad
         Gm, Gr = self._quaternion_tables()
         p = self.n_pos
@@ -230,11 +322,16 @@ class FKSystem:
         with np.errstate(invalid="ignore", over="ignore"):
             qm, qr = midrad(X.lo[:, p:], X.hi[:, p:])
             m, r = product_midrad(qm, qr, Gm, Gr)                        # (N, 4 legs dim)
-            lo, hi = down(m - r), up(m + r)
-            bad = ~(np.isfinite(lo) & np.isfinite(hi))
-        lo = np.where(bad, -np.inf, lo).reshape(N, 4, self.legs, self.b.shape[1])
-        hi = np.where(bad, np.inf, hi).reshape(N, 4, self.legs, self.b.shape[1])
-        return [Interval._raw(lo[:, k], hi[:, k]) for k in range(4)]
+            bad = ~(np.isfinite(m) & np.isfinite(r))
+        if bad.any():
+            m, r = np.where(bad, 0.0, m), np.where(bad, np.inf, r)
+        shape = (N, 4, self.legs, self.b.shape[1])
+        return m.reshape(shape), r.reshape(shape)
+
+    def _derivatives_from_midrad(self, m, r):
+        """The list of the 4 derivative enclosures (N, legs, dim) from (m, r) (N, 4, legs, dim)."""
+        D = _from_midrad(m, r)
+        return [Interval._raw(D.lo[:, k], D.hi[:, k]) for k in range(4)]
 
     def _quaternion_tables(self):
         """(Gm, Gr), (4, 4 legs dim): ∂(R b_i)_k/∂q_r = Σ_s G[s, r, i, k] q_s with G in [Gm ± Gr].
@@ -434,6 +531,13 @@ _DQ_INDEX = np.array([[[0, 8, 3], [4, 0, 6], [7, 2, 0]],
                       [[0, 3, 4], [3, 10, 5], [4, 1, 10]],
                       [[11, 2, 1], [2, 0, 4], [5, 4, 11]],
                       [[12, 5, 2], [1, 12, 3], [2, 3, 0]]])
+
+
+def _from_midrad(m, r) -> Interval:
+    """[m ± r] outward rounded (an infinite r gives the entire line)."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        lo, hi = down(m - r), up(m + r)
+    return Interval._raw(np.where(np.isnan(lo), -np.inf, lo), np.where(np.isnan(hi), np.inf, hi))
 
 
 def _sum2(v: Interval) -> Interval:
