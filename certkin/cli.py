@@ -11,6 +11,7 @@ import argparse
 import json
 import sys
 
+from . import budgets
 from .errors import InputError
 
 
@@ -38,7 +39,8 @@ def _budget(args):
     return Budget(max_boxes=args.max_boxes, max_seconds=args.max_seconds, min_width=args.min_width)
 
 
-def _add_budget(p, boxes, seconds, width):
+def _add_budget(p, default):
+    boxes, seconds, width = default["max_boxes"], default["max_seconds"], default["min_width"]
     p.add_argument("--max-boxes", type=int, default=boxes, help=f"box budget (default {boxes})")
     p.add_argument("--max-seconds", type=float, default=seconds, help=f"time budget (default {seconds})")
     p.add_argument("--min-width", type=float, default=width,
@@ -250,7 +252,7 @@ def build_parser():
     s.add_argument("--angles", choices=["zyz", "tilt-torsion"],
                    help="spherical robots: ZYZ Euler angles phi1,phi2,phi3 (default) or tilt-and-torsion phi1,phi2,sigma")
     _add_outputs(s)
-    _add_budget(s, 200_000, 60.0, 1e-7)
+    _add_budget(s, budgets.SINGULARITY)
     s.set_defaults(func=cmd_singular)
 
     f = sub.add_parser("fk", help="every real assembly mode for given leg lengths, each proved unique")
@@ -260,7 +262,7 @@ def build_parser():
     f.add_argument("--track", metavar="POSE", help="previous pose: prove the unique posture near it first")
     f.add_argument("--angles", choices=["zyz", "tilt-torsion"], help="spherical robots: pose angles of the output")
     _add_outputs(f)
-    _add_budget(f, 2_000_000, 300.0, 1e-10)
+    _add_budget(f, budgets.FORWARD_KINEMATICS)
     f.set_defaults(func=cmd_fk)
 
     t = sub.add_parser("trajectory", help="certify a straight (or polyline) motion, or find where it fails")
@@ -271,7 +273,7 @@ def build_parser():
     t.add_argument("--constraints", metavar="LIST",
                    help="comma-separated subset of leg-length,joints,interference,singularity (default: all)")
     _add_outputs(t)
-    _add_budget(t, 200_000, 60.0, 1e-9)
+    _add_budget(t, budgets.TRAJECTORY)
     t.set_defaults(func=cmd_trajectory)
 
     pl = sub.add_parser("plan", help="a path whose every segment is certified feasible")

@@ -49,6 +49,7 @@ import numpy as np
 from intervals import Interval, linalg, sqr
 from intervals.rounding import down, enclose_plain, up
 
+from . import budgets
 from .engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
 from .errors import InputError
 from .fk_hc4 import hc4
@@ -608,7 +609,9 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     scale[:system.n_pos] *= POSITION_SCALE  # bisect the rotation first: the position follows from it
     if system.kind != "planar-3rpr":    # the quaternion's components alike (q0's range is half the others'):
         scale[system.n_pos:] = 2.0      # the extent of the unit sphere (seed 002 full domain: −22 % boxes)
-    budget = budget or Budget(max_boxes=max(200_000, 20_000 * M), max_seconds=60.0, min_width=1e-10)
+    if budget is None:
+        budget = Budget(**{**budgets.FORWARD_KINEMATICS,
+                           "max_boxes": max(budgets.FORWARD_KINEMATICS["max_boxes"], 20_000 * M)})
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
     problem = FKProblem(system, Interval._raw(L.lo[idx], L.hi[idx]), scale, slopes=system.kind != "planar-3rpr")

@@ -33,6 +33,7 @@ import numpy as np
 
 from intervals import Interval
 
+from . import budgets
 from .engine import OPEN, PROVED, Budget, Decisions, search
 from .poses import parse_box
 
@@ -238,7 +239,7 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
     chi = np.stack([grids[i][idx[:, i] + 1] for i in range(len(counts))], axis=1)
     problem = SingularityProblem(robot, len(idx))
     scale = np.where(free, hi0 - lo0, 1.0)
-    budget = budget or Budget(max_boxes=200_000, max_seconds=60.0, min_width=1e-7)
+    budget = budget or Budget(**budgets.SINGULARITY)
     res = search(problem, clo, chi, scale=scale, budget=budget, progress=progress)
     tree = res.tree
     out = []

@@ -34,6 +34,7 @@ import numpy as np
 from intervals import Interval
 from intervals.rounding import down, sum_bounds, up
 
+from . import budgets
 from .engine.search import OPEN, PROVED, EXCLUDED, Budget, search
 from .errors import InputError
 from .poses import parse_pose
@@ -297,7 +298,7 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     """Verify many paths in one search (the batch path).  ``paths``: list of ``Path``."""
     if not paths:
         return []
-    budget = budget or Budget(max_boxes=200_000, max_seconds=60.0, min_width=1e-9)
+    budget = budget or Budget(**budgets.TRAJECTORY)
     cons = constraints if isinstance(constraints, Constraints) else Constraints.of(robot, constraints)
     if cons.K == 0:
         raise InputError("--constraints", "", "no constraint can be checked: " +
