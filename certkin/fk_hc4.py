@@ -101,11 +101,12 @@ def _meet(x: Interval, y: Interval) -> Interval:
     return Interval._raw(np.maximum(x.lo, y.lo), np.minimum(x.hi, y.hi))
 
 
-def hc4(system, lo, hi, L: Interval, generic: bool = False):
+def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = None):
     """One forward-backward pass over the boxes [lo, hi] (N, n), squared leg lengths L (N, legs).
 
     Returns (lo, hi, empty): the contracted boxes (inside the given ones) and the
-    mask of boxes proved to hold no root (their rows are meaningless).  The planar
+    mask of boxes proved to hold no root (their rows are meaningless); ``keep`` (a dict), for a
+    quaternion: keep["form"] = ``FKSystem.centred_form`` of the given boxes (step 2).  The planar
     robot takes ``_hc4_planar`` (the same operations, stacked) unless ``generic``.
     """
     if system.kind == "planar-3rpr" and not generic:
@@ -146,7 +147,11 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False):
                 u = u + T[..., j]
         # ∩ the centred form over the given box, around its midpoint (FKSystem.rotated_centred; a superset
         # of the checker's, which is over the box after step 1)
-        u = system.rotated_centred(Interval._raw(lo, hi), rb=u)
+        if quaternion:
+            form = system.centred_form(Interval._raw(lo, hi))
+            if keep is not None:
+                keep["form"] = form
+            u = system.rotated_centred(Interval._raw(lo, hi), rb=u, form=form)
         a = system.a[None, :, :]
         e = u - a
         if p:
