@@ -356,8 +356,9 @@ class FKProblem:
                     break
                 X2 = Interval._raw(cur_lo[strong], cur_hi[strong])
                 L2 = Interval._raw(L.lo[strong], L.hi[strong])
-                if self.slopes:
-                    K2, C2, _, empty2 = slope_boxes(system, X2, L2, compact=True)
+                if self.slopes:     # ell(X) from the centred R b_i (its parts at c serve the slope too)
+                    rb2, rbc2, drb2 = system.rotated_centred(X2, parts=True)
+                    K2, C2, _, empty2 = slope_boxes(system, X2, L2, rb=rb2, compact=True, rbc=rbc2, drbs=drb2)
                 else:
                     K2, C2 = krawczyk_boxes(system, X2, L2, compact=True)
                     finite2 = np.all(np.isfinite(K2.lo) & np.isfinite(K2.hi), axis=1)
