@@ -235,7 +235,8 @@ class FKProblem:
         cev = {}
         lo, hi = lo.copy(), hi.copy()
         # 0. forward-backward (HC4) contraction of every equation (fk_hc4), kept when it shrinks a side
-        hlo, hhi, hempty = hc4(system, lo, hi, L)
+        kept = {}
+        hlo, hhi, hempty = hc4(system, lo, hi, L, keep=kept)
         status[hempty], reason[hempty] = EXCLUDED, 6
         w = (hi - lo) * WIDEN  # room for an independent re-computation
         hlo, hhi = np.maximum(lo, hlo - w), np.minimum(hi, hhi + w)
@@ -251,7 +252,14 @@ class FKProblem:
         Xl, Ll = Interval._raw(lo[live], hi[live]), Interval._raw(L.lo[live], L.hi[live])
         if self.slopes:
             hc4_box = (lo.copy(), hi.copy())
-            rbl, rbcl, drbl = system.rotated_centred(Xl, parts=True)   # the rotation is final now
+            form = kept.get("form")     # HC4's centred form over the given boxes: the same for those it left
+            if form is not None:
+                form = tuple(v[live] for v in form)
+                again = hc4_moved[live]
+                if again.any():
+                    for v, w in zip(form, system.centred_form(Interval._raw(Xl.lo[again], Xl.hi[again]))):
+                        v[again] = w
+            rbl, rbcl, drbl = system.rotated_centred(Xl, parts=True, form=form)   # the rotation is final now
         else:
             rbl = system.rotated(system.rotation(Xl))        # the rotation is final now
         rb = Interval._raw(np.zeros((n_box,) + rbl.shape[1:]), np.zeros((n_box,) + rbl.shape[1:]))
@@ -348,8 +356,9 @@ class FKProblem:
                     break
                 X2 = Interval._raw(cur_lo[strong], cur_hi[strong])
                 L2 = Interval._raw(L.lo[strong], L.hi[strong])
-                if self.slopes:
-                    K2, C2, _, empty2 = slope_boxes(system, X2, L2, compact=True)
+                if self.slopes:     # ell(X) from the centred R b_i (its parts at c serve the slope too)
+                    rb2, rbc2, drb2 = system.rotated_centred(X2, parts=True)
+                    K2, C2, _, empty2 = slope_boxes(system, X2, L2, rb=rb2, compact=True, rbc=rbc2, drbs=drb2)
                 else:
                     K2, C2 = krawczyk_boxes(system, X2, L2, compact=True)
                     finite2 = np.all(np.isfinite(K2.lo) & np.isfinite(K2.hi), axis=1)

@@ -7,8 +7,9 @@ operations in mpmath interval arithmetic, so it finds a box inside ours):
 1. norm equation, for k = 1..m in turn (r = the m rotation unknowns):
    r_k ← root(r_k, 1 − Σ_{j≠k} r_j²)   (sum over j in increasing order);
 2. R = R(z) and, per leg i, u_i = R b_i (``FKSystem.rotation``/``rotated``),
-   for a quaternion intersected with the centred form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y)(z_r − c_r),
-   c the float midpoint of the given box, Y ∋ (x + c)/2 (``FKSystem.rotated_centred``);
+   for a quaternion intersected with the centred form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y)(x_r − c_r),
+   c the float midpoint of the given box x, Y ∋ (x + c)/2 (``FKSystem.rotated_centred`` over the
+   given box; the checker evaluates it over the box after step 1, a subset: its u lies inside ours);
    e_i = (u_i − a_i) + p;
 3. leg equation i, for coordinates k = 1..dim in turn:
    e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²);
@@ -100,11 +101,12 @@ def _meet(x: Interval, y: Interval) -> Interval:
     return Interval._raw(np.maximum(x.lo, y.lo), np.minimum(x.hi, y.hi))
 
 
-def hc4(system, lo, hi, L: Interval, generic: bool = False):
+def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = None):
     """One forward-backward pass over the boxes [lo, hi] (N, n), squared leg lengths L (N, legs).
 
     Returns (lo, hi, empty): the contracted boxes (inside the given ones) and the
-    mask of boxes proved to hold no root (their rows are meaningless).  The planar
+    mask of boxes proved to hold no root (their rows are meaningless); ``keep`` (a dict), for a
+    quaternion: keep["form"] = ``FKSystem.centred_form`` of the given boxes (step 2).  The planar
     robot takes ``_hc4_planar`` (the same operations, stacked) unless ``generic``.
     """
     if system.kind == "planar-3rpr" and not generic:
@@ -143,8 +145,13 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False):
             u = T[..., 0]                                    # u_i = R b_i: the products and sums of
             for j in range(1, T.shape[-1]):                  # FKSystem.rotated, in its order
                 u = u + T[..., j]
-        # ∩ the centred form around the midpoint of the given box (FKSystem.rotated_centred)
-        u = system.rotated_centred(X, c=Interval._raw(lo, hi).mid(), rb=u)
+        # ∩ the centred form over the given box, around its midpoint (FKSystem.rotated_centred; a superset
+        # of the checker's, which is over the box after step 1)
+        if quaternion:
+            form = system.centred_form(Interval._raw(lo, hi))
+            if keep is not None:
+                keep["form"] = form
+            u = system.rotated_centred(Interval._raw(lo, hi), rb=u, form=form)
         a = system.a[None, :, :]
         e = u - a
         if p:

@@ -548,12 +548,14 @@ def hansen_sengupta(f, J, x, c, C):
         ym, yr = midrad(ylo, yhi)
         empty = np.zeros(x.shape[:-1], dtype=bool)
         aGm = np.abs(Gm)
+        aym = np.abs(ym)
+        w1 = (n + 1) * _U * aym + yr        # the factors of |G| and Gr in the bound below, per column j,
+        w2 = aym + yr                       # updated with y_j
         for i in range(n):
             # Σ_{j≠i} G_ij y_j ⊆ [sm ± sr]: ``_product_midrad``'s bound, its sums taken elementwise (the
             # bound holds for any order of summation)
             sm = np.add.reduce(Gm[..., i, :] * ym, axis=-1)
-            sr = np.add.reduce(aGm[..., i, :] * ((n + 1) * _U * np.abs(ym) + yr) + Gr[..., i, :] * (np.abs(ym) + yr),
-                               axis=-1)
+            sr = np.add.reduce(aGm[..., i, :] * w1 + Gr[..., i, :] * w2, axis=-1)
             sr = _upper(sr, 4 * n + 4) + n * _ETA
             num = Interval._raw(down_sum(rlo[..., i] - up_sum(sm + sr)), up_sum(rhi[..., i] - down_sum(sm - sr)))
             new = _gs_update(num, Interval._raw(dlo[..., i], dhi[..., i]), Interval._raw(ylo[..., i], yhi[..., i]))
@@ -561,6 +563,9 @@ def hansen_sengupta(f, J, x, c, C):
             empty |= new.lo > new.hi
             m = 0.5 * new.lo + 0.5 * new.hi
             ym[..., i], yr[..., i] = m, up(np.maximum(new.hi - m, m - new.lo))
+            am = np.abs(m)
+            w1[..., i] = (n + 1) * _U * am + yr[..., i]
+            w2[..., i] = am + yr[..., i]
         lo = np.fmax(x.lo, down_sum(ylo + c))     # fmax/fmin: a NaN bound (nothing known) keeps x
         hi = np.fmin(x.hi, up_sum(yhi + c))
     return Interval._raw(lo, hi), empty | np.any(lo > hi, axis=-1)

@@ -160,3 +160,22 @@ def test_planar_stacked_pass_gives_the_generic_floats():
             assert np.array_equal(fast[2], ref[2]) and 0 < fast[2].sum() < len(lo)
             for a, b in zip(fast[:2], ref[:2]):
                 assert np.array_equal(a, b, equal_nan=True)
+
+
+def test_kept_centred_form_gives_the_same_floats(gough_case):
+    """HC4 keeps the centred form of R b_i over the given boxes (``keep``); handed to
+    ``rotated_centred`` for the same boxes it gives the floats of a fresh evaluation, bit for bit."""
+    robot, lengths, result = gough_case
+    system = FKSystem(robot)
+    rng = np.random.default_rng(11)
+    R = result.solutions[0]["box"]
+    lo, hi = _boxes_around(R, 50, rng, np.r_[np.full(3, 1.0), np.full(4, 0.2)])
+    kept = {}
+    hc4(system, lo, hi, _L(lengths, len(lo)), keep=kept)
+    X = Interval._raw(lo, hi)
+    fresh = system.rotated_centred(X, parts=True)
+    reused = system.rotated_centred(X, parts=True, form=kept["form"])
+    for a, b in [(fresh[0], reused[0]), (fresh[1], reused[1])]:
+        assert np.array_equal(a.lo, b.lo) and np.array_equal(a.hi, b.hi)
+    for a, b in zip(fresh[2], reused[2]):
+        assert np.array_equal(a, b)

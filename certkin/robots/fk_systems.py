@@ -201,51 +201,70 @@ class FKSystem:
         return J
 
     def rotated_centred(self, X: Interval, c: np.ndarray | None = None, rb: Interval | None = None,
-                        parts: bool = False):
+                        parts: bool = False, form: tuple | None = None):
         """R b_i over the boxes (N, legs, dim): the natural enclosure (``rotated``, or ``rb``) intersected,
         for a quaternion, with the centred form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r), c = X.mid()
         unless given (any float points) and Y ∋ (x + c)/2 — exact for R b_i, quadratic in q
         (docs/soundness.md §8).  ``parts`` (quaternion): also R b_i at c and the derivatives over Y
         (midpoints and radii, (N, 4, legs, dim) each), which ``slope`` at the same c reuses (they
-        depend only on the rotation part of X and c)."""
+        depend only on the rotation part of X and c).  ``form``: ``centred_form(X)``, if known
+        (c = X.mid())."""
         if rb is None:
             rb = self.rotated(self.rotation(X))
         if self.kind == "planar-3rpr":
             return rb
-        from intervals.linalg import _ETA, _U, _upper, midrad
-        centre_of_box = c is None
-        if centre_of_box:
-            c = X.mid()
+        if c is None:
+            lo, hi, cm, cr, Dm, Dr = self.centred_form(X) if form is None else form
+        else:
+            lo, hi, cm, cr, Dm, Dr = self._centred_form_at(X, c)
+        with np.errstate(invalid="ignore"):
+            out = Interval._raw(np.fmax(rb.lo, lo), np.fmin(rb.hi, hi))   # NaN (non-finite input): natural
+        if not parts:
+            return out
+        return out, _from_midrad(cm, cr), (Dm, Dr)
+
+    def centred_form(self, X: Interval):
+        """Quaternion: (lo, hi, cm, cr, Dm, Dr): the centred form of R b_i over the boxes X around
+        their midpoints c = X.mid(), [lo, hi] (N, legs, dim), with R b_i(c) in [cm ± cr] and the
+        derivatives over Y ∋ (x + c)/2 in [Dm ± Dr] (N, 4, legs, dim) (``rotated_centred``)."""
+        from intervals.linalg import _upper
+        c = X.mid()
         p = self.n_pos
         rbc = self.rotation(Interval._raw(c, c.copy()))
         cm, cr = self.rotated_midrad(rbc)
         with np.errstate(invalid="ignore", over="ignore"):
             Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))
             Dm, Dr = self._rotated_derivatives_midrad(Y)                     # (N, 4, legs, dim)
-            if centre_of_box:
-                # c = X.mid(): X_r − c_r ⊆ [−h_r, h_r], so Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r) ⊆ ±Σ_r (|Dm_r| + Dr_r) h_r,
-                # and R b_i(c) + that lies in [cm ± (cr + Σ_r (|Dm_r| + Dr_r) h_r)], whose float radius
-                # (non-negative terms, at most 8 roundings) is bounded by ``_upper``
-                h = np.maximum(up_sum(c[:, p:] - X.lo[:, p:]), up_sum(X.hi[:, p:] - c[:, p:]))      # (N, 4)
-                rad = _upper(cr + np.add.reduce((np.abs(Dm) + Dr) * h[:, :, None, None], axis=1), 8)
-                mid = cm
-            else:
-                # any c: X_r − c_r in [em ± er]; the five-term sum cm + Σ_r Dm_r em_r is within
-                # γ_5 (|cm| + Σ_r |Dm_r em_r|) + 5·2⁻¹⁰²² of its float value (Higham 2002, eq. 3.5), the exact
-                # radius cr + Σ_r |Dm_r| er_r + Dr_r (|em_r| + er_r) is evaluated in floats and bounded by
-                # ``_upper`` (at most 40 roundings)
-                em, er = midrad(down_sum(X.lo[:, p:] - c[:, p:]), up_sum(X.hi[:, p:] - c[:, p:]))
-                em, er = em[:, :, None, None], er[:, :, None, None]
-                t = Dm * em
-                mid = cm + np.add.reduce(t, axis=1)
-                rad = np.add.reduce(np.abs(Dm) * er + Dr * (np.abs(em) + er), axis=1)
-                mag = np.abs(cm) + np.add.reduce(np.abs(t), axis=1)
-                rad = _upper(cr + rad + 6.0 * _U * mag, 40) + 5 * _ETA
+            # c = X.mid(): X_r − c_r ⊆ [−h_r, h_r], so Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r) ⊆ ±Σ_r (|Dm_r| + Dr_r) h_r,
+            # and R b_i(c) + that lies in [cm ± (cr + Σ_r (|Dm_r| + Dr_r) h_r)], whose float radius
+            # (non-negative terms, at most 8 roundings) is bounded by ``_upper``
+            h = np.maximum(up_sum(c[:, p:] - X.lo[:, p:]), up_sum(X.hi[:, p:] - c[:, p:]))      # (N, 4)
+            rad = _upper(cr + np.add.reduce((np.abs(Dm) + Dr) * h[:, :, None, None], axis=1), 8)
+            lo, hi = down(cm - rad), up(cm + rad)
+        return lo, hi, cm, cr, Dm, Dr
+
+    def _centred_form_at(self, X: Interval, c: np.ndarray):
+        """``centred_form`` around any float points c in the boxes."""
+        from intervals.linalg import _ETA, _U, _upper, midrad
+        p = self.n_pos
+        rbc = self.rotation(Interval._raw(c, c.copy()))
+        cm, cr = self.rotated_midrad(rbc)
+        with np.errstate(invalid="ignore", over="ignore"):
+            Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))
+            Dm, Dr = self._rotated_derivatives_midrad(Y)                     # (N, 4, legs, dim)
+            # any c: X_r − c_r in [em ± er]; the five-term sum cm + Σ_r Dm_r em_r is within
+            # γ_5 (|cm| + Σ_r |Dm_r em_r|) + 5·2⁻¹⁰²² of its float value (Higham 2002, eq. 3.5), the exact
+            # radius cr + Σ_r |Dm_r| er_r + Dr_r (|em_r| + er_r) is evaluated in floats and bounded by
+            # ``_upper`` (at most 40 roundings)
+            em, er = midrad(down_sum(X.lo[:, p:] - c[:, p:]), up_sum(X.hi[:, p:] - c[:, p:]))
+            em, er = em[:, :, None, None], er[:, :, None, None]
+            t = Dm * em
+            mid = cm + np.add.reduce(t, axis=1)
+            rad = np.add.reduce(np.abs(Dm) * er + Dr * (np.abs(em) + er), axis=1)
+            mag = np.abs(cm) + np.add.reduce(np.abs(t), axis=1)
+            rad = _upper(cr + rad + 6.0 * _U * mag, 40) + 5 * _ETA
             lo, hi = down(mid - rad), up(mid + rad)
-            out = Interval._raw(np.fmax(rb.lo, lo), np.fmin(rb.hi, hi))   # NaN (non-finite input): natural
-        if not parts:
-            return out
-        return out, _from_midrad(cm, cr), (Dm, Dr)
+        return lo, hi, cm, cr, Dm, Dr
 
     def slope(self, X: Interval, c: np.ndarray, rb: Interval | None = None, rbc: Interval | None = None,
               drbs: list | None = None) -> Interval:
@@ -537,7 +556,13 @@ def _from_midrad(m, r) -> Interval:
     """[m ± r] outward rounded (an infinite r gives the entire line)."""
     with np.errstate(invalid="ignore", over="ignore"):
         lo, hi = down(m - r), up(m + r)
-    return Interval._raw(np.where(np.isnan(lo), -np.inf, lo), np.where(np.isnan(hi), np.inf, hi))
+    bad = np.isnan(lo)
+    if bad.any():
+        lo = np.where(bad, -np.inf, lo)
+    bad = np.isnan(hi)
+    if bad.any():
+        hi = np.where(bad, np.inf, hi)
+    return Interval._raw(lo, hi)
 
 
 def _sum2(v: Interval) -> Interval:
