@@ -230,11 +230,8 @@ class FKSystem:
         from intervals.linalg import _upper
         c = X.mid()
         p = self.n_pos
-        rbc = self.rotation(Interval._raw(c, c.copy()))
-        cm, cr = self.rotated_midrad(rbc)
+        cm, cr, Dm, Dr = self._centre_parts(X, c)
         with np.errstate(invalid="ignore", over="ignore"):
-            Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))
-            Dm, Dr = self._rotated_derivatives_midrad(Y)                     # (N, 4, legs, dim)
             # c = X.mid(): X_r − c_r ⊆ [−h_r, h_r], so Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r) ⊆ ±Σ_r (|Dm_r| + Dr_r) h_r,
             # and R b_i(c) + that lies in [cm ± (cr + Σ_r (|Dm_r| + Dr_r) h_r)], whose float radius
             # (non-negative terms, at most 8 roundings) is bounded by ``_upper``
@@ -243,15 +240,22 @@ class FKSystem:
             lo, hi = down(cm - rad), up(cm + rad)
         return lo, hi, cm, cr, Dm, Dr
 
-    def _centred_form_at(self, X: Interval, c: np.ndarray):
-        """``centred_form`` around any float points c in the boxes."""
-        from intervals.linalg import _ETA, _U, _upper, midrad
-        p = self.n_pos
+    def _centre_parts(self, X: Interval, c: np.ndarray):
+        """R b_i at the points c in midpoint-radius form [cm ± cr] (N, legs, dim) and its quaternion
+        derivatives over Y ∋ (x + c)/2, x ∈ X, in [Dm ± Dr] (N, 4, legs, dim)."""
         rbc = self.rotation(Interval._raw(c, c.copy()))
         cm, cr = self.rotated_midrad(rbc)
         with np.errstate(invalid="ignore", over="ignore"):
             Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))
-            Dm, Dr = self._rotated_derivatives_midrad(Y)                     # (N, 4, legs, dim)
+            Dm, Dr = self._rotated_derivatives_midrad(Y)
+        return cm, cr, Dm, Dr
+
+    def _centred_form_at(self, X: Interval, c: np.ndarray):
+        """``centred_form`` around any float points c in the boxes."""
+        from intervals.linalg import _ETA, _U, _upper, midrad
+        p = self.n_pos
+        cm, cr, Dm, Dr = self._centre_parts(X, c)
+        with np.errstate(invalid="ignore", over="ignore"):
             # any c: X_r − c_r in [em ± er]; the five-term sum cm + Σ_r Dm_r em_r is within
             # γ_5 (|cm| + Σ_r |Dm_r em_r|) + 5·2⁻¹⁰²² of its float value (Higham 2002, eq. 3.5), the exact
             # radius cr + Σ_r |Dm_r| er_r + Dr_r (|em_r| + er_r) is evaluated in floats and bounded by
