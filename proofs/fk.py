@@ -231,17 +231,8 @@ class System:
         G = [[sum((Cm[i][k] * S[k][j] for k in range(1, n)), Cm[i][0] * S[0][j]) for j in range(n)]
              for i in range(n)]
         r = [-sum((Cm[i][k] * fc[k] for k in range(1, n)), Cm[i][0] * fc[0]) for i in range(n)]
-        y = [iv.mpf([lo, hi]) - iv.mpf(x) for (lo, hi), x in zip(box, c)]
-        for i in range(n):
-            num = r[i]
-            for j in range(n):
-                if j != i:
-                    num = num - G[i][j] * y[j]
-            new = _divide_into(num, G[i][i], y[i])
-            if new is None:
-                return None
-            y[i] = new
-        return [yi + iv.mpf(x) for yi, x in zip(y, c)]
+        y = _sweep(G, r, [iv.mpf([lo, hi]) - iv.mpf(x) for (lo, hi), x in zip(box, c)])
+        return None if y is None else [yi + iv.mpf(x) for yi, x in zip(y, c)]
 
     def gauss_seidel(self, box, P):
         """One Gauss-Seidel sweep on (P D) p = P g; returns the new position intervals or None (empty).
@@ -252,17 +243,7 @@ class System:
         A = [[sum((iv.mpf(P[i][r]) * D[r][j] for r in range(1, m)), iv.mpf(P[i][0]) * D[0][j])
               for j in range(self.n_pos)] for i in range(self.n_pos)]
         rhs = [sum((iv.mpf(P[i][r]) * g[r] for r in range(1, m)), iv.mpf(P[i][0]) * g[0]) for i in range(self.n_pos)]
-        x = _intervals(box)[:self.n_pos]
-        for i in range(self.n_pos):
-            num = rhs[i]
-            for j in range(self.n_pos):
-                if j != i:
-                    num = num - A[i][j] * x[j]
-            new = _divide_into(num, A[i][i], x[i])
-            if new is None:
-                return None
-            x[i] = new
-        return x
+        return _sweep(A, rhs, _intervals(box)[:self.n_pos])
 
     def hc4(self, box):
         """One forward-backward (HC4-revise) pass over the box; the contracted box, or None when the
@@ -387,6 +368,22 @@ def _divide_by(x, num, den):
     """x ∩ num / den when 0 ∉ den (None if empty); x itself otherwise."""
     if (den > 0) is True or (den < 0) is True:
         return _meet(x, num / den)
+    return x
+
+
+def _sweep(A, b, x):
+    """One interval Gauss-Seidel sweep on A x = b from the intervals x: x_i ∩ (b_i − Σ_{j≠i} A_ij x_j) / A_ii
+    in turn (``_divide_into``); the new intervals, or None when one is empty (no solution in x)."""
+    x = list(x)
+    for i in range(len(x)):
+        num = b[i]
+        for j in range(len(x)):
+            if j != i:
+                num = num - A[i][j] * x[j]
+        new = _divide_into(num, A[i][i], x[i])
+        if new is None:
+            return None
+        x[i] = new
     return x
 
 
