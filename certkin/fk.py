@@ -60,7 +60,7 @@ SHRINK = 0.05            # a contraction is kept when some side shrinks by this 
 INFLATE_BELOW = 2.0 ** -12  # scaled width under which ε-inflation around a Newton iterate is tried
 POSITION_SCALE = 8.0     # position sides count this much less than rotation sides when bisecting
 KRAWCZYK_BELOW = 0.1     # the Krawczyk step is tried on boxes whose rotation sides are below this (scaled)
-AGAIN = 0.5              # a Krawczyk contraction this strong is followed by a second Krawczyk step,
+AGAIN = 0.2              # a Krawczyk contraction this strong is followed by a second Krawczyk step,
 AGAIN_MIN = 64           # when at least this many boxes of the batch had one,
 AGAIN_SHARE = 2          # or at least half of the boxes still open did,
 AGAIN_STEPS = 3          # at most this many times
@@ -116,7 +116,7 @@ def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False, rbc=No
     c = X.mid()
     point = Interval._raw(c, c.copy())
     if rbc is None:
-        rbc = system.rotated(system.rotation(point))
+        rbc = system.rotated_at_points(c)
     fc = system.equations(point, L, rb=rbc)
     S = system.slope(X, c, rb=rb, rbc=rbc, drbs=drbs)
     C = float_inverse(S.mid())[0]

@@ -516,6 +516,29 @@ def test_rotated_midrad_encloses_exact_products():
                         assert Fraction(float(rest.lo)) <= v <= Fraction(float(rest.hi))
 
 
+def test_rotation_at_points_encloses_exact_values():
+    """R(q) at float quaternions, computed in floats with an error bound (``rotation_at_points``),
+    holds the exact matrix (rational arithmetic), for ordinary, tiny (underflowing products) and
+    non-unit points; the bound stays within a few ulps."""
+    from certkin import load_robot
+    from certkin.robots.fk_systems import FKSystem
+    s = FKSystem(load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml"))
+    rng = np.random.default_rng(5)
+    c = rng.uniform(-1.2, 1.2, (60, 7))
+    c[:6, 3:] *= 1e-160                      # squares and products underflow
+    c[6:12, 3:] = rng.choice([0.0, 1.0, -1.0, 0.5], (6, 4))
+    Rm, Rr = s.rotation_at_points(c)
+    assert np.all(Rr <= 1e-15 * (1.0 + 2.0 * np.sum(c[:, 3:] ** 2, axis=1))[:, None, None] + 1e-300)
+    for n in range(len(c)):
+        q0, q1, q2, q3 = (Fraction(float(v)) for v in c[n, 3:])
+        R = [[1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
+             [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
+             [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)]]
+        for k in range(3):
+            for j in range(3):
+                assert abs(R[k][j] - Fraction(float(Rm[n, k, j]))) <= Fraction(float(Rr[n, k, j]))
+
+
 def test_centred_rotated_points_enclose_exact_values():
     """R b_i over random quaternion boxes, natural ∩ centred (solver FKSystem.rotated_centred, checker
     System.rotated_box): holds the exact R(q) b_i (Fractions) at random points; it is narrower than the

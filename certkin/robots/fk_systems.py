@@ -92,6 +92,38 @@ class FKSystem:
                 [2.0 * (q1 * q3 - q0 * q2), 2.0 * (q2 * q3 + q0 * q1), 1.0 - 2.0 * (s1 + s2)]]
         return _cat([_cat(r) for r in rows], axis=-2)
 
+    def rotation_at_points(self, c: np.ndarray):
+        """Quaternion: (Rm, Rr), (N, 3, 3): R(c) at the float points c (N, n) lies in [Rm ± Rr].
+
+        Each entry is a float dot product of length at most three with exact factors 2
+        (1 − 2(q_a² + q_b²) or 2(q_a q_b ± q_c q_d)), so it is within γ_3 Σ|terms| ≤ 4u Σ|terms| of the
+        exact value, plus 3·2⁻¹⁰²² for underflow (Higham 2002, eq. 3.5, any order of summation); the
+        float Σ|terms| (non-negative, at most 4 roundings) is bounded by ``linalg._upper``
+        (docs/soundness.md §8, "midpoint-radius R b_i")."""
+        from intervals.linalg import _ETA, _U, _upper
+        p = self.n_pos
+        q = [c[:, p + k] for k in range(4)]
+        with np.errstate(invalid="ignore", over="ignore"):
+            sq = [v * v for v in q]
+            Rm = np.empty(c.shape[:1] + (3, 3))
+            mag = np.empty_like(Rm)
+            for k, (a, b) in enumerate(((2, 3), (1, 3), (1, 2))):      # 1 − 2(q_a² + q_b²)
+                t = sq[a] + sq[b]
+                Rm[:, k, k] = 1.0 - 2.0 * t
+                mag[:, k, k] = 1.0 + 2.0 * t
+            for (k, j), (a, b, c_, d, sign) in _OFF_DIAGONAL.items():  # 2(q_a q_b + sign q_c q_d)
+                u, v = q[a] * q[b], q[c_] * q[d]
+                Rm[:, k, j] = 2.0 * (u + v if sign > 0 else u - v)
+                mag[:, k, j] = 2.0 * (np.abs(u) + np.abs(v))
+            Rr = _upper(4.0 * _U * mag, 6) + 3 * _ETA
+        return Rm, Rr
+
+    def rotated_at_points(self, c: np.ndarray) -> Interval:
+        """R b_i at the float points c (N, n): (N, legs, dim) (quaternion: from ``rotation_at_points``)."""
+        if self.kind == "planar-3rpr":
+            return self.rotated(self.rotation(Interval._raw(c, c.copy())))
+        return _from_midrad(*self.rotated_midrad(self.rotation_at_points(c)))
+
     def rotated(self, R: Interval) -> Interval:
         """R b_i for every leg: (..., legs, dim) for R (..., dim, dim).
 
@@ -130,16 +162,17 @@ class FKSystem:
         dim·2⁻¹⁰²² of the exact one (Higham 2002, eq. 3.5, γ_n ≤ (n + 1) u), and the float radius is
         bounded by ``linalg._upper`` (docs/soundness.md §8, "midpoint-radius R b_i"): the bound of
         ``linalg.product_midrad``.  ``columns``: also, per column j, the same for the sums that leave
-        column j out, Σ_{j'≠j} R_kj' b_ij' (b_ij set to 0): (..., legs, dim, dim) each, j last."""
+        column j out, Σ_{j'≠j} R_kj' b_ij' (b_ij set to 0): (..., legs, dim, dim) each, j last.
+        ``R`` may also be given as (Rm, Rr), R in [Rm ± Rr] (``rotation_at_points``)."""
         from intervals.linalg import _ETA, _upper, midrad
         bm, inner, outer = self._b_midrad()
         dim = bm.shape[0]
         legs = self.legs
         if not columns:
             bm, inner, outer = bm[:, :legs], inner[:, :legs], outer[:, :legs]
-        lead = R.shape[:-2]
         with np.errstate(invalid="ignore", over="ignore"):
-            Rm, Rr = midrad(R.lo, R.hi)
+            Rm, Rr = midrad(R.lo, R.hi) if isinstance(R, Interval) else R
+            lead = Rm.shape[:-2]
             Rm, Rr = Rm.reshape(-1, dim), Rr.reshape(-1, dim)
             m = Rm @ bm
             r = _upper(np.abs(Rm) @ inner + Rr @ outer, 4 * dim + 4) + dim * _ETA
@@ -243,8 +276,7 @@ class FKSystem:
     def _centre_parts(self, X: Interval, c: np.ndarray):
         """R b_i at the points c in midpoint-radius form [cm ± cr] (N, legs, dim) and its quaternion
         derivatives over Y ∋ (x + c)/2, x ∈ X, in [Dm ± Dr] (N, 4, legs, dim)."""
-        rbc = self.rotation(Interval._raw(c, c.copy()))
-        cm, cr = self.rotated_midrad(rbc)
+        cm, cr = self.rotated_midrad(self.rotation_at_points(c))
         with np.errstate(invalid="ignore", over="ignore"):
             Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))
             Dm, Dr = self._rotated_derivatives_midrad(Y)
@@ -289,7 +321,7 @@ class FKSystem:
         if rb is None:
             rb = self.rotated(self.rotation(X))
         if rbc is None:
-            rbc = self.rotated(self.rotation(point))
+            rbc = self.rotated_at_points(c)
         ell = rb - self.a[None, :, :]
         ellc = rbc - self.a[None, :, :]
         if p:
@@ -554,6 +586,11 @@ _DQ_INDEX = np.array([[[0, 8, 3], [4, 0, 6], [7, 2, 0]],
                       [[0, 3, 4], [3, 10, 5], [4, 1, 10]],
                       [[11, 2, 1], [2, 0, 4], [5, 4, 11]],
                       [[12, 5, 2], [1, 12, 3], [2, 3, 0]]])
+
+
+# the off-diagonal entries of R(q) = 2(q_a q_b + sign q_c q_d): (row, column) -> (a, b, c, d, sign)
+_OFF_DIAGONAL = {(0, 1): (1, 2, 0, 3, -1), (0, 2): (1, 3, 0, 2, 1), (1, 0): (1, 2, 0, 3, 1),
+                 (1, 2): (2, 3, 0, 1, -1), (2, 0): (1, 3, 0, 2, -1), (2, 1): (2, 3, 0, 1, 1)}
 
 
 def _from_midrad(m, r) -> Interval:
