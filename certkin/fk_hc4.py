@@ -46,12 +46,7 @@ from intervals import Interval, mul, sqr
 from intervals.interval import div
 from intervals.rounding import down, up
 
-# R_kj = 2(q_a q_b + σ q_c q_d) for the quaternion rotation (see robots/fk_systems.py):
-# ((k, j), (a, b), (c, d), σ), quaternion indices 0..3
-OFF_DIAGONAL = (((0, 1), (1, 2), (0, 3), -1), ((1, 0), (1, 2), (0, 3), 1),
-                ((0, 2), (1, 3), (0, 2), 1), ((2, 0), (1, 3), (0, 2), -1),
-                ((1, 2), (2, 3), (0, 1), -1), ((2, 1), (2, 3), (0, 1), 1))
-DIAGONAL = ((0, 2, 3), (1, 1, 3), (2, 1, 2))     # R_kk = 1 − 2(q_a² + q_b²): (k, a, b)
+from .robots.fk_systems import DIAGONAL, OFF_DIAGONAL, _from_midrad   # R(q)'s entries as products of q's
 
 
 def root(x: Interval, t: Interval) -> Interval:
@@ -90,11 +85,6 @@ def _inverse(system) -> Interval:
         inverse = div(Interval._raw(one, one), Interval._raw(np.where(ok, b.lo, 1.0), np.where(ok, b.hi, 1.0)))
         system._hc4_inverse = inverse
     return inverse
-
-
-def _from_midrad(m, r) -> Interval:
-    from .robots.fk_systems import _from_midrad as f
-    return f(m, r)
 
 
 def _meet(x: Interval, y: Interval) -> Interval:

@@ -107,13 +107,13 @@ class FKSystem:
             sq = [v * v for v in q]
             Rm = np.empty(c.shape[:1] + (3, 3))
             mag = np.empty_like(Rm)
-            for k, (a, b) in enumerate(((2, 3), (1, 3), (1, 2))):      # 1 − 2(q_a² + q_b²)
+            for k, a, b in DIAGONAL:                                   # 1 − 2(q_a² + q_b²)
                 t = sq[a] + sq[b]
                 Rm[:, k, k] = 1.0 - 2.0 * t
                 mag[:, k, k] = 1.0 + 2.0 * t
-            for (k, j), (a, b, c_, d, sign) in _OFF_DIAGONAL.items():  # 2(q_a q_b + sign q_c q_d)
+            for (k, j), (a, b), (c_, d), sigma in OFF_DIAGONAL:        # 2(q_a q_b + σ q_c q_d)
                 u, v = q[a] * q[b], q[c_] * q[d]
-                Rm[:, k, j] = 2.0 * (u + v if sign > 0 else u - v)
+                Rm[:, k, j] = 2.0 * (u + v if sigma > 0 else u - v)
                 mag[:, k, j] = 2.0 * (np.abs(u) + np.abs(v))
             Rr = _upper(4.0 * _U * mag, 6) + 3 * _ETA
         return Rm, Rr
@@ -588,9 +588,12 @@ _DQ_INDEX = np.array([[[0, 8, 3], [4, 0, 6], [7, 2, 0]],
                       [[12, 5, 2], [1, 12, 3], [2, 3, 0]]])
 
 
-# the off-diagonal entries of R(q) = 2(q_a q_b + sign q_c q_d): (row, column) -> (a, b, c, d, sign)
-_OFF_DIAGONAL = {(0, 1): (1, 2, 0, 3, -1), (0, 2): (1, 3, 0, 2, 1), (1, 0): (1, 2, 0, 3, 1),
-                 (1, 2): (2, 3, 0, 1, -1), (2, 0): (1, 3, 0, 2, -1), (2, 1): (2, 3, 0, 1, 1)}
+# the entries of the quaternion rotation R(q) (module docstring), quaternion indices 0..3:
+# R_kj = 2(q_a q_b + σ q_c q_d) off the diagonal: ((k, j), (a, b), (c, d), σ)
+OFF_DIAGONAL = (((0, 1), (1, 2), (0, 3), -1), ((1, 0), (1, 2), (0, 3), 1),
+                ((0, 2), (1, 3), (0, 2), 1), ((2, 0), (1, 3), (0, 2), -1),
+                ((1, 2), (2, 3), (0, 1), -1), ((2, 1), (2, 3), (0, 1), 1))
+DIAGONAL = ((0, 2, 3), (1, 1, 3), (2, 1, 2))     # R_kk = 1 − 2(q_a² + q_b²): (k, a, b)
 
 
 def _from_midrad(m, r) -> Interval:
