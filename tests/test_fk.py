@@ -372,6 +372,13 @@ SPHERICAL_8 = {"kind": "spherical-3dof", "base": [["1.6", "0", "-1.2"], ["-1.1",
                "platform": [["1", "0", "0"], ["-0.6", "1", "0"], ["-0.2", "-0.5", "0"]]}
 
 
+def _exact_rotation(q0, q1, q2, q3):
+    """R(q) of the FK formulation (robots/fk_systems.py), in the arithmetic of its arguments."""
+    return [[1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
+            [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
+            [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)]]
+
+
 def _exact_f(robot, n_pos, x, L):
     """The FK equations at the point x in exact rational arithmetic (Fractions), from the robot's texts."""
     geom = [Fraction(t) for t in robot.geometry_texts()]
@@ -382,10 +389,7 @@ def _exact_f(robot, n_pos, x, L):
         c, s = x[2], x[3]
         R = [[c, -s], [s, c]]
     else:
-        q0, q1, q2, q3 = x[n_pos:]
-        R = [[1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
-             [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
-             [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)]]
+        R = _exact_rotation(*x[n_pos:])
     out = []
     for i in range(legs):
         ell = [(x[k] if k < n_pos else 0) + sum(R[k][j] * b[i][j] for j in range(dim)) - a[i][k] for k in range(dim)]
@@ -530,10 +534,7 @@ def test_rotation_at_points_encloses_exact_values():
     Rm, Rr = s.rotation_at_points(c)
     assert np.all(Rr <= 1e-15 * (1.0 + 2.0 * np.sum(c[:, 3:] ** 2, axis=1))[:, None, None] + 1e-300)
     for n in range(len(c)):
-        q0, q1, q2, q3 = (Fraction(float(v)) for v in c[n, 3:])
-        R = [[1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
-             [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
-             [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)]]
+        R = _exact_rotation(*(Fraction(float(v)) for v in c[n, 3:]))
         for k in range(3):
             for j in range(3):
                 assert abs(R[k][j] - Fraction(float(Rm[n, k, j]))) <= Fraction(float(Rr[n, k, j]))
@@ -564,10 +565,7 @@ def test_centred_rotated_points_enclose_exact_values():
     for n in range(N):
         U = checker.rotated_box([mp.iv.mpf([float(X.lo[n, j]), float(X.hi[n, j])]) for j in range(7)])
         for _ in range(3):
-            q0, q1, q2, q3 = [Fraction(float(v)) for v in X.lo[n, 3:] + rng.random(4) * (X.hi[n, 3:] - X.lo[n, 3:])]
-            R = [[1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
-                 [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
-                 [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)]]
+            R = _exact_rotation(*(Fraction(float(v)) for v in X.lo[n, 3:] + rng.random(4) * (X.hi[n, 3:] - X.lo[n, 3:])))
             for i in range(6):
                 for k in range(3):
                     v = sum(R[k][j] * b[i][j] for j in range(3))

@@ -104,17 +104,12 @@ class FKSystem:
         p = self.n_pos
         q = [c[:, p + k] for k in range(4)]
         with np.errstate(invalid="ignore", over="ignore"):
-            sq = [v * v for v in q]
-            Rm = np.empty(c.shape[:1] + (3, 3))
-            mag = np.empty_like(Rm)
+            Rm = self._rotation_float(c)                               # the float dot products
+            mag = np.empty_like(Rm)                                    # Σ|terms| of each entry
             for k, a, b in DIAGONAL:                                   # 1 − 2(q_a² + q_b²)
-                t = sq[a] + sq[b]
-                Rm[:, k, k] = 1.0 - 2.0 * t
-                mag[:, k, k] = 1.0 + 2.0 * t
-            for (k, j), (a, b), (c_, d), sigma in OFF_DIAGONAL:        # 2(q_a q_b + σ q_c q_d)
-                u, v = q[a] * q[b], q[c_] * q[d]
-                Rm[:, k, j] = 2.0 * (u + v if sigma > 0 else u - v)
-                mag[:, k, j] = 2.0 * (np.abs(u) + np.abs(v))
+                mag[:, k, k] = 1.0 + 2.0 * (q[a] * q[a] + q[b] * q[b])
+            for (k, j), (a, b), (c_, d), _ in OFF_DIAGONAL:            # 2(q_a q_b + σ q_c q_d)
+                mag[:, k, j] = 2.0 * (np.abs(q[a] * q[b]) + np.abs(q[c_] * q[d]))
             Rr = _upper(4.0 * _U * mag, 6) + 3 * _ETA
         return Rm, Rr
 
@@ -517,7 +512,9 @@ class FKSystem:
         return geometry
 
     def _rotation_float(self, x) -> np.ndarray:
-        """R at float unknowns ``x`` (..., n): (..., dim, dim) (not certified)."""
+        """R at float unknowns ``x`` (..., n): (..., dim, dim) (no enclosure by itself; each quaternion
+        entry is a float dot product of length at most three with exact factors 2, the form whose
+        rounding error ``rotation_at_points`` bounds)."""
         x = np.asarray(x, dtype=np.float64)
         if self.kind == "planar-3rpr":
             c, s = x[..., 2], x[..., 3]
