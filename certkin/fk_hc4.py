@@ -91,16 +91,19 @@ def _meet(x: Interval, y: Interval) -> Interval:
     return Interval._raw(np.maximum(x.lo, y.lo), np.minimum(x.hi, y.hi))
 
 
-def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = None):
+def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = None, native: bool = True):
     """One forward-backward pass over the boxes [lo, hi] (N, n), squared leg lengths L (N, legs).
 
     Returns (lo, hi, empty): the contracted boxes (inside the given ones) and the
     mask of boxes proved to hold no root (their rows are meaningless); ``keep`` (a dict), for a
     quaternion: keep["form"] = ``FKSystem.centred_form`` of the given boxes (step 2).  The planar
-    robot takes ``_hc4_planar`` (the same operations, stacked) unless ``generic``.
+    robot takes ``_hc4_planar`` (the same operations, stacked) unless ``generic``; a quaternion
+    system takes the machine-code twin (``fk_hc4_native``) unless ``native`` is false.
     """
     if system.kind == "planar-3rpr" and not generic:
         return _hc4_planar(system, lo, hi, L)
+    if system.kind != "planar-3rpr" and native:
+        return _hc4_native(system, lo, hi, L, keep)
     lo, hi = np.array(lo, dtype=np.float64), np.array(hi, dtype=np.float64)
     N, n = lo.shape
     p = system.n_pos
@@ -221,6 +224,24 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
         nlo[bad], nhi[bad] = lo[bad], hi[bad]
         nlo, nhi = np.maximum(nlo, lo), np.minimum(nhi, hi)
     return nlo, nhi, empty
+
+
+def _hc4_native(system, lo, hi, L: Interval, keep: dict | None):
+    """``hc4`` for a quaternion system by ``fk_hc4_native.hc4_quaternion`` (the same pass, box by box)."""
+    from .fk_hc4_native import TABLES, hc4_quaternion
+    lo, hi = np.ascontiguousarray(lo, dtype=np.float64), np.ascontiguousarray(hi, dtype=np.float64)
+    form = system.centred_form(Interval._raw(lo, hi))
+    if keep is not None:
+        keep["form"] = form
+    consts = system.__dict__.get("_hc4_native_consts")
+    if consts is None:
+        bm, inner, outer = system._b_midrad()
+        b, inverse = system.b, _inverse(system)
+        consts = system._hc4_native_consts = tuple(np.ascontiguousarray(v) for v in (
+            system.a.lo, system.a.hi, bm, inner, outer, (b.lo > 0) | (b.hi < 0), inverse.lo, inverse.hi))
+    f64 = np.ascontiguousarray
+    return hc4_quaternion(lo, hi, f64(L.lo, dtype=np.float64), f64(L.hi, dtype=np.float64),
+                          f64(form[0]), f64(form[1]), *consts, system.n_pos, *TABLES)
 
 
 def _hc4_planar(system, lo, hi, L: Interval):

@@ -529,7 +529,24 @@ def hansen_sengupta(f, J, x, c, C):
 
     Returns ``(H, empty)``: ``H`` ⊆ ``x`` holds every zero of f in ``x``; where ``empty`` there is
     none (``H`` is then meaningless).  No uniqueness is claimed.
+
+    Batches (N, n) run box by box in machine code (``native.hansen_sengupta``: the same bounds);
+    other shapes, and the tests' reference, take the numpy version (``_hansen_sengupta_numpy``).
     """
+    if isinstance(J, Interval) and x.lo.ndim == 2 and J.lo.shape == x.lo.shape + x.lo.shape[-1:]:
+        from . import native
+        N, n = x.lo.shape
+        f64 = lambda a, shape: np.ascontiguousarray(np.broadcast_to(a, shape), dtype=np.float64)   # noqa: E731
+        vec, mat = (N, n), (N, n, n)
+        lo, hi, empty = native.hansen_sengupta(f64(f.lo, vec), f64(f.hi, vec), f64(J.lo, mat), f64(J.hi, mat),
+                                               f64(x.lo, vec), f64(x.hi, vec), f64(c, vec), f64(C, mat))
+        return Interval._raw(lo, hi), empty
+    return _hansen_sengupta_numpy(f, J, x, c, C)
+
+
+def _hansen_sengupta_numpy(f, J, x, c, C):
+    """``hansen_sengupta`` in batched numpy operations (any leading shape; the reference of the
+    native kernel)."""
     n = x.shape[-1]
     Jm, Jr = midrad(J.lo, J.hi) if isinstance(J, Interval) else (J, None)
     fm, fr = midrad(f.lo, f.hi)

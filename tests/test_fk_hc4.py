@@ -13,7 +13,7 @@ import pytest
 from mpmath import iv
 
 import proofs
-from certkin import load_robot
+from certkin import load_robot, robot_from_dict
 from certkin.fk import forward_kinematics
 from certkin.fk_hc4 import hc4
 from certkin.robots.fk_stacked import StackedFKSystem
@@ -21,7 +21,7 @@ from certkin.robots.fk_systems import FKSystem
 from intervals import Interval, sqr
 from proofs.fk import System
 
-from test_fk import EXAMPLES, SIX_MODES, _first, _pose_from_points, planar, table_vi2
+from test_fk import EXAMPLES, SIX_MODES, SPHERICAL_8, _first, _pose_from_points, planar, table_vi2
 
 GOUGH_LENGTHS = ["1.093", "2.280", "2.031", "2.524", "3.136", "1.845"]
 
@@ -179,3 +179,38 @@ def test_kept_centred_form_gives_the_same_floats(gough_case):
         assert np.array_equal(a.lo, b.lo) and np.array_equal(a.hi, b.hi)
     for a, b in zip(fresh[2], reused[2]):
         assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("which", ["gough", "spherical"])
+def test_native_quaternion_pass_matches_numpy(which, gough_case):
+    """The machine-code pass (``fk_hc4_native``) and the numpy one, on boxes around every root and
+    on boxes all over the domain: the same empty boxes and, elsewhere, the same bounds to a few ulps
+    (only the sums of R b_i may be taken in another order); every root is kept."""
+    if which == "gough":
+        robot, lengths, _ = gough_case
+    else:
+        robot, lengths = robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]
+    boxes = [s["box"] for s in forward_kinematics(robot, lengths).solutions]   # one root each
+    system = FKSystem(robot)
+    rng = np.random.default_rng(13)
+    n = system.n
+    pick = rng.integers(0, len(boxes), 3000)
+    root_lo = np.array([b.lo for b in boxes])[pick]
+    root_hi = np.array([b.hi for b in boxes])[pick]
+    near_c = 0.5 * (root_lo + root_hi)
+    near_w = rng.uniform(0.1, 1, (3000, n)) * 10.0 ** rng.uniform(-7, -0.5, (3000, 1))
+    L = _L(lengths, 1)
+    dlo, dhi = (np.atleast_2d(v)[0] for v in system.domain(L))
+    far_c = rng.uniform(dlo, dhi, (3000, n))
+    far_w = rng.uniform(0, 1, (3000, n)) ** 2 * (dhi - dlo) * 0.1
+    lo = np.concatenate([np.minimum(root_lo, near_c - near_w * rng.uniform(0, 1, (3000, n))), far_c - far_w])
+    hi = np.concatenate([np.maximum(root_hi, near_c + near_w * rng.uniform(0, 1, (3000, n))), far_c + far_w])
+    L = _L(lengths, len(lo))
+    fast = hc4(system, lo, hi, L)
+    ref = hc4(system, lo, hi, L, native=False)
+    assert np.array_equal(fast[2], ref[2]) and 0 < fast[2].sum() < len(lo)
+    assert not fast[2][:3000].any()
+    live = ~fast[2]
+    for a, b in zip(fast[:2], ref[:2]):
+        assert np.all(np.abs(a[live] - b[live]) <= 2.0 ** -48 * (1.0 + np.abs(b[live])))
+    assert np.all((fast[0][:3000] <= root_hi) & (root_lo <= fast[1][:3000]))   # the root's box is met

@@ -1,0 +1,324 @@
+"""``fk_hc4.hc4`` for a quaternion rotation, box by box in machine code (numba).
+
+The same pass, the same interval operations on the same operands and in the same
+order as the numpy version (steps 1-7 of ``fk_hc4``), with the outward-rounded
+primitives of ``intervals.native``; only the float sums of the midpoint-radius
+R b_i (``FKSystem.rotated_midrad``) may be taken in another order, which their
+error bound allows (Higham 2002, eq. 3.5).  The centred form of R b_i (step 2)
+is computed by ``FKSystem.centred_form`` and passed in.  Each step intersects a
+variable with a set that holds its value at every root of the box
+(``docs/soundness.md`` §8), so no root is lost; ``tests/test_fk_hc4.py``
+compares this kernel with the numpy version.  Boxes with a non-finite input, or
+whose result holds a NaN, are returned unchanged and not empty.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from intervals.native import INF, div_regular, down, down_sum, mul, up, up_sum, upper
+
+from .robots.fk_systems import DIAGONAL, OFF_DIAGONAL
+
+
+def _tables():
+    """R(q)'s entries as integer tables (from ``fk_systems.DIAGONAL`` / ``OFF_DIAGONAL``): entries
+    (3, 3, 5) rows (kind, a, b, c, d), kind 0 for 1 − 2(q_a² + q_b²), kind σ = ±1 for
+    2(q_a q_b + σ q_c q_d); off (6, 7) rows (k, j, a, b, c, d, σ) in the order of step 7."""
+    entries = np.zeros((3, 3, 5), dtype=np.int64)
+    for k, a, b in DIAGONAL:
+        entries[k, k] = (0, a, b, 0, 0)
+    for (k, j), (a, b), (c, d), sigma in OFF_DIAGONAL:
+        entries[k, j] = (sigma, a, b, c, d)
+    off = np.array([(k, j, a, b, c, d, sigma) for (k, j), (a, b), (c, d), sigma in OFF_DIAGONAL], dtype=np.int64)
+    return entries, off
+
+
+TABLES = _tables()
+
+
+@njit(inline="always", cache=True)
+def _sqr(lo, hi):
+    """``interval.sqr``: [max(down(mig²), 0), up(mag²)]."""
+    mig = 0.0 if (lo <= 0.0 and hi >= 0.0) else min(abs(lo), abs(hi))
+    mag = max(abs(lo), abs(hi))
+    return max(down(mig * mig), 0.0), up(mag * mag)
+
+
+@njit(inline="always", cache=True)
+def _root(xlo, xhi, tlo, thi):
+    """``fk_hc4.root``: hull(x ∩ {y : y² ∈ t}); empty (lo > hi) if there is no such y; x itself
+    if t is NaN (nothing known)."""
+    if not (tlo == tlo and thi == thi):
+        return xlo, xhi
+    rlo = max(down(np.sqrt(max(tlo, 0.0))), 0.0)
+    rhi = up(np.sqrt(max(thi, 0.0)))
+    nlo, nhi = max(xlo, -rhi), min(xhi, -rlo)
+    plo, phi = max(xlo, rlo), min(xhi, rhi)
+    neg = nlo <= nhi and thi >= 0.0
+    pos = plo <= phi and thi >= 0.0
+    lo = nlo if neg else (plo if pos else INF)
+    hi = phi if pos else (nhi if neg else -INF)
+    return lo, hi
+
+
+@njit(inline="always", cache=True)
+def _scale(lo, hi, k):
+    """``x * k`` for a float k > 0 (``interval.mul`` with the point [k, k])."""
+    return down(lo * k), up(hi * k)
+
+
+@njit(inline="always", cache=True)
+def _divide_into(xlo, xhi, nlo, nhi, dlo, dhi):
+    """``fk_hc4.divide_into``: x ∩ num / den where 0 ∉ den, x itself elsewhere."""
+    if dlo > 0.0 or dhi < 0.0:
+        qlo, qhi = div_regular(nlo, nhi, dlo, dhi)
+        return max(xlo, qlo), min(xhi, qhi)
+    return xlo, xhi
+
+
+@njit(cache=True)
+def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonzero, invlo, invhi, p, entries, off):
+    """One HC4 pass (``fk_hc4``) over the boxes [lo, hi] (N, p + 4) of a quaternion system.
+
+    ``L`` (N, legs) squared leg lengths, ``f`` (N, legs, 3) the centred form of R b_i over the given
+    boxes, ``a`` (legs, 3), ``bm``/``inner``/``outer`` (3, 4 legs) the factors of
+    ``FKSystem.rotated_midrad`` (``_b_midrad``), ``nonzero`` (legs, 3) where 0 ∉ b_ij, ``inv``
+    (legs, 3) enclosures of 1/b_ij, ``entries``/``off`` the tables of ``_tables``.  Returns
+    (lo, hi, empty) as ``fk_hc4.hc4``."""
+    N, n = lo.shape
+    legs = Llo.shape[1]
+    nlo_out = lo.copy()
+    nhi_out = hi.copy()
+    empty = np.zeros(N, dtype=np.bool_)
+    zlo = np.empty(n)
+    zhi = np.empty(n)
+    slo = np.empty(n)
+    shi = np.empty(n)
+    Rlo = np.empty((3, 3))
+    Rhi = np.empty((3, 3))
+    Rm = np.empty((3, 3))
+    Rr = np.empty((3, 3))
+    R2lo = np.empty((3, 3))
+    R2hi = np.empty((3, 3))
+    ulo = np.empty((legs, 3))
+    uhi = np.empty((legs, 3))
+    Pm = np.empty((legs, 3, 3))
+    Pr = np.empty((legs, 3, 3))
+    elo = np.empty((legs, 3))
+    ehi = np.empty((legs, 3))
+    eslo = np.empty(3)
+    eshi = np.empty(3)
+    K = 4 * 3 + 4
+    for box in range(N):
+        finite = True
+        for k in range(n):
+            finite &= np.isfinite(lo[box, k]) and np.isfinite(hi[box, k])
+        for i in range(legs):
+            finite &= np.isfinite(Llo[box, i]) and np.isfinite(Lhi[box, i])
+        if not finite:
+            continue
+        for k in range(n):
+            zlo[k] = lo[box, k]
+            zhi[k] = hi[box, k]
+        dead = False
+        # 1. the norm equation: r_k ← root(r_k, 1 − Σ_{j≠k} r_j²), j increasing
+        for k in range(p, n):
+            slo[k], shi[k] = _sqr(zlo[k], zhi[k])
+        for k in range(p, n):
+            olo = 0.0
+            ohi = 0.0
+            first = True
+            for j in range(p, n):
+                if j != k:
+                    if first:
+                        olo, ohi = slo[j], shi[j]
+                        first = False
+                    else:
+                        olo, ohi = down_sum(olo + slo[j]), up_sum(ohi + shi[j])
+            zlo[k], zhi[k] = _root(zlo[k], zhi[k], down_sum(1.0 - ohi), up_sum(1.0 - olo))
+            if zlo[k] > zhi[k]:
+                dead = True
+                break
+            slo[k], shi[k] = _sqr(zlo[k], zhi[k])
+        if dead:
+            empty[box] = True
+            continue
+        # 2. R over the box (FKSystem.rotation), R b_i in midpoint-radius form (rotated_midrad, with the
+        #    sums leaving column j out), ∩ the centred form; e_i = (u_i − a_i) + p
+        for k in range(3):
+            for j in range(3):
+                kind = entries[k, j, 0]
+                a, b_, c, d = entries[k, j, 1], entries[k, j, 2], entries[k, j, 3], entries[k, j, 4]
+                if kind == 0:
+                    tlo, thi = down_sum(slo[p + a] + slo[p + b_]), up_sum(shi[p + a] + shi[p + b_])
+                    tlo, thi = _scale(tlo, thi, 2.0)
+                    vlo, vhi = down_sum(1.0 - thi), up_sum(1.0 - tlo)
+                else:
+                    xlo, xhi = mul(zlo[p + a], zhi[p + a], zlo[p + b_], zhi[p + b_])
+                    ylo, yhi = mul(zlo[p + c], zhi[p + c], zlo[p + d], zhi[p + d])
+                    if kind > 0:
+                        tlo, thi = down_sum(xlo + ylo), up_sum(xhi + yhi)
+                    else:
+                        tlo, thi = down_sum(xlo - yhi), up_sum(xhi - ylo)
+                    vlo, vhi = _scale(tlo, thi, 2.0)
+                Rlo[k, j], Rhi[k, j] = vlo, vhi
+                m = 0.5 * vlo + 0.5 * vhi
+                Rm[k, j] = m
+                Rr[k, j] = up(max(vhi - m, m - vlo))
+        for i in range(legs):
+            for k in range(3):
+                for blk in range(4):          # block 0: R b_i; block 1 + j: column j left out
+                    col = blk * legs + i
+                    sm = 0.0
+                    sr = 0.0
+                    for jj in range(3):
+                        sm += Rm[k, jj] * bm[jj, col]
+                        sr += abs(Rm[k, jj]) * inner[jj, col] + Rr[k, jj] * outer[jj, col]
+                    sr = upper(sr, K) + 3 * 2.0 ** -1022
+                    if not (np.isfinite(sm) and np.isfinite(sr)):
+                        sm, sr = 0.0, INF
+                    if blk == 0:
+                        ul, uh = down(sm - sr), up(sm + sr)
+                        if ul != ul:
+                            ul = -INF
+                        if uh != uh:
+                            uh = INF
+                        # ∩ the centred form (np.fmax / np.fmin: a NaN bound of the form is ignored)
+                        fl, fh = flo[box, i, k], fhi[box, i, k]
+                        ulo[i, k] = ul if fl != fl else max(ul, fl)
+                        uhi[i, k] = uh if fh != fh else min(uh, fh)
+                    else:
+                        Pm[i, k, blk - 1] = sm
+                        Pr[i, k, blk - 1] = sr
+            for k in range(3):
+                vlo, vhi = down_sum(ulo[i, k] - ahi[i, k]), up_sum(uhi[i, k] - alo[i, k])
+                if p:
+                    vlo, vhi = down_sum(vlo + zlo[k]), up_sum(vhi + zhi[k])
+                elo[i, k], ehi[i, k] = vlo, vhi
+        # 3. each leg equation: e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²), k = 0, 1, 2
+        for i in range(legs):
+            for k in range(3):
+                eslo[k], eshi[k] = _sqr(elo[i, k], ehi[i, k])
+            for k in range(3):
+                olo = 0.0
+                ohi = 0.0
+                first = True
+                for kk in range(3):
+                    if kk != k:
+                        if first:
+                            olo, ohi = eslo[kk], eshi[kk]
+                            first = False
+                        else:
+                            olo, ohi = down_sum(olo + eslo[kk]), up_sum(ohi + eshi[kk])
+                tl, th = down_sum(Llo[box, i] - ohi), up_sum(Lhi[box, i] - olo)
+                elo[i, k], ehi[i, k] = _root(elo[i, k], ehi[i, k], tl, th)
+                if elo[i, k] > ehi[i, k]:
+                    dead = True
+                eslo[k], eshi[k] = _sqr(elo[i, k], ehi[i, k])
+        if dead:
+            empty[box] = True
+            continue
+        # 4. the position: p_k ← p_k ∩ ⋂_i ((e_ik − u_ik) + a_ik)
+        for k in range(p):
+            pl, ph = zlo[k], zhi[k]
+            for i in range(legs):
+                vlo, vhi = down_sum(elo[i, k] - uhi[i, k]), up_sum(ehi[i, k] - ulo[i, k])
+                pl = max(pl, down_sum(vlo + alo[i, k]))
+                ph = min(ph, up_sum(vhi + ahi[i, k]))
+            zlo[k], zhi[k] = pl, ph
+            if pl > ph:
+                dead = True
+        if dead:
+            empty[box] = True
+            continue
+        # 5. u_ik ← u_ik ∩ ((e_ik − p_k) + a_ik)
+        for i in range(legs):
+            for k in range(3):
+                vlo, vhi = elo[i, k], ehi[i, k]
+                if p:
+                    vlo, vhi = down_sum(vlo - zhi[k]), up_sum(vhi - zlo[k])
+                ulo[i, k] = max(ulo[i, k], down_sum(vlo + alo[i, k]))
+                uhi[i, k] = min(uhi[i, k], up_sum(vhi + ahi[i, k]))
+        # 6. entries of R: R_kj ← R_kj ∩ (u_ik − Σ_{j'≠j} R_kj' b_ij') × (1/b_ij), legs with 0 ∉ b_ij
+        for k in range(3):
+            for j in range(3):
+                vlo, vhi = Rlo[k, j], Rhi[k, j]
+                for i in range(legs):
+                    if nonzero[i, j]:
+                        rl, rh = down(Pm[i, k, j] - Pr[i, k, j]), up(Pm[i, k, j] + Pr[i, k, j])
+                        if rl != rl:
+                            rl = -INF
+                        if rh != rh:
+                            rh = INF
+                        nl, nh = down_sum(ulo[i, k] - rh), up_sum(uhi[i, k] - rl)
+                        cl, ch = mul(nl, nh, invlo[i, j], invhi[i, j])
+                        vlo = max(vlo, cl)
+                        vhi = min(vhi, ch)
+                R2lo[k, j], R2hi[k, j] = vlo, vhi
+                if vlo > vhi:
+                    dead = True
+        if dead:
+            empty[box] = True
+            continue
+        # 7. the quaternion from R: diagonal entries, then off-diagonal ones (fk_hc4.DIAGONAL, OFF_DIAGONAL)
+        for k in range(3):
+            a, b_ = entries[k, k, 1], entries[k, k, 2]
+            tlo, thi = down_sum(1.0 - R2hi[k, k]), up_sum(1.0 - R2lo[k, k])
+            tlo, thi = _scale(tlo, thi, 0.5)
+            sl, sh = _sqr(zlo[p + b_], zhi[p + b_])
+            zlo[p + a], zhi[p + a] = _root(zlo[p + a], zhi[p + a], down_sum(tlo - sh), up_sum(thi - sl))
+            if zlo[p + a] > zhi[p + a]:
+                dead = True
+                break
+            sl, sh = _sqr(zlo[p + a], zhi[p + a])
+            zlo[p + b_], zhi[p + b_] = _root(zlo[p + b_], zhi[p + b_], down_sum(tlo - sh), up_sum(thi - sl))
+            if zlo[p + b_] > zhi[p + b_]:
+                dead = True
+                break
+        if dead:
+            empty[box] = True
+            continue
+        for e in range(6):
+            k, j = off[e, 0], off[e, 1]
+            ia, ib, ic, id_ = p + off[e, 2], p + off[e, 3], p + off[e, 4], p + off[e, 5]
+            sigma = off[e, 6]
+            hlo, hhi = _scale(R2lo[k, j], R2hi[k, j], 0.5)
+            clo, chi = mul(zlo[ic], zhi[ic], zlo[id_], zhi[id_])
+            if sigma > 0:
+                glo, ghi = down_sum(hlo - chi), up_sum(hhi - clo)
+            else:
+                glo, ghi = down_sum(hlo + clo), up_sum(hhi + chi)
+            zlo[ia], zhi[ia] = _divide_into(zlo[ia], zhi[ia], glo, ghi, zlo[ib], zhi[ib])
+            if zlo[ia] > zhi[ia]:
+                dead = True
+                break
+            zlo[ib], zhi[ib] = _divide_into(zlo[ib], zhi[ib], glo, ghi, zlo[ia], zhi[ia])
+            if zlo[ib] > zhi[ib]:
+                dead = True
+                break
+            xlo, xhi = mul(zlo[ia], zhi[ia], zlo[ib], zhi[ib])
+            glo, ghi = down_sum(hlo - xhi), up_sum(hhi - xlo)
+            if sigma < 0:
+                glo, ghi = -ghi, -glo
+            zlo[ic], zhi[ic] = _divide_into(zlo[ic], zhi[ic], glo, ghi, zlo[id_], zhi[id_])
+            if zlo[ic] > zhi[ic]:
+                dead = True
+                break
+            zlo[id_], zhi[id_] = _divide_into(zlo[id_], zhi[id_], glo, ghi, zlo[ic], zhi[ic])
+            if zlo[id_] > zhi[id_]:
+                dead = True
+                break
+        if dead:
+            empty[box] = True
+            continue
+        nan = False
+        for k in range(n):
+            nan |= zlo[k] != zlo[k] or zhi[k] != zhi[k]
+        if nan:
+            continue
+        for k in range(n):
+            nlo_out[box, k] = max(zlo[k], lo[box, k])
+            nhi_out[box, k] = min(zhi[k], hi[box, k])
+    return nlo_out, nhi_out, empty
+

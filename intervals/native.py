@@ -1,0 +1,231 @@
+"""Machine-code kernels (numba) for the hot loops of the solvers: one box per iteration.
+
+The batched numpy operations of ``intervals`` make one pass over memory per
+operation; these kernels do all the operations of one box in registers.  They
+use the same outward rounding (``intervals.rounding``): every operation is
+IEEE 754 double precision rounded to nearest (numba's default, ``fastmath``
+off), and each rounded result is widened by the same ``up``/``down`` steps,
+so the argument of ``docs/soundness.md`` §1 holds unchanged.  Sums whose
+error is bounded a priori (midpoint-radius products, Higham 2002, eq. 3.5)
+hold for any order of summation and for fused multiply-adds, so nothing
+depends on how the compiler schedules them.
+
+Boxes with a non-finite input are left as they are (no contraction, not
+empty): a sound answer, which the numpy reference gives as well up to its own
+NaN conventions.  ``tests/test_native.py`` compares every kernel with its
+numpy reference on random inputs.
+
+Kernels are compiled on first use and cached on disk (``cache=True``).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+MAX = float(np.finfo(np.float64).max)
+_REL = 2.0 ** -52
+_ABS = 2.0 ** -1022
+_U = 2.0 ** -53
+_ETA = 2.0 ** -1022
+INF = np.inf
+
+
+# ----------------------------------------------------------------- rounding (intervals.rounding)
+@njit(inline="always", cache=True)
+def up(c):
+    """``rounding.up``: an upper bound of every real within half a spacing of ``c``."""
+    if c < -MAX:
+        c = -MAX
+    return c + (abs(c) * _REL + _ABS)
+
+
+@njit(inline="always", cache=True)
+def down(c):
+    """``rounding.down``."""
+    if c > MAX:
+        c = MAX
+    return c - (abs(c) * _REL + _ABS)
+
+
+@njit(inline="always", cache=True)
+def up_sum(c):
+    """``rounding.up_sum``: ``up`` for the result of a sum or difference."""
+    if c < -MAX:
+        c = -MAX
+    return c + abs(c) * _REL
+
+
+@njit(inline="always", cache=True)
+def down_sum(c):
+    """``rounding.down_sum``."""
+    if c > MAX:
+        c = MAX
+    return c - abs(c) * _REL
+
+
+@njit(inline="always", cache=True)
+def upper(x, k):
+    """``linalg._upper``: a bound of a non-negative exact value whose float evaluation with at most
+    ``k`` roundings gave ``x``."""
+    return (x + k * _ETA) * (1.0 + (2 * k + 6) * _U)
+
+
+@njit(inline="always", cache=True)
+def midrad(lo, hi):
+    """``linalg.midrad``: (m, r) with [lo, hi] ⊆ [m − r, m + r]."""
+    m = 0.5 * lo + 0.5 * hi
+    return m, up(max(hi - m, m - lo))
+
+
+# ----------------------------------------------------------------- interval operations on (lo, hi)
+@njit(inline="always", cache=True)
+def mul(alo, ahi, blo, bhi):
+    """``interval.mul`` for finite operands: the hull of the four corner products, rounded outward."""
+    p1 = alo * blo
+    p2 = alo * bhi
+    p3 = ahi * blo
+    p4 = ahi * bhi
+    return down(min(min(p1, p2), min(p3, p4))), up(max(max(p1, p2), max(p3, p4)))
+
+
+@njit(inline="always", cache=True)
+def div_regular(alo, ahi, blo, bhi):
+    """``interval.div`` for finite operands and a divisor without 0."""
+    q1 = alo / blo
+    q2 = alo / bhi
+    q3 = ahi / blo
+    q4 = ahi / bhi
+    return down(min(min(q1, q2), min(q3, q4))), up(max(max(q1, q2), max(q3, q4)))
+
+
+@njit(inline="always", cache=True)
+def gs_update(nlo, nhi, dlo, dhi, xlo, xhi):
+    """``linalg._gs_update`` for finite operands: [xlo, xhi] ∩ {t : d t = v, d ∈ [dlo, dhi],
+    v ∈ [nlo, nhi]} (extended division when 0 ∈ d; Hansen & Sengupta 1981).  Empty: lo > hi."""
+    if dlo > 0.0 or dhi < 0.0:
+        qlo, qhi = div_regular(nlo, nhi, dlo, dhi)
+        return max(xlo, qlo), min(xhi, qhi)
+    pos = nlo > 0.0
+    neg = nhi < 0.0
+    if not (pos or neg):
+        return xlo, xhi
+    # left piece (-inf, a], right piece [b, inf); an absent piece has a = -inf / b = inf
+    if pos:
+        has_left, has_right = dlo < 0.0, dhi > 0.0
+        a = up(nlo / dlo) if has_left else -INF
+        b = down(nlo / dhi) if has_right else INF
+    else:
+        has_left, has_right = dhi > 0.0, dlo < 0.0
+        a = up(nhi / dhi) if has_left else -INF
+        b = down(nhi / dlo) if has_right else INF
+    l_hi = min(xhi, a)
+    r_lo = max(xlo, b)
+    l_ok = has_left and xlo <= l_hi
+    r_ok = has_right and r_lo <= xhi
+    lo = xlo if l_ok else (r_lo if r_ok else INF)
+    hi = xhi if r_ok else (l_hi if l_ok else -INF)
+    return lo, hi
+
+
+# ----------------------------------------------------------------- Hansen-Sengupta (linalg.hansen_sengupta)
+@njit(cache=True)
+def hansen_sengupta(flo, fhi, Jlo, Jhi, xlo, xhi, c, C):
+    """``linalg.hansen_sengupta`` box by box: (lo, hi, empty) for f (N, n), J (N, n, n), x (N, n),
+    c (N, n), C (N, n, n).  The same midpoint-radius bounds (Higham 2002, eq. 3.5, any order of
+    summation), the same sweep order; boxes with a non-finite input or intermediate keep x."""
+    N, n = xlo.shape
+    lo = xlo.copy()
+    hi = xhi.copy()
+    empty = np.zeros(N, dtype=np.bool_)
+    Gm = np.empty((n, n))
+    Gr = np.empty((n, n))
+    Jm = np.empty((n, n))
+    Jw = np.empty((n, n))
+    rlo = np.empty(n)
+    rhi = np.empty(n)
+    ylo = np.empty(n)
+    yhi = np.empty(n)
+    ym = np.empty(n)
+    w1 = np.empty(n)
+    w2 = np.empty(n)
+    fw = np.empty(n)
+    fm = np.empty(n)
+    k = 4 * n + 4
+    g = (n + 1) * _U
+    for b in range(N):
+        finite = True
+        for i in range(n):
+            finite &= np.isfinite(flo[b, i]) and np.isfinite(fhi[b, i])
+            finite &= np.isfinite(xlo[b, i]) and np.isfinite(xhi[b, i]) and np.isfinite(c[b, i])
+            for j in range(n):
+                finite &= np.isfinite(Jlo[b, i, j]) and np.isfinite(Jhi[b, i, j]) and np.isfinite(C[b, i, j])
+        if not finite:
+            continue
+        for i in range(n):
+            m, r = midrad(flo[b, i], fhi[b, i])
+            fm[i] = m
+            fw[i] = g * abs(m) + r
+            for j in range(n):
+                m, r = midrad(Jlo[b, i, j], Jhi[b, i, j])
+                Jm[i, j] = m
+                Jw[i, j] = g * abs(m) + r
+        # G = C J in [Gm ± Gr], −C f(c) in [rlo, rhi] (``_product_midrad``)
+        for i in range(n):
+            sm = 0.0
+            sr = 0.0
+            for l in range(n):
+                sm += C[b, i, l] * fm[l]
+                sr += abs(C[b, i, l]) * fw[l]
+            sr = upper(sr, k) + n * _ETA
+            rlo[i] = down(-sm - sr)
+            rhi[i] = up(sr - sm)
+            for j in range(n):
+                sm = 0.0
+                sr = 0.0
+                for l in range(n):
+                    sm += C[b, i, l] * Jm[l, j]
+                    sr += abs(C[b, i, l]) * Jw[l, j]
+                Gm[i, j] = sm
+                Gr[i, j] = upper(sr, k) + n * _ETA
+        # y = x − c, then one Gauss-Seidel sweep
+        for i in range(n):
+            ylo[i] = down_sum(xlo[b, i] - c[b, i])
+            yhi[i] = up_sum(xhi[b, i] - c[b, i])
+            m, r = midrad(ylo[i], yhi[i])
+            ym[i] = m
+            w1[i] = g * abs(m) + r
+            w2[i] = abs(m) + r
+        ok = True
+        for i in range(n):
+            sm = 0.0
+            sr = 0.0
+            for j in range(n):
+                if j != i:
+                    sm += Gm[i, j] * ym[j]
+                    sr += abs(Gm[i, j]) * w1[j] + Gr[i, j] * w2[j]
+            sr = upper(sr, k) + n * _ETA
+            nlo = down_sum(rlo[i] - up_sum(sm + sr))
+            nhi = up_sum(rhi[i] - down_sum(sm - sr))
+            dlo = down(Gm[i, i] - Gr[i, i])
+            dhi = up(Gm[i, i] + Gr[i, i])
+            if not (np.isfinite(nlo) and np.isfinite(nhi) and np.isfinite(dlo) and np.isfinite(dhi)):
+                ok = False
+                break
+            nl, nh = gs_update(nlo, nhi, dlo, dhi, ylo[i], yhi[i])
+            ylo[i], yhi[i] = nl, nh
+            if nl > nh:
+                empty[b] = True
+                break
+            m = 0.5 * nl + 0.5 * nh
+            r = up(max(nh - m, m - nl))
+            ym[i] = m
+            w1[i] = g * abs(m) + r
+            w2[i] = abs(m) + r
+        if not ok or empty[b]:
+            continue
+        for i in range(n):
+            lo[b, i] = max(xlo[b, i], down_sum(ylo[i] + c[b, i]))
+            hi[b, i] = min(xhi[b, i], up_sum(yhi[i] + c[b, i]))
+            if lo[b, i] > hi[b, i]:
+                empty[b] = True
+    return lo, hi, empty

@@ -1,0 +1,121 @@
+"""The machine-code kernels (``intervals.native``) against the numpy operations they stand for.
+
+- the rounding steps and the interval product/quotient give the numpy floats, bit for bit, on
+  ordinary, tiny, huge and signed-zero operands;
+- the extended Gauss-Seidel update gives ``linalg._gs_update``'s floats;
+- the Hansen-Sengupta kernel keeps every zero (exact rational check), agrees with the numpy
+  version to a few units in the last place (its sums may be taken in another order, which the
+  error bound allows), and leaves boxes with non-finite input unchanged.
+"""
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from intervals import Interval, native
+from intervals.interval import div, mul
+from intervals.linalg import _gs_update, _hansen_sengupta_numpy, hansen_sengupta, mid_inverse
+from intervals.rounding import down, down_sum, enclose_fraction, up, up_sum
+
+from test_linalg import _solution_problem, inside, sample_point
+
+SPECIAL = [0.0, -0.0, 1.0, -1.0, 2.0 ** -1074, -(2.0 ** -1074), 2.0 ** -1022, 1e-310, 1e308, -1e308,
+           np.finfo(np.float64).max, -np.finfo(np.float64).max, np.inf, -np.inf, 0.1, -3.7e-200]
+
+
+def _floats(rng, n):
+    """Ordinary, tiny and huge floats of both signs, with the special values above."""
+    x = rng.normal(size=n) * 10.0 ** rng.integers(-300, 300, n)
+    return np.concatenate([x, SPECIAL])
+
+
+@pytest.mark.parametrize("name, ref", [("up", up), ("down", down), ("up_sum", up_sum), ("down_sum", down_sum)])
+def test_rounding_steps_give_the_numpy_floats(name, ref):
+    x = _floats(np.random.default_rng(1), 2000)
+    kernel = getattr(native, name)
+    got = np.array([kernel(v) for v in x])
+    with np.errstate(over="ignore"):
+        assert np.array_equal(got, ref(x))
+
+
+def test_product_and_quotient_give_the_numpy_floats():
+    rng = np.random.default_rng(2)
+    a, b = np.sort(rng.normal(size=(2, 3000)) * 10.0 ** rng.integers(-150, 150, (2, 3000)), axis=0)
+    c, d = np.sort(rng.normal(size=(2, 3000)) * 10.0 ** rng.integers(-150, 150, (2, 3000)), axis=0)
+    ref = mul(Interval(a, b), Interval(c, d))
+    got = np.array([native.mul(*v) for v in zip(a, b, c, d)])
+    assert np.array_equal(got[:, 0], ref.lo) and np.array_equal(got[:, 1], ref.hi)
+    regular = (c > 0) | (d < 0)
+    ref = div(Interval(a, b), Interval(c, d))
+    got = np.array([native.div_regular(*v) for v in zip(a, b, c, d)])
+    assert regular.sum() > 1000
+    assert np.array_equal(got[regular, 0], ref.lo[regular]) and np.array_equal(got[regular, 1], ref.hi[regular])
+
+
+def test_gauss_seidel_update_gives_the_numpy_floats():
+    """Regular and extended division (0 in the divisor, one or two pieces), numerators with and
+    without 0, and boxes the pieces miss (empty)."""
+    rng = np.random.default_rng(3)
+    n = 4000
+    num = np.sort(rng.normal(size=(2, n)) * 3, axis=0)
+    den = np.sort(rng.normal(size=(2, n)), axis=0)
+    x = np.sort(rng.normal(size=(2, n)) * 5, axis=0)
+    ref = _gs_update(Interval(*num), Interval(*den), Interval(*x))
+    got = np.array([native.gs_update(*v) for v in zip(num[0], num[1], den[0], den[1], x[0], x[1])])
+    extended = (den[0] <= 0) & (den[1] >= 0) & ((num[0] > 0) | (num[1] < 0))
+    assert extended.sum() > 200 and (ref.lo > ref.hi).sum() > 50
+    assert np.array_equal(got[:, 0], ref.lo) and np.array_equal(got[:, 1], ref.hi)
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.integers(1, 7), st.sampled_from([0.0, 1e-6, 0.01, 0.3, 2.0]),
+       st.sampled_from([1e-3, 0.1, 1.0, 10.0]), st.sampled_from(["mid", "eye", "random"]))
+def test_hansen_sengupta_kernel_keeps_the_zero_and_matches_numpy(seed, n, width, xwidth, precond):
+    """f(x) = M (x − x*) with M in A (f(c) enclosed from exact rationals): the kernel's box keeps x*,
+    lies in x, is not called empty, and is the numpy version's to a few ulps."""
+    rng = np.random.default_rng(seed)
+    A, _, x, xstar = _solution_problem(rng, n, width, xwidth)
+    M = sample_point(rng, A)
+    c = x.mid()
+    fc = [sum((M[i, j] * (Fraction(float(c[j])) - xstar[j]) for j in range(n)), Fraction(0)) for i in range(n)]
+    enc = [enclose_fraction(v) for v in fc]
+    f = Interval(np.array([[e[0] for e in enc]]), np.array([[e[1] for e in enc]]))
+    C = {"mid": mid_inverse(A)[0], "eye": np.eye(n), "random": rng.normal(size=(n, n))}[precond]
+    X, S = Interval(x.lo[None], x.hi[None]), Interval(A.lo[None], A.hi[None])
+    H, empty = hansen_sengupta(f, S, X, c[None], C[None])
+    ref, ref_empty = _hansen_sengupta_numpy(f, S, X, c[None], C[None])
+    assert not empty[0] and not ref_empty[0]
+    assert np.all(H.lo >= X.lo) and np.all(H.hi <= X.hi)
+    for i in range(n):
+        assert inside(xstar[i], H.lo[0, i], H.hi[0, i])
+    scale = np.maximum(np.abs(ref.lo), np.abs(ref.hi)) + 1e-300
+    assert np.all(np.abs(H.lo - ref.lo) <= 64 * 2.0 ** -52 * scale)
+    assert np.all(np.abs(H.hi - ref.hi) <= 64 * 2.0 ** -52 * scale)
+
+
+def test_hansen_sengupta_kernel_batches_and_non_finite_input():
+    """A batch of random systems gives the numpy version's boxes and empty flags; a box with an
+    infinite or NaN input is returned unchanged, not empty."""
+    rng = np.random.default_rng(4)
+    N, n = 500, 4
+    M = rng.normal(size=(N, n, n)) + 3 * np.eye(n)
+    S = Interval(M - 0.05, M + 0.05)
+    lo = rng.normal(size=(N, n)) - 0.5
+    X = Interval(lo, lo + 1.0)
+    c = X.mid()
+    fm = rng.normal(size=(N, n)) * 0.5
+    f = Interval(fm - 1e-9, fm + 1e-9)
+    C = np.linalg.inv(M)
+    H, empty = hansen_sengupta(f, S, X, c, C)
+    ref, ref_empty = _hansen_sengupta_numpy(f, S, X, c, C)
+    assert np.array_equal(empty, ref_empty) and 0 < empty.sum() < N
+    keep = ~empty
+    assert np.allclose(H.lo[keep], ref.lo[keep], rtol=0, atol=1e-13)
+    assert np.allclose(H.hi[keep], ref.hi[keep], rtol=0, atol=1e-13)
+    S.hi[0, 1, 2] = np.inf
+    f.lo[1, 0] = np.nan
+    C[2, 0, 0] = np.inf
+    H, empty = hansen_sengupta(f, S, X, c, C)
+    assert not empty[:3].any()
+    assert np.array_equal(H.lo[:3], X.lo[:3]) and np.array_equal(H.hi[:3], X.hi[:3])
