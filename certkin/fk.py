@@ -47,7 +47,7 @@ import time
 import numpy as np
 
 from intervals import Interval, linalg, sqr
-from intervals.rounding import down, enclose_plain, up
+from intervals.rounding import down, down_sum, enclose_plain, up, up_sum
 
 from . import budgets
 from .engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
@@ -117,11 +117,27 @@ def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False, rbc=No
     point = Interval._raw(c, c.copy())
     if rbc is None:
         rbc = system.rotated_at_points(c)
-    fc = system.equations(point, L, rb=rbc)
-    S = system.slope(X, c, rb=rb, rbc=rbc, drbs=drbs)
-    C = float_inverse(S.mid())[0]
-    if compact:
-        C = _compact(C)
+    if system.kind != "planar-3rpr" and rb is not None:    # quaternion: the machine-code twins
+        from .fk_native import float_inverse as inverse, slope_quaternion
+        if drbs is None:
+            with np.errstate(invalid="ignore", over="ignore"):
+                Y = Interval._raw(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))   # ∋ (x + c)/2
+            drbs = system._rotated_derivatives_midrad(Y)
+        f64 = np.ascontiguousarray
+        Slo, Shi, flo, fhi = slope_quaternion(f64(X.lo), f64(X.hi), f64(c), f64(rb.lo), f64(rb.hi), f64(rbc.lo),
+                                              f64(rbc.hi), f64(drbs[0]), f64(drbs[1]), system.a.lo, system.a.hi,
+                                              f64(L.lo, dtype=np.float64), f64(L.hi, dtype=np.float64), system.n_pos)
+        S, fc = Interval._raw(Slo, Shi), Interval._raw(flo, fhi)
+        C, failed = inverse(Slo, Shi, compact)
+        if failed.any():
+            Cf = linalg.mid_inverse(S[failed].mid())[0]
+            C[failed] = _compact(Cf) if compact else Cf
+    else:
+        fc = system.equations(point, L, rb=rbc)
+        S = system.slope(X, c, rb=rb, rbc=rbc, drbs=drbs)
+        C = float_inverse(S.mid())[0]
+        if compact:
+            C = _compact(C)
     H, empty = linalg.hansen_sengupta(fc, S, X, c, C)
     return H, C, S, empty
 

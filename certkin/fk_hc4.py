@@ -98,7 +98,7 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
     mask of boxes proved to hold no root (their rows are meaningless); ``keep`` (a dict), for a
     quaternion: keep["form"] = ``FKSystem.centred_form`` of the given boxes (step 2).  The planar
     robot takes ``_hc4_planar`` (the same operations, stacked) unless ``generic``; a quaternion
-    system takes the machine-code twin (``fk_hc4_native``) unless ``native`` is false.
+    system takes the machine-code twin (``fk_native``) unless ``native`` is false.
     """
     if system.kind == "planar-3rpr" and not generic:
         return _hc4_planar(system, lo, hi, L)
@@ -227,8 +227,8 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
 
 
 def _hc4_native(system, lo, hi, L: Interval, keep: dict | None):
-    """``hc4`` for a quaternion system by ``fk_hc4_native.hc4_quaternion`` (the same pass, box by box)."""
-    from .fk_hc4_native import TABLES, hc4_quaternion
+    """``hc4`` for a quaternion system by ``fk_native.hc4_quaternion`` (the same pass, box by box)."""
+    from .fk_native import TABLES, hc4_quaternion
     lo, hi = np.ascontiguousarray(lo, dtype=np.float64), np.ascontiguousarray(hi, dtype=np.float64)
     form = system.centred_form(Interval._raw(lo, hi))
     if keep is not None:

@@ -31,7 +31,7 @@ INF = np.inf
 
 
 # ----------------------------------------------------------------- rounding (intervals.rounding)
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def up(c):
     """``rounding.up``: an upper bound of every real within half a spacing of ``c``."""
     if c < -MAX:
@@ -39,7 +39,7 @@ def up(c):
     return c + (abs(c) * _REL + _ABS)
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def down(c):
     """``rounding.down``."""
     if c > MAX:
@@ -47,7 +47,7 @@ def down(c):
     return c - (abs(c) * _REL + _ABS)
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def up_sum(c):
     """``rounding.up_sum``: ``up`` for the result of a sum or difference."""
     if c < -MAX:
@@ -55,7 +55,7 @@ def up_sum(c):
     return c + abs(c) * _REL
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def down_sum(c):
     """``rounding.down_sum``."""
     if c > MAX:
@@ -63,14 +63,14 @@ def down_sum(c):
     return c - abs(c) * _REL
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def upper(x, k):
     """``linalg._upper``: a bound of a non-negative exact value whose float evaluation with at most
     ``k`` roundings gave ``x``."""
     return (x + k * _ETA) * (1.0 + (2 * k + 6) * _U)
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def midrad(lo, hi):
     """``linalg.midrad``: (m, r) with [lo, hi] ⊆ [m − r, m + r]."""
     m = 0.5 * lo + 0.5 * hi
@@ -78,7 +78,7 @@ def midrad(lo, hi):
 
 
 # ----------------------------------------------------------------- interval operations on (lo, hi)
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def mul(alo, ahi, blo, bhi):
     """``interval.mul`` for finite operands: the hull of the four corner products, rounded outward."""
     p1 = alo * blo
@@ -88,7 +88,7 @@ def mul(alo, ahi, blo, bhi):
     return down(min(min(p1, p2), min(p3, p4))), up(max(max(p1, p2), max(p3, p4)))
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def div_regular(alo, ahi, blo, bhi):
     """``interval.div`` for finite operands and a divisor without 0."""
     q1 = alo / blo
@@ -98,7 +98,7 @@ def div_regular(alo, ahi, blo, bhi):
     return down(min(min(q1, q2), min(q3, q4))), up(max(max(q1, q2), max(q3, q4)))
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def gs_update(nlo, nhi, dlo, dhi, xlo, xhi):
     """``linalg._gs_update`` for finite operands: [xlo, xhi] ∩ {t : d t = v, d ∈ [dlo, dhi],
     v ∈ [nlo, nhi]} (extended division when 0 ∈ d; Hansen & Sengupta 1981).  Empty: lo > hi."""

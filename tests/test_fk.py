@@ -520,6 +520,42 @@ def test_rotated_midrad_encloses_exact_products():
                         assert Fraction(float(rest.lo)) <= v <= Fraction(float(rest.hi))
 
 
+def test_native_slope_step_gives_the_numpy_slope():
+    """``slope_boxes`` for a quaternion (machine-code slope, equations at c and float inverse) gives the
+    slope matrices and f(c) of ``FKSystem.slope`` / ``FKSystem.equations`` bit for bit, a C close to
+    the inverse of mid S, and a Hansen-Sengupta box that keeps the root of every box around one."""
+    from certkin import load_robot
+    from certkin.fk import slope_boxes
+    from certkin.fk_native import slope_quaternion
+    from certkin.robots.fk_systems import FKSystem
+    from intervals import Interval, sqr
+    for robot, lengths in [(robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]),
+                           (load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml"),
+                            "1.093,2.280,2.031,2.524,3.136,1.845".split(","))]:
+        s = FKSystem(robot)
+        roots = [r["box"] for r in forward_kinematics(robot, lengths).solutions]
+        rng = np.random.default_rng(17)
+        N = 400
+        pick = rng.integers(0, len(roots), N)
+        rlo, rhi = np.array([r.lo for r in roots])[pick], np.array([r.hi for r in roots])[pick]
+        w = rng.uniform(0, 1, (N, s.n)) * 10.0 ** rng.uniform(-6, -1.5, (N, 1))
+        X = Interval._raw(rlo - w * rng.uniform(0.1, 1, (N, s.n)), rhi + w * rng.uniform(0.1, 1, (N, s.n)))
+        rho = [Interval(v) for v in lengths]
+        L = sqr(Interval._raw(np.tile([float(r.lo) for r in rho], (N, 1)), np.tile([float(r.hi) for r in rho], (N, 1))))
+        c = X.mid()
+        rb, rbc, drbs = s.rotated_centred(X, parts=True)
+        H, C, S, empty = slope_boxes(s, X, L, rb=rb, rbc=rbc, drbs=drbs)
+        ref = s.slope(X, c, rb=rb, rbc=rbc, drbs=drbs)
+        assert np.array_equal(S.lo, ref.lo) and np.array_equal(S.hi, ref.hi)
+        f = slope_quaternion(X.lo, X.hi, c, rb.lo, rb.hi, rbc.lo, rbc.hi, *drbs, s.a.lo, s.a.hi, L.lo, L.hi, s.n_pos)[2:]
+        fref = s.equations(Interval._raw(c, c.copy()), L, rb=rbc)
+        assert np.array_equal(f[0], fref.lo) and np.array_equal(f[1], fref.hi)
+        assert np.max(np.abs(C @ S.mid() - np.eye(s.n))) < 1e-6
+        assert not empty.any()
+        assert np.all((H.lo <= rhi) & (rlo <= H.hi))
+        assert np.all((H.lo >= X.lo) & (H.hi <= X.hi)) and np.any((H.lo > X.lo) | (H.hi < X.hi))
+
+
 def test_rotation_at_points_encloses_exact_values():
     """R(q) at float quaternions, computed in floats with an error bound (``rotation_at_points``),
     holds the exact matrix (rational arithmetic), for ordinary, tiny (underflowing products) and

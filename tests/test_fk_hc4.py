@@ -183,7 +183,7 @@ def test_kept_centred_form_gives_the_same_floats(gough_case):
 
 @pytest.mark.parametrize("which", ["gough", "spherical"])
 def test_native_quaternion_pass_matches_numpy(which, gough_case):
-    """The machine-code pass (``fk_hc4_native``) and the numpy one, on boxes around every root and
+    """The machine-code pass (``fk_native``) and the numpy one, on boxes around every root and
     on boxes all over the domain: the same empty boxes and, elsewhere, the same bounds to a few ulps
     (only the sums of R b_i may be taken in another order); every root is kept."""
     if which == "gough":

@@ -1,15 +1,22 @@
-"""``fk_hc4.hc4`` for a quaternion rotation, box by box in machine code (numba).
+"""The hot loops of the FK search for a quaternion rotation, box by box in machine code (numba).
 
-The same pass, the same interval operations on the same operands and in the same
-order as the numpy version (steps 1-7 of ``fk_hc4``), with the outward-rounded
-primitives of ``intervals.native``; only the float sums of the midpoint-radius
-R b_i (``FKSystem.rotated_midrad``) may be taken in another order, which their
-error bound allows (Higham 2002, eq. 3.5).  The centred form of R b_i (step 2)
-is computed by ``FKSystem.centred_form`` and passed in.  Each step intersects a
-variable with a set that holds its value at every root of the box
-(``docs/soundness.md`` §8), so no root is lost; ``tests/test_fk_hc4.py``
-compares this kernel with the numpy version.  Boxes with a non-finite input, or
-whose result holds a NaN, are returned unchanged and not empty.
+- ``hc4_quaternion``: ``fk_hc4.hc4``'s pass: the same interval operations on the
+  same operands and in the same order as the numpy version (steps 1-7 of
+  ``fk_hc4``), with the outward-rounded primitives of ``intervals.native``; only
+  the float sums of the midpoint-radius R b_i (``FKSystem.rotated_midrad``) may
+  be taken in another order, which their error bound allows (Higham 2002,
+  eq. 3.5).  The centred form of R b_i (step 2) is computed by
+  ``FKSystem.centred_form`` and passed in.
+- ``slope_quaternion``: ``FKSystem.slope`` and ``FKSystem.equations`` at the
+  midpoints, from the same enclosures of R b_i, with the same operations.
+- ``float_inverse``: the float inverse of each matrix (a preconditioner; no
+  proof depends on it).
+
+Each step intersects a variable with a set that holds its value at every root
+of the box (``docs/soundness.md`` §8), so no root is lost; ``tests/test_fk_hc4.py``
+and ``tests/test_fk.py`` compare the kernels with the numpy versions.  Boxes
+with a non-finite input are left as they are (HC4: unchanged, not empty; slope:
+entire entries).
 """
 from __future__ import annotations
 
@@ -37,7 +44,7 @@ def _tables():
 TABLES = _tables()
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def _sqr(lo, hi):
     """``interval.sqr``: [max(down(mig²), 0), up(mag²)]."""
     mig = 0.0 if (lo <= 0.0 and hi >= 0.0) else min(abs(lo), abs(hi))
@@ -45,7 +52,7 @@ def _sqr(lo, hi):
     return max(down(mig * mig), 0.0), up(mag * mag)
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def _root(xlo, xhi, tlo, thi):
     """``fk_hc4.root``: hull(x ∩ {y : y² ∈ t}); empty (lo > hi) if there is no such y; x itself
     if t is NaN (nothing known)."""
@@ -62,13 +69,13 @@ def _root(xlo, xhi, tlo, thi):
     return lo, hi
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def _scale(lo, hi, k):
     """``x * k`` for a float k > 0 (``interval.mul`` with the point [k, k])."""
     return down(lo * k), up(hi * k)
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def _divide_into(xlo, xhi, nlo, nhi, dlo, dhi):
     """``fk_hc4.divide_into``: x ∩ num / den where 0 ∉ den, x itself elsewhere."""
     if dlo > 0.0 or dhi < 0.0:
@@ -322,3 +329,134 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
             nhi_out[box, k] = min(zhi[k], hi[box, k])
     return nlo_out, nhi_out, empty
 
+
+@njit(cache=True)
+def slope_quaternion(xlo, xhi, c, rblo, rbhi, rclo, rchi, Dm, Dr, alo, ahi, Llo, Lhi, p):
+    """(S lo, S hi, f lo, f hi): ``FKSystem.slope`` (N, n, n) at the points c (N, n) over the boxes x, and
+    ``FKSystem.equations`` at c (N, n), from R b_i over x (``rb``) and at c (``rc``), (N, legs, 3), and the
+    derivatives of R b_i over Y ∋ (x + c)/2 in [Dm ± Dr] (N, 4, legs, 3).  Rows with a non-finite input
+    get entire slope entries and equation values."""
+    N, n = xlo.shape
+    legs = rblo.shape[1]
+    Slo = np.zeros((N, n, n))
+    Shi = np.zeros((N, n, n))
+    flo = np.empty((N, n))
+    fhi = np.empty((N, n))
+    slo = np.empty(3)
+    shi = np.empty(3)
+    for b in range(N):
+        finite = True
+        for k in range(n):
+            finite &= np.isfinite(xlo[b, k]) and np.isfinite(xhi[b, k]) and np.isfinite(c[b, k])
+        for i in range(legs):
+            finite &= np.isfinite(Llo[b, i]) and np.isfinite(Lhi[b, i])
+            for k in range(3):
+                finite &= np.isfinite(rblo[b, i, k]) and np.isfinite(rbhi[b, i, k])
+                finite &= np.isfinite(rclo[b, i, k]) and np.isfinite(rchi[b, i, k])
+                for r in range(4):
+                    finite &= np.isfinite(Dm[b, r, i, k]) and np.isfinite(Dr[b, r, i, k])
+        if not finite:
+            for i in range(n):
+                flo[b, i], fhi[b, i] = -INF, INF
+                for j in range(n):
+                    Slo[b, i, j], Shi[b, i, j] = -INF, INF
+            continue
+        for i in range(legs):
+            # ell = (R b_i − a_i) + p over x, ellc the same at c; s = ell + ellc
+            glo = 0.0
+            ghi = 0.0
+            for k in range(3):
+                el, eh = down_sum(rblo[b, i, k] - ahi[i, k]), up_sum(rbhi[b, i, k] - alo[i, k])
+                cl, ch = down_sum(rclo[b, i, k] - ahi[i, k]), up_sum(rchi[b, i, k] - alo[i, k])
+                if p:
+                    el, eh = down_sum(el + xlo[b, k]), up_sum(eh + xhi[b, k])
+                    cl, ch = down_sum(cl + c[b, k]), up_sum(ch + c[b, k])
+                slo[k], shi[k] = down_sum(el + cl), up_sum(eh + ch)
+                ql, qh = _sqr(cl, ch)                   # leg equation at c: Σ_k ellc_k² − L_i
+                if k == 0:
+                    glo, ghi = ql, qh
+                else:
+                    glo, ghi = down_sum(glo + ql), up_sum(ghi + qh)
+            flo[b, i], fhi[b, i] = down_sum(glo - Lhi[b, i]), up_sum(ghi - Llo[b, i])
+            for k in range(p):
+                Slo[b, i, k], Shi[b, i, k] = slo[k], shi[k]
+            for r in range(4):                          # Σ_k s_k ∂(R b_i)_k/∂q_r(Y)
+                tlo = 0.0
+                thi = 0.0
+                for k in range(3):
+                    dl, dh = down(Dm[b, r, i, k] - Dr[b, r, i, k]), up(Dm[b, r, i, k] + Dr[b, r, i, k])
+                    ml, mh = mul(slo[k], shi[k], dl, dh)
+                    if k == 0:
+                        tlo, thi = ml, mh
+                    else:
+                        tlo, thi = down_sum(tlo + ml), up_sum(thi + mh)
+                Slo[b, i, p + r], Shi[b, i, p + r] = tlo, thi
+        # the norm row: x_r + c_r; the norm equation at c: Σ_r c_r² − 1
+        glo = 0.0
+        ghi = 0.0
+        for k in range(p, n):
+            Slo[b, legs, k], Shi[b, legs, k] = down_sum(xlo[b, k] + c[b, k]), up_sum(xhi[b, k] + c[b, k])
+            ql, qh = _sqr(c[b, k], c[b, k])
+            if k == p:
+                glo, ghi = ql, qh
+            else:
+                glo, ghi = down_sum(glo + ql), up_sum(ghi + qh)
+        flo[b, legs], fhi[b, legs] = down_sum(glo - 1.0), up_sum(ghi - 1.0)
+    return Slo, Shi, flo, fhi
+
+
+@njit(cache=True)
+def float_inverse(Mlo, Mhi, compact):
+    """(C, failed): the float inverse of each midpoint matrix 0.5 lo + 0.5 hi (N, n, n) by Gauss-Jordan
+    elimination with partial pivoting, rounded to float32 values where ``compact``; the identity where
+    a pivot vanishes or the result is not finite (``failed``).  A preconditioner: any C keeps the
+    Krawczyk and Hansen-Sengupta steps sound."""
+    N, n, _ = Mlo.shape
+    C = np.empty((N, n, n))
+    failed = np.zeros(N, dtype=np.bool_)
+    A = np.empty((n, 2 * n))
+    for b in range(N):
+        for i in range(n):
+            for j in range(n):
+                A[i, j] = 0.5 * Mlo[b, i, j] + 0.5 * Mhi[b, i, j]
+                A[i, n + j] = 1.0 if i == j else 0.0
+        ok = True
+        for col in range(n):
+            piv = col
+            best = abs(A[col, col])
+            for r in range(col + 1, n):
+                if abs(A[r, col]) > best:
+                    best = abs(A[r, col])
+                    piv = r
+            if not (best > 0.0) or not np.isfinite(best):
+                ok = False
+                break
+            if piv != col:
+                for j in range(2 * n):
+                    A[col, j], A[piv, j] = A[piv, j], A[col, j]
+            inv = 1.0 / A[col, col]
+            for j in range(2 * n):
+                A[col, j] *= inv
+            for r in range(n):
+                if r != col:
+                    f = A[r, col]
+                    if f != 0.0:
+                        for j in range(2 * n):
+                            A[r, j] -= f * A[col, j]
+        for i in range(n):
+            for j in range(n):
+                v = A[i, n + j] if ok else (1.0 if i == j else 0.0)
+                if not np.isfinite(v):
+                    ok = False
+                C[b, i, j] = v
+        if not ok:
+            failed[b] = True
+            for i in range(n):
+                for j in range(n):
+                    C[b, i, j] = 1.0 if i == j else 0.0
+        if compact:
+            for i in range(n):
+                for j in range(n):
+                    v = C[b, i, j]
+                    C[b, i, j] = np.float64(np.float32(v)) if abs(v) < 2.0 ** 127 else 0.0
+    return C, failed
