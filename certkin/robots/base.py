@@ -257,13 +257,17 @@ class Robot:
         return a.reshape(*a.shape[:-1], self.n_legs, len(self.pose_names))
 
     # ----- float helpers (not rigorous: for sampling and display) ------------
-    @cached_property
+    @property
     def _float_funcs(self):
-        pose, geom = self.symbols()
-        model = self.symbolic_model()
-        legs = sp.lambdify(list(pose) + list(geom), [sum(c ** 2 for c in l) for l in model["legs"]], "numpy")
-        A = sp.lambdify(list(pose) + list(geom), model["A"].tolist(), "numpy")
-        return legs, A
+        """(squared leg lengths, A) as float functions of (pose, geometry): lambdified once per kind."""
+        key = (type(self).__name__, "float")
+        if key not in _COMPILED:
+            pose, geom = self.symbols()
+            model = self.symbolic_model()
+            legs = sp.lambdify(list(pose) + list(geom), [sum(c ** 2 for c in l) for l in model["legs"]], "numpy")
+            A = sp.lambdify(list(pose) + list(geom), model["A"].tolist(), "numpy")
+            _COMPILED[key] = (legs, A)
+        return _COMPILED[key]
 
     def leg_lengths_float(self, pose) -> np.ndarray:
         """Leg lengths at float poses (..., d) -> (..., n) by plain float arithmetic (not certified)."""
