@@ -89,7 +89,7 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
     """One HC4 pass (``fk_hc4``) over the boxes [lo, hi] (N, p + 4) of a quaternion system.
 
     ``L`` (N, legs) squared leg lengths, ``f`` (N, legs, 3) the centred form of R b_i over the given
-    boxes, ``a`` (legs, 3), ``bm``/``inner``/``outer`` (3, 4 legs) the factors of
+    boxes, ``a`` (legs, 3), ``bm``/``inner``/``outer`` (3, ≥ legs; the first legs columns) the factors of
     ``FKSystem.rotated_midrad`` (``_b_midrad``), ``nonzero`` (legs, 3) where 0 ∉ b_ij, ``inv``
     (legs, 3) enclosures of 1/b_ij, ``entries``/``off`` the tables of ``_tables``.  Returns
     (lo, hi, empty) as ``fk_hc4.hc4``."""
@@ -116,6 +116,8 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
     ehi = np.empty((legs, 3))
     eslo = np.empty(3)
     eshi = np.empty(3)
+    tm = np.empty(3)
+    te = np.empty(3)
     K = 4 * 3 + 4
     for box in range(N):
         finite = True
@@ -175,13 +177,19 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
                 Rr[k, j] = up(max(vhi - m, m - vlo))
         for i in range(legs):
             for k in range(3):
+                # the terms R_kj b_ij (midpoints tm, radius terms te), then R b_i (all three) and the
+                # sums that leave column j out (the other two): ``rotated_midrad``'s blocks
+                for jj in range(3):
+                    tm[jj] = Rm[k, jj] * bm[jj, i]
+                    te[jj] = abs(Rm[k, jj]) * inner[jj, i] + Rr[k, jj] * outer[jj, i]
                 for blk in range(4):          # block 0: R b_i; block 1 + j: column j left out
-                    col = blk * legs + i
-                    sm = 0.0
-                    sr = 0.0
-                    for jj in range(3):
-                        sm += Rm[k, jj] * bm[jj, col]
-                        sr += abs(Rm[k, jj]) * inner[jj, col] + Rr[k, jj] * outer[jj, col]
+                    if blk == 0:
+                        sm = (tm[0] + tm[1]) + tm[2]
+                        sr = (te[0] + te[1]) + te[2]
+                    else:
+                        a0, a1 = (1, 2) if blk == 1 else ((0, 2) if blk == 2 else (0, 1))
+                        sm = tm[a0] + tm[a1]
+                        sr = te[a0] + te[a1]
                     sr = upper(sr, K) + 3 * 2.0 ** -1022
                     if not (np.isfinite(sm) and np.isfinite(sr)):
                         sm, sr = 0.0, INF
