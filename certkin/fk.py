@@ -191,8 +191,31 @@ def contract_position(system, X: Interval, L: Interval, rb=None):
     The differences of leg equations give D(X) p = g(X) (``FKSystem.position_system``);
     with P ≈ pinv(mid D) every solution's p satisfies (P D) p = P g, and one
     Gauss-Seidel sweep on that square system keeps every such p
-    (``linalg.gauss_seidel``).  Returns (new lo, new hi, empty mask, P).
+    (``linalg.gauss_seidel``).  Returns (new lo, new hi, empty mask, P).  Spatial robots with a
+    known ``rb`` take the machine-code twin (``fk_native.position_gauss_seidel``, the same bounds).
     """
+    p = system.n_pos
+    if p == 3 and rb is not None:     # spatial: the machine-code twin (fk_native.position_gauss_seidel)
+        from .fk_native import position_gauss_seidel
+        k = system.__dict__.get("_position_constants")
+        if k is None:
+            k = system._position_constants = system.norm_a2 + system.norm_b2
+        f64 = np.ascontiguousarray
+        new_lo, new_hi, empty, P = position_gauss_seidel(
+            f64(X.lo, dtype=np.float64), f64(X.hi, dtype=np.float64), f64(rb.lo), f64(rb.hi), system.a.lo,
+            system.a.hi, k.lo, k.hi, f64(L.lo, dtype=np.float64), f64(L.hi, dtype=np.float64))
+        new = Interval._raw(new_lo, new_hi)
+    else:
+        new, empty, P = _position_gauss_seidel(system, X, L, rb)
+    w = (X.hi[:, :p] - X.lo[:, :p]) * WIDEN  # room for an independent re-computation
+    lo, hi = X.lo.copy(), X.hi.copy()
+    lo[:, :p] = np.where(empty[:, None], X.lo[:, :p], np.maximum(X.lo[:, :p], new.lo - w))
+    hi[:, :p] = np.where(empty[:, None], X.hi[:, :p], np.minimum(X.hi[:, :p], new.hi + w))
+    return lo, hi, empty, P
+
+
+def _position_gauss_seidel(system, X: Interval, L: Interval, rb):
+    """``contract_position``'s sweep in batched numpy operations: (new position, empty, P)."""
     p = system.n_pos
     D, g = system.position_system(X, L, rb=rb)
     Dm = 0.5 * D.lo + 0.5 * D.hi
@@ -215,11 +238,7 @@ def contract_position(system, X: Interval, L: Interval, rb=None):
     A, b = Ab[..., :p], Ab[..., p]
     box = Interval._raw(X.lo[:, :p], X.hi[:, :p])
     new, empty = linalg.gauss_seidel(A, b, box, C=False)
-    w = (box.hi - box.lo) * WIDEN  # room for an independent re-computation
-    lo, hi = X.lo.copy(), X.hi.copy()
-    lo[:, :p] = np.where(empty[:, None], X.lo[:, :p], np.maximum(X.lo[:, :p], new.lo - w))
-    hi[:, :p] = np.where(empty[:, None], X.hi[:, :p], np.minimum(X.hi[:, :p], new.hi + w))
-    return lo, hi, empty, P
+    return new, empty, P
 
 
 class FKProblem:

@@ -11,19 +11,22 @@
   midpoints, from the same enclosures of R b_i, with the same operations.
 - ``float_inverse``: the float inverse of each matrix (a preconditioner; no
   proof depends on it).
+- ``position_gauss_seidel``: ``fk.contract_position`` for a spatial robot (the
+  difference equations, P [D | g] in midpoint-radius form, one Gauss-Seidel
+  sweep), with the same operations and bounds.
 
 Each step intersects a variable with a set that holds its value at every root
 of the box (``docs/soundness.md`` §8), so no root is lost; ``tests/test_fk_hc4.py``
 and ``tests/test_fk.py`` compare the kernels with the numpy versions.  Boxes
-with a non-finite input are left as they are (HC4: unchanged, not empty; slope:
-entire entries).
+with a non-finite input are left as they are (HC4, position: unchanged, not
+empty; slope: entire entries).
 """
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
 
-from intervals.native import INF, div_regular, down, down_sum, mul, up, up_sum, upper
+from intervals.native import INF, div_regular, down, down_sum, gs_update, midrad, mul, up, up_sum, upper
 
 from .robots.fk_systems import DIAGONAL, OFF_DIAGONAL
 
@@ -468,3 +471,142 @@ def float_inverse(Mlo, Mhi, compact):
                     v = C[b, i, j]
                     C[b, i, j] = np.float64(np.float32(v)) if abs(v) < 2.0 ** 127 else 0.0
     return C, failed
+
+
+@njit(cache=True)
+def position_gauss_seidel(xlo, xhi, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi):
+    """``fk.contract_position`` for a spatial robot (position p = x[:, :3]): (lo, hi, empty, P).
+
+    The differences of leg equations D p = g (``FKSystem.position_system``, the same interval
+    operations, from R b_i over the box ``rb`` (N, legs, 3), ``a`` (legs, 3), ``k`` = |a_i|² + |b_i|²
+    (legs,), ``L`` (N, legs)); P = (Dmᵀ Dm)⁻¹ Dmᵀ (float32 values; 0 where the solve fails: any P keeps
+    the solutions); P [D | g] in midpoint-radius form (``linalg.product_midrad``'s bound); one
+    interval Gauss-Seidel sweep on (P D) p = P g over the position (``linalg.gauss_seidel`` with
+    ``C=False``).  Returns the new position bounds (N, 3) (not widened), the boxes proved empty and
+    P (N, 3, legs − 1); rows with a non-finite input keep their position."""
+    N = xlo.shape[0]
+    legs = rblo.shape[1]
+    m = legs - 1
+    plo = np.empty((N, 3))
+    phi = np.empty((N, 3))
+    empty = np.zeros(N, dtype=np.bool_)
+    Pout = np.zeros((N, 3, m))
+    Dlo = np.empty((m, 4))            # [D | g]
+    Dhi = np.empty((m, 4))
+    Dm = np.empty((m, 4))
+    Dw = np.empty((m, 4))
+    G = np.empty((3, 3 + m))
+    slo = np.empty(legs)
+    shi = np.empty(legs)
+    Alo = np.empty((3, 4))
+    Ahi = np.empty((3, 4))
+    ylo = np.empty(3)
+    yhi = np.empty(3)
+    gam = (m + 1) * 2.0 ** -53
+    for b in range(N):
+        for k in range(3):
+            plo[b, k], phi[b, k] = xlo[b, k], xhi[b, k]
+        finite = True
+        for i in range(legs):
+            finite &= np.isfinite(Llo[b, i]) and np.isfinite(Lhi[b, i])
+            for k in range(3):
+                finite &= np.isfinite(rblo[b, i, k]) and np.isfinite(rbhi[b, i, k])
+        for k in range(3):
+            finite &= np.isfinite(xlo[b, k]) and np.isfinite(xhi[b, k])
+        if not finite:
+            continue
+        # a_i · R b_i, then D = 2((R b_i − R b_1) − (a_i − a_1)), g (FKSystem.position_system)
+        for i in range(legs):
+            sl, sh = 0.0, 0.0
+            for k in range(3):
+                ml, mh = mul(alo[i, k], ahi[i, k], rblo[b, i, k], rbhi[b, i, k])
+                if k == 0:
+                    sl, sh = ml, mh
+                else:
+                    sl, sh = down_sum(sl + ml), up_sum(sh + mh)
+            slo[i], shi[i] = sl, sh
+        for i in range(1, legs):
+            for k in range(3):
+                t1l, t1h = down_sum(rblo[b, i, k] - rbhi[b, 0, k]), up_sum(rbhi[b, i, k] - rblo[b, 0, k])
+                t2l, t2h = down_sum(alo[i, k] - ahi[0, k]), up_sum(ahi[i, k] - alo[0, k])
+                t3l, t3h = down_sum(t1l - t2h), up_sum(t1h - t2l)
+                Dlo[i - 1, k], Dhi[i - 1, k] = _scale(t3l, t3h, 2.0)
+            ul, uh = down_sum(slo[i] - shi[0]), up_sum(shi[i] - slo[0])
+            ul, uh = _scale(ul, uh, 2.0)
+            cl, ch = down_sum(klo[i] - khi[0]), up_sum(khi[i] - klo[0])
+            ul, uh = down_sum(ul - ch), up_sum(uh - cl)
+            dl, dh = down_sum(Llo[b, i] - Lhi[b, 0]), up_sum(Lhi[b, i] - Llo[b, 0])
+            Dlo[i - 1, 3], Dhi[i - 1, 3] = down_sum(ul + dl), up_sum(uh + dh)
+        for r in range(m):
+            for j in range(4):
+                mm, rr = midrad(Dlo[r, j], Dhi[r, j])
+                Dm[r, j] = mm
+                Dw[r, j] = gam * abs(mm) + rr
+        # P = (Dmᵀ Dm + 1e-300 I)⁻¹ Dmᵀ by Gaussian elimination with partial pivoting (a heuristic)
+        for i in range(3):
+            for j in range(3):
+                acc = 1e-300 if i == j else 0.0
+                for r in range(m):
+                    acc += Dm[r, i] * Dm[r, j]
+                G[i, j] = acc
+            for r in range(m):
+                G[i, 3 + r] = Dm[r, i]
+        ok = True
+        for col in range(3):
+            piv = col
+            best = abs(G[col, col])
+            for r in range(col + 1, 3):
+                if abs(G[r, col]) > best:
+                    best = abs(G[r, col])
+                    piv = r
+            if not (best > 0.0) or not np.isfinite(best):
+                ok = False
+                break
+            if piv != col:
+                for j in range(3 + m):
+                    G[col, j], G[piv, j] = G[piv, j], G[col, j]
+            for r in range(3):
+                if r != col:
+                    f = G[r, col] / G[col, col]
+                    for j in range(3 + m):
+                        G[r, j] -= f * G[col, j]
+        for i in range(3):
+            for r in range(m):
+                v = G[i, 3 + r] / G[i, i] if ok else 0.0
+                v = np.float64(np.float32(v)) if abs(v) < 2.0 ** 127 else 0.0   # NaN, huge: 0
+                Pout[b, i, r] = v
+        # P [D | g] in midpoint-radius form, then one Gauss-Seidel sweep on the position
+        bad = False
+        for i in range(3):
+            for j in range(4):
+                sm, sr = 0.0, 0.0
+                for r in range(m):
+                    sm += Pout[b, i, r] * Dm[r, j]
+                    sr += abs(Pout[b, i, r]) * Dw[r, j]
+                sr = upper(sr, 4 * m + 4) + m * 2.0 ** -1022
+                Alo[i, j], Ahi[i, j] = down(sm - sr), up(sm + sr)
+                bad |= not (np.isfinite(Alo[i, j]) and np.isfinite(Ahi[i, j]))
+        if bad:
+            continue
+        for k in range(3):
+            ylo[k], yhi[k] = xlo[b, k], xhi[b, k]
+        for i in range(3):
+            sl, sh = 0.0, 0.0
+            first = True
+            for j in range(3):
+                if j != i:
+                    ml, mh = mul(Alo[i, j], Ahi[i, j], ylo[j], yhi[j])
+                    if first:
+                        sl, sh = ml, mh
+                        first = False
+                    else:
+                        sl, sh = down_sum(sl + ml), up_sum(sh + mh)
+            nl, nh = down_sum(Alo[i, 3] - sh), up_sum(Ahi[i, 3] - sl)
+            ylo[i], yhi[i] = gs_update(nl, nh, Alo[i, i], Ahi[i, i], ylo[i], yhi[i])
+            if ylo[i] > yhi[i]:
+                empty[b] = True
+                break
+        if not empty[b]:
+            for k in range(3):
+                plo[b, k], phi[b, k] = ylo[k], yhi[k]
+    return plo, phi, empty, Pout

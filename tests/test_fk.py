@@ -556,6 +556,48 @@ def test_native_slope_step_gives_the_numpy_slope():
         assert np.all((H.lo >= X.lo) & (H.hi <= X.hi)) and np.any((H.lo > X.lo) | (H.hi < X.hi))
 
 
+def test_native_position_step_matches_numpy():
+    """The spatial position step in machine code (``fk_native.position_gauss_seidel``) and the numpy
+    sweep, on boxes around every Gough root with a tight rotation and a wide position, and on boxes
+    all over the domain: the same empty boxes, the same P, positions equal to a few ulps of the box;
+    every root is kept, and most of the boxes around roots are contracted."""
+    from certkin import load_robot
+    from certkin.fk import _position_gauss_seidel, contract_position, fk_system
+    from intervals import Interval, sqr
+    robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
+    lengths = "1.093,2.280,2.031,2.524,3.136,1.845".split(",")
+    s = fk_system(robot)
+    roots = [r["box"] for r in forward_kinematics(robot, lengths).solutions]
+    rng = np.random.default_rng(19)
+    N = 2000
+    pick = rng.integers(0, len(roots), N)
+    rlo, rhi = np.array([r.lo for r in roots])[pick], np.array([r.hi for r in roots])[pick]
+    w = rng.uniform(0, 1, (N, 7)) * 10.0 ** rng.uniform(-7, -2, (N, 1))
+    w[:, :3] = rng.uniform(0.01, 0.5, (N, 3))
+    rho = [Interval(v) for v in lengths]
+    Lrow = sqr(Interval._raw(np.array([[float(r.lo) for r in rho]]), np.array([[float(r.hi) for r in rho]])))
+    dlo, dhi = (np.atleast_2d(v)[0] for v in s.domain(Lrow))
+    far_c = rng.uniform(dlo, dhi, (N, 7))
+    far_w = rng.uniform(0, 1, (N, 7)) ** 2 * (dhi - dlo) * 0.1
+    X = Interval._raw(np.concatenate([rlo - w * rng.uniform(0.1, 1, (N, 7)), far_c - far_w]),
+                      np.concatenate([rhi + w * rng.uniform(0.1, 1, (N, 7)), far_c + far_w]))
+    L = Interval._raw(np.repeat(Lrow.lo, 2 * N, 0), np.repeat(Lrow.hi, 2 * N, 0))
+    rb = s.rotated_centred(X)
+    lo, hi, empty, P = contract_position(s, X, L, rb=rb)
+    new, ref_empty, ref_P = _position_gauss_seidel(s, X, L, rb)
+    assert np.array_equal(empty, ref_empty) and 0 < empty.sum() and not empty[:N].any()
+    assert np.array_equal(P, ref_P)
+    live = ~empty
+    width = X.hi[:, :3] - X.lo[:, :3]
+    ref_lo = np.maximum(X.lo[:, :3], new.lo - width * 2.0 ** -20)
+    ref_hi = np.minimum(X.hi[:, :3], new.hi + width * 2.0 ** -20)
+    assert np.all(np.abs(lo[live, :3] - ref_lo[live]) <= 1e-9 * width[live])
+    assert np.all(np.abs(hi[live, :3] - ref_hi[live]) <= 1e-9 * width[live])
+    assert np.array_equal(lo[:, 3:], X.lo[:, 3:]) and np.array_equal(hi[:, 3:], X.hi[:, 3:])
+    assert np.all((lo[:N] <= rhi) & (rlo <= hi[:N]))
+    assert np.mean(np.any(lo[:N, :3] > X.lo[:N, :3], axis=1)) > 0.5
+
+
 def test_rotation_at_points_encloses_exact_values():
     """R(q) at float quaternions, computed in floats with an error bound (``rotation_at_points``),
     holds the exact matrix (rational arithmetic), for ordinary, tiny (underflowing products) and

@@ -119,3 +119,25 @@ def test_hansen_sengupta_kernel_batches_and_non_finite_input():
     H, empty = hansen_sengupta(f, S, X, c, C)
     assert not empty[:3].any()
     assert np.array_equal(H.lo[:3], X.lo[:3]) and np.array_equal(H.hi[:3], X.hi[:3])
+
+
+def test_kernels_are_compiled_without_fused_multiply_add():
+    """The soundness argument (docs/soundness.md §1) has every operation rounded on its own: the
+    machine code of the kernels holds no fused multiply-add (x86 vfmadd..., AArch64 fmadd/fmla...)."""
+    import re
+
+    import numba
+
+    from certkin import fk_native
+    rng = np.random.default_rng(6)
+    N, n = 3, 4
+    M = rng.normal(size=(N, n, n)) + 3 * np.eye(n)
+    x = rng.normal(size=(N, n))
+    fresh = numba.njit(cache=False)(native.hansen_sengupta.py_func)          # cached code cannot be inspected
+    fresh(x, x + 1e-9, M, M + 0.1, x - 1, x + 1, x, M)
+    inverse = numba.njit(cache=False)(fk_native.float_inverse.py_func)
+    inverse(M, M + 0.1, True)
+    fused = re.compile(r"\b(v?f(n)?m(add|sub)[a-z0-9]*|fml[as])\b", re.IGNORECASE)
+    for kernel in (fresh, inverse):
+        asm = "\n".join(kernel.inspect_asm().values())
+        assert "mul" in asm and not fused.search(asm)
