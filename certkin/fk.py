@@ -39,9 +39,10 @@ roots whose R are pairwise disjoint are distinct.  Boxes left undecided
 ``complete`` is true only when every box of the domain was excluded or
 proved and every root's R lies inside the domain.
 
-For a quaternion, the HC4 pass, the slope step and the Hansen-Sengupta sweep
-run box by box in machine code (``fk_native``, ``intervals.native``): the same
-operations as the numpy versions they are tested against.
+For a quaternion, the HC4 pass, the position step, the slope step and the
+Hansen-Sengupta sweep run box by box in machine code (``fk_native``,
+``intervals.native``): the same operations as the numpy versions they are
+tested against.
 """
 from __future__ import annotations
 
