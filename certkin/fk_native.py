@@ -88,6 +88,29 @@ def _divide_into(xlo, xhi, nlo, nhi, dlo, dhi):
 
 
 @njit(cache=True)
+def _sum_others(vlo, vhi, start, stop, k):
+    """Σ_{j ≠ k} v_j over start ≤ j < stop, interval sums from left to right (``Interval.__add__``)."""
+    olo = 0.0
+    ohi = 0.0
+    first = True
+    for j in range(start, stop):
+        if j != k:
+            if first:
+                olo, ohi = vlo[j], vhi[j]
+                first = False
+            else:
+                olo, ohi = down_sum(olo + vlo[j]), up_sum(ohi + vhi[j])
+    return olo, ohi
+
+
+@njit(cache=True)
+def _divide_at(zlo, zhi, t, glo, ghi, d):
+    """z_t ← z_t ∩ g / z_d where 0 ∉ z_d (``_divide_into``), in place; True if z_t is now empty."""
+    zlo[t], zhi[t] = _divide_into(zlo[t], zhi[t], glo, ghi, zlo[d], zhi[d])
+    return zlo[t] > zhi[t]
+
+
+@njit(cache=True)
 def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonzero, invlo, invhi, p, entries, off):
     """One HC4 pass (``fk_hc4``) over the boxes [lo, hi] (N, p + 4) of a quaternion system.
 
@@ -138,16 +161,7 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
         for k in range(p, n):
             slo[k], shi[k] = _sqr(zlo[k], zhi[k])
         for k in range(p, n):
-            olo = 0.0
-            ohi = 0.0
-            first = True
-            for j in range(p, n):
-                if j != k:
-                    if first:
-                        olo, ohi = slo[j], shi[j]
-                        first = False
-                    else:
-                        olo, ohi = down_sum(olo + slo[j]), up_sum(ohi + shi[j])
+            olo, ohi = _sum_others(slo, shi, p, n, k)
             zlo[k], zhi[k] = _root(zlo[k], zhi[k], down_sum(1.0 - ohi), up_sum(1.0 - olo))
             if zlo[k] > zhi[k]:
                 dead = True
@@ -219,16 +233,7 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
             for k in range(3):
                 eslo[k], eshi[k] = _sqr(elo[i, k], ehi[i, k])
             for k in range(3):
-                olo = 0.0
-                ohi = 0.0
-                first = True
-                for kk in range(3):
-                    if kk != k:
-                        if first:
-                            olo, ohi = eslo[kk], eshi[kk]
-                            first = False
-                        else:
-                            olo, ohi = down_sum(olo + eslo[kk]), up_sum(ohi + eshi[kk])
+                olo, ohi = _sum_others(eslo, eshi, 0, 3, k)
                 tl, th = down_sum(Llo[box, i] - ohi), up_sum(Lhi[box, i] - olo)
                 elo[i, k], ehi[i, k] = _root(elo[i, k], ehi[i, k], tl, th)
                 if elo[i, k] > ehi[i, k]:
@@ -307,24 +312,14 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
                 glo, ghi = down_sum(hlo - chi), up_sum(hhi - clo)
             else:
                 glo, ghi = down_sum(hlo + clo), up_sum(hhi + chi)
-            zlo[ia], zhi[ia] = _divide_into(zlo[ia], zhi[ia], glo, ghi, zlo[ib], zhi[ib])
-            if zlo[ia] > zhi[ia]:
-                dead = True
-                break
-            zlo[ib], zhi[ib] = _divide_into(zlo[ib], zhi[ib], glo, ghi, zlo[ia], zhi[ia])
-            if zlo[ib] > zhi[ib]:
+            if _divide_at(zlo, zhi, ia, glo, ghi, ib) or _divide_at(zlo, zhi, ib, glo, ghi, ia):
                 dead = True
                 break
             xlo, xhi = mul(zlo[ia], zhi[ia], zlo[ib], zhi[ib])
             glo, ghi = down_sum(hlo - xhi), up_sum(hhi - xlo)
             if sigma < 0:
                 glo, ghi = -ghi, -glo
-            zlo[ic], zhi[ic] = _divide_into(zlo[ic], zhi[ic], glo, ghi, zlo[id_], zhi[id_])
-            if zlo[ic] > zhi[ic]:
-                dead = True
-                break
-            zlo[id_], zhi[id_] = _divide_into(zlo[id_], zhi[id_], glo, ghi, zlo[ic], zhi[ic])
-            if zlo[id_] > zhi[id_]:
+            if _divide_at(zlo, zhi, ic, glo, ghi, id_) or _divide_at(zlo, zhi, id_, glo, ghi, ic):
                 dead = True
                 break
         if dead:
@@ -417,6 +412,36 @@ def slope_quaternion(xlo, xhi, c, rblo, rbhi, rclo, rchi, Dm, Dr, alo, ahi, Llo,
 
 
 @njit(cache=True)
+def _gauss_jordan(A, n):
+    """Reduce the augmented matrix A (n, n + k) in place, with partial pivoting, so that its first n
+    columns become the identity and its last k the solution of the system; False where a pivot is 0
+    or not finite (A is then meaningless).  Plain floats: for preconditioners only."""
+    width = A.shape[1]
+    for col in range(n):
+        piv = col
+        best = abs(A[col, col])
+        for r in range(col + 1, n):
+            if abs(A[r, col]) > best:
+                best = abs(A[r, col])
+                piv = r
+        if not (best > 0.0) or not np.isfinite(best):
+            return False
+        if piv != col:
+            for j in range(width):
+                A[col, j], A[piv, j] = A[piv, j], A[col, j]
+        inv = 1.0 / A[col, col]
+        for j in range(width):
+            A[col, j] *= inv
+        for r in range(n):
+            if r != col:
+                f = A[r, col]
+                if f != 0.0:
+                    for j in range(width):
+                        A[r, j] -= f * A[col, j]
+    return True
+
+
+@njit(cache=True)
 def float_inverse(Mlo, Mhi, compact):
     """(C, failed): the float inverse of each midpoint matrix 0.5 lo + 0.5 hi (N, n, n) by Gauss-Jordan
     elimination with partial pivoting, rounded to float32 values where ``compact``; the identity where
@@ -431,29 +456,7 @@ def float_inverse(Mlo, Mhi, compact):
             for j in range(n):
                 A[i, j] = 0.5 * Mlo[b, i, j] + 0.5 * Mhi[b, i, j]
                 A[i, n + j] = 1.0 if i == j else 0.0
-        ok = True
-        for col in range(n):
-            piv = col
-            best = abs(A[col, col])
-            for r in range(col + 1, n):
-                if abs(A[r, col]) > best:
-                    best = abs(A[r, col])
-                    piv = r
-            if not (best > 0.0) or not np.isfinite(best):
-                ok = False
-                break
-            if piv != col:
-                for j in range(2 * n):
-                    A[col, j], A[piv, j] = A[piv, j], A[col, j]
-            inv = 1.0 / A[col, col]
-            for j in range(2 * n):
-                A[col, j] *= inv
-            for r in range(n):
-                if r != col:
-                    f = A[r, col]
-                    if f != 0.0:
-                        for j in range(2 * n):
-                            A[r, j] -= f * A[col, j]
+        ok = _gauss_jordan(A, n)
         for i in range(n):
             for j in range(n):
                 v = A[i, n + j] if ok else (1.0 if i == j else 0.0)
@@ -551,28 +554,10 @@ def position_gauss_seidel(xlo, xhi, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi):
                 G[i, j] = acc
             for r in range(m):
                 G[i, 3 + r] = Dm[r, i]
-        ok = True
-        for col in range(3):
-            piv = col
-            best = abs(G[col, col])
-            for r in range(col + 1, 3):
-                if abs(G[r, col]) > best:
-                    best = abs(G[r, col])
-                    piv = r
-            if not (best > 0.0) or not np.isfinite(best):
-                ok = False
-                break
-            if piv != col:
-                for j in range(3 + m):
-                    G[col, j], G[piv, j] = G[piv, j], G[col, j]
-            for r in range(3):
-                if r != col:
-                    f = G[r, col] / G[col, col]
-                    for j in range(3 + m):
-                        G[r, j] -= f * G[col, j]
+        ok = _gauss_jordan(G, 3)
         for i in range(3):
             for r in range(m):
-                v = G[i, 3 + r] / G[i, i] if ok else 0.0
+                v = G[i, 3 + r] if ok else 0.0
                 v = np.float64(np.float32(v)) if abs(v) < 2.0 ** 127 else 0.0   # NaN, huge: 0
                 Pout[b, i, r] = v
         # P [D | g] in midpoint-radius form, then one Gauss-Seidel sweep on the position

@@ -21,7 +21,7 @@ from certkin.robots.fk_systems import FKSystem
 from intervals import Interval, sqr
 from proofs.fk import System
 
-from test_fk import EXAMPLES, SIX_MODES, SPHERICAL_8, _first, _pose_from_points, planar, table_vi2
+from test_fk import EXAMPLES, SIX_MODES, SPHERICAL_8, _first, _pose_from_points, planar, root_boxes, table_vi2
 
 GOUGH_LENGTHS = ["1.093", "2.280", "2.031", "2.524", "3.136", "1.845"]
 
@@ -190,13 +190,10 @@ def test_native_quaternion_pass_matches_numpy(which, gough_case):
         robot, lengths, _ = gough_case
     else:
         robot, lengths = robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]
-    boxes = [s["box"] for s in forward_kinematics(robot, lengths).solutions]   # one root each
     system = FKSystem(robot)
     rng = np.random.default_rng(13)
     n = system.n
-    pick = rng.integers(0, len(boxes), 3000)
-    root_lo = np.array([b.lo for b in boxes])[pick]
-    root_hi = np.array([b.hi for b in boxes])[pick]
+    root_lo, root_hi = root_boxes(robot, lengths, 3000, rng)      # one root each
     near_c = 0.5 * (root_lo + root_hi)
     near_w = rng.uniform(0.1, 1, (3000, n)) * 10.0 ** rng.uniform(-7, -0.5, (3000, 1))
     L = _L(lengths, 1)

@@ -265,14 +265,10 @@ def test_gauss_seidel_keeps_solution(seed, n, width, xwidth, precond):
             assert inside(xstar[i], y.lo[i], y.hi[i])
 
 
-
-@SETTINGS
-@given(st.integers(0, 2 ** 32 - 1), st.integers(1, 5), st.sampled_from([0.0, 1e-6, 0.01, 0.3, 2.0]),
-       st.sampled_from([1e-3, 0.1, 1.0, 10.0]), st.sampled_from(["mid", "eye", "random"]))
-def test_hansen_sengupta_keeps_zero(seed, n, width, xwidth, precond):
-    """f(x) = M (x − x*) with M in A: f(c) enclosed exactly (Fractions), A as the slope enclosure; the
-    operator's box keeps x*, lies in x, and is never called empty."""
-    rng = np.random.default_rng(seed)
+def zero_problem(rng, n, width, xwidth, precond):
+    """(f, S, X, c, C, x*), a batch of one: f(x) = M (x − x*) with M in the interval matrix S, f(c) at
+    the midpoint c of the box X ∋ x* enclosed exactly (Fractions), C a preconditioner of the kind
+    ``precond`` ("mid", "eye" or "random")."""
     A, _, x, xstar = _solution_problem(rng, n, width, xwidth)
     M = sample_point(rng, A)
     c = x.mid()
@@ -280,8 +276,17 @@ def test_hansen_sengupta_keeps_zero(seed, n, width, xwidth, precond):
     enc = [enclose_fraction(v) for v in fc]
     f = Interval(np.array([[e[0] for e in enc]]), np.array([[e[1] for e in enc]]))
     C = {"mid": mid_inverse(A)[0], "eye": np.eye(n), "random": rng.normal(size=(n, n))}[precond]
-    X = Interval(x.lo[None], x.hi[None])
-    H, empty = hansen_sengupta(f, Interval(A.lo[None], A.hi[None]), X, c[None], C[None])
+    return f, Interval(A.lo[None], A.hi[None]), Interval(x.lo[None], x.hi[None]), c[None], C[None], xstar
+
+
+@SETTINGS
+@given(st.integers(0, 2 ** 32 - 1), st.integers(1, 5), st.sampled_from([0.0, 1e-6, 0.01, 0.3, 2.0]),
+       st.sampled_from([1e-3, 0.1, 1.0, 10.0]), st.sampled_from(["mid", "eye", "random"]))
+def test_hansen_sengupta_keeps_zero(seed, n, width, xwidth, precond):
+    """f(x) = M (x − x*) with M in A: f(c) enclosed exactly (Fractions), A as the slope enclosure; the
+    operator's box keeps x*, lies in x, and is never called empty."""
+    f, S, X, c, C, xstar = zero_problem(np.random.default_rng(seed), n, width, xwidth, precond)
+    H, empty = hansen_sengupta(f, S, X, c, C)
     assert not empty[0]
     assert np.all(H.lo >= X.lo) and np.all(H.hi <= X.hi)
     for i in range(n):
