@@ -119,7 +119,6 @@ def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False, rbc=No
     contraction; uniqueness is not proved (``krawczyk_boxes`` does that).  S is about half as wide
     as J(X) (``FKSystem.slope``; docs/soundness.md §8)."""
     c = X.mid()
-    point = Interval._raw(c, c.copy())
     if rbc is None:
         rbc = system.rotated_at_points(c)
     if system.kind != "planar-3rpr" and rb is not None:    # quaternion: the machine-code twins
@@ -138,7 +137,7 @@ def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False, rbc=No
             Cf = linalg.mid_inverse(S[failed].mid())[0]
             C[failed] = _compact(Cf) if compact else Cf
     else:
-        fc = system.equations(point, L, rb=rbc)
+        fc = system.equations(Interval._raw(c, c.copy()), L, rb=rbc)
         S = system.slope(X, c, rb=rb, rbc=rbc, drbs=drbs)
         C = float_inverse(S.mid())[0]
         if compact:
