@@ -22,11 +22,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 import heapq
 import itertools
+import math
 import time
 
 import numpy as np
 
 from .engine import Budget
+from .errors import InputError
 from .poses import parse_pose
 from .trajectory import parse_path, verify_trajectories
 
@@ -60,9 +62,37 @@ def _text(v: float) -> str:
     return repr(float(v))
 
 
+MAX_DIVISIONS = 1000
+
+
+def _count(value, name: str, least: int, most: int) -> int:
+    """An integer option in [least, most] (bools and floats refused), else an InputError naming it."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not least <= value <= most:
+        raise InputError(name, "", f"expected an integer from {least} to {most}, got {value!r}")
+    return int(value)
+
+
+def _checked(result: PlanResult, start, goal) -> PlanResult:
+    """A ``found`` path runs from the start pose to the goal pose with one verified segment per step."""
+    w = result.waypoints
+    if not (len(w) >= 2 and list(w[0]) == list(start) and list(w[-1]) == list(goal)
+            and len(result.segments) == len(w) - 1 and all(r.status == "feasible" for r in result.segments)):
+        raise AssertionError("plan: a found path must join start to goal through feasible segments")
+    return result
+
+
 def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int = 3,
          max_edges: int = 4000, max_seconds: float = 120.0, budget: Budget | None = None) -> PlanResult:
-    """A path from ``start`` to ``goal`` whose every segment is certified ``feasible``."""
+    """A path from ``start`` to ``goal`` whose every segment is certified ``feasible``.
+
+    ``divisions`` (1 to 1000): grid steps between start and goal; ``margin`` (0 to 1000): grid steps
+    beyond them; ``max_edges``: segments verified at most.  A ``found`` result always starts at
+    ``start``, ends at ``goal`` and has one ``feasible`` segment per step."""
+    divisions = _count(divisions, "divisions", 1, MAX_DIVISIONS)
+    margin = _count(margin, "margin", 0, MAX_DIVISIONS)
+    max_edges = _count(max_edges, "max_edges", 1, 10 ** 9)
+    if not (isinstance(max_seconds, (int, float)) and math.isfinite(max_seconds) and max_seconds > 0):
+        raise InputError("max_seconds", "", f"expected a positive number of seconds, got {max_seconds!r}")
     t0 = time.perf_counter()
     budget = budget or Budget(max_boxes=50_000, max_seconds=30.0, min_width=1e-9)
     s_iv, s_txt = parse_pose(start, robot, "--from")
@@ -77,8 +107,8 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
                               stats={"seconds": time.perf_counter() - t0})
     straight = verify([parse_path(robot, s_txt, g_txt)])[0]
     if straight.status == "feasible":
-        return PlanResult(robot, "found", [s_txt, g_txt], [straight],
-                          stats={"edges_verified": 1, "seconds": time.perf_counter() - t0})
+        return _checked(PlanResult(robot, "found", [s_txt, g_txt], [straight],
+                                   stats={"edges_verified": 1, "seconds": time.perf_counter() - t0}), s_txt, g_txt)
 
     # ----- A* on the grid of poses -------------------------------------------------------
     a = 0.5 * (s_iv.lo + s_iv.hi)
@@ -162,4 +192,4 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
         segments.append(r)
         i = j
     stats["seconds"] = time.perf_counter() - t0
-    return PlanResult(robot, "found", [pose_of(n) for n in kept], segments, stats=stats)
+    return _checked(PlanResult(robot, "found", [pose_of(n) for n in kept], segments, stats=stats), s_txt, g_txt)

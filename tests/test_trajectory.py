@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import proofs
-from certkin import load_robot, plan, robot_from_dict, verify_trajectory, verify_trajectories
+from certkin import InputError, load_robot, plan, robot_from_dict, verify_trajectory, verify_trajectories
 from certkin.trajectory import parse_path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -308,6 +308,21 @@ def test_planner_finds_a_certified_detour(mel):
     assert all(seg.status == "feasible" for seg in result.segments)
     report = proofs.check(result.certificate())
     assert report.ok, report.step
+
+
+@pytest.mark.parametrize("divisions", [0, -3, True, 2.5, "6", 10 ** 6])
+def test_planner_refuses_bad_divisions(mel, divisions):
+    """divisions=0 once returned `found` with the start pose alone (issue #18): now an input error."""
+    with pytest.raises(InputError, match="divisions"):
+        plan(mel, "-90,140,520,0,0,0", "55,140,520,0,0,0", divisions=divisions)
+
+
+@pytest.mark.parametrize("value", ["0", "-3"])
+def test_cli_plan_refuses_bad_divisions(value):
+    out = subprocess.run([sys.executable, "-m", "certkin", "plan", str(MEL), "--from", "-90,140,520,0,0,0",
+                          "--to", "55,140,520,0,0,0", f"--divisions={value}"], capture_output=True, text=True, cwd=ROOT)
+    assert out.returncode == 2 and "divisions" in out.stderr and "Traceback" not in out.stderr
+    assert "found" not in out.stdout
 
 
 def test_planner_rejects_a_colliding_goal(mel):
