@@ -34,16 +34,16 @@ import numpy as np
 
 INF = np.inf
 MAX = float(np.finfo(np.float64).max)
-_REL = 2.0 ** -52
-_ABS = 2.0 ** -1022
+REL = 2.0 ** -52         # the relative step of ``up``/``down``: one unit in the last place
+ABS = 2.0 ** -1022       # and their absolute step: the smallest normal float
 
 
 def up(c):
     """An upper bound of every real within half a spacing of ``c`` (elementwise, new array)."""
     c = np.maximum(c, -MAX)
     d = np.abs(c)
-    d *= _REL
-    d += _ABS
+    d *= REL
+    d += ABS
     d += c
     return d
 
@@ -52,8 +52,8 @@ def down(c):
     """A lower bound of every real within half a spacing of ``c`` (elementwise, new array)."""
     c = np.minimum(c, MAX)
     d = np.abs(c)
-    d *= -_REL
-    d -= _ABS
+    d *= -REL
+    d -= ABS
     d += c
     return d
 
@@ -67,7 +67,7 @@ def up_sum(c):
     """
     c = np.maximum(c, -MAX)
     d = np.abs(c)
-    d *= _REL
+    d *= REL
     d += c
     return d
 
@@ -76,7 +76,7 @@ def down_sum(c):
     """``down`` for a sum or difference (see ``up_sum``)."""
     c = np.minimum(c, MAX)
     d = np.abs(c)
-    d *= -_REL
+    d *= -REL
     d += c
     return d
 

@@ -169,7 +169,7 @@ def test_batched_shapes_match_scalar_results():
 
 
 def test_nan_means_unknown_in_predicates():
-    u = Interval._raw(np.array(np.nan), np.array(np.nan))
+    u = Interval.from_bounds(np.array(np.nan), np.array(np.nan))
     assert bool(u.contains_zero())          # cannot exclude
     assert not bool(u.subset(Interval(-1, 1)))
     assert not bool(u.disjoint(Interval(5, 6)))
@@ -216,10 +216,10 @@ def test_mul_in_place_is_bit_identical_to_reference():
 
     for shape_x, shape_y in [((5000,), (5000,)), ((40, 7, 3), (7, 3)), ((200, 1), (1, 30)), ((), ()), ((9,), ())]:
         a, b, c, d = sample(shape_x), sample(shape_x), sample(shape_y), sample(shape_y)
-        x = I._raw(np.asarray(np.minimum(a, b)), np.asarray(np.maximum(a, b)))
-        y = I._raw(np.asarray(np.minimum(c, d)), np.asarray(np.maximum(c, d)))
+        x = I.from_bounds(np.asarray(np.minimum(a, b)), np.asarray(np.maximum(a, b)))
+        y = I.from_bounds(np.asarray(np.minimum(c, d)), np.asarray(np.maximum(c, d)))
         # also unordered and NaN endpoints, as the arithmetic may meet them
-        for xx, yy in [(x, y), (I._raw(np.asarray(a), np.asarray(b)), I._raw(np.asarray(c), np.asarray(d)))]:
+        for xx, yy in [(x, y), (I.from_bounds(np.asarray(a), np.asarray(b)), I.from_bounds(np.asarray(c), np.asarray(d)))]:
             got, ref = mul(xx, yy), _mul_reference(xx, yy)
             for g, r in [(got.lo, ref.lo), (got.hi, ref.hi)]:
                 g, r = np.asarray(g), np.asarray(r)

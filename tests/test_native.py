@@ -119,14 +119,13 @@ def test_kernels_are_compiled_without_fused_multiply_add():
 
     import numba
 
-    from certkin import fk_native
     rng = np.random.default_rng(6)
     N, n = 3, 4
     M = rng.normal(size=(N, n, n)) + 3 * np.eye(n)
     x = rng.normal(size=(N, n))
     fresh = numba.njit(cache=False)(native.hansen_sengupta.py_func)          # cached code cannot be inspected
     fresh(x, x + 1e-9, M, M + 0.1, x - 1, x + 1, x, M)
-    inverse = numba.njit(cache=False)(fk_native.float_inverse.py_func)
+    inverse = numba.njit(cache=False)(native.float_inverse.py_func)
     inverse(M, M + 0.1, True)
     fused = re.compile(r"\b(v?f(n)?m(add|sub)[a-z0-9]*|fml[as])\b", re.IGNORECASE)
     for kernel in (fresh, inverse):
