@@ -1,4 +1,4 @@
-"""Pictures of certified results (needs the ``plot`` extra: matplotlib).
+"""The cell classification of a singularity run (needs the ``plot`` extra: matplotlib).
 
 Cells are drawn with their certified status: singularity-free cells in
 blue (det > 0) or green (det < 0), singular cells in red, undecided ones in
@@ -8,19 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import InputError
+from .figure import pyplot
 
 COLOURS = {"free+": "#4c72b0", "free-": "#55a868", "singular": "#c44e52", "undecided": "#bbbbbb"}
-
-
-def _pyplot():
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise InputError("--plot", "", "matplotlib is not installed: pip install 'certkin[plot]'") from None
-    return plt
 
 
 def _key(r):
@@ -31,7 +21,7 @@ def _key(r):
 
 def plot_cells(robot, results, path, max_slices: int = 6):
     """Draw the cells of ``results`` (SingularityResult list) into ``path`` (PNG/SVG/PDF)."""
-    plt = _pyplot()
+    plt = pyplot()
     from matplotlib.patches import Patch, Rectangle
     names = robot.pose_names
     lo = np.array([r.lo for r in results])
