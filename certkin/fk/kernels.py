@@ -1,17 +1,15 @@
 """The hot loops of the FK search for a quaternion rotation, box by box in machine code (numba).
 
-- ``hc4_quaternion``: ``fk_hc4.hc4``'s pass: the same interval operations on the
+- ``hc4_quaternion``: ``contract.hc4``'s pass: the same interval operations on the
   same operands and in the same order as the numpy version (steps 1-7 of
-  ``fk_hc4``), with the outward-rounded primitives of ``intervals.native``; only
+  ``fk.contract``), with the outward-rounded primitives of ``intervals.native``; only
   the float sums of the midpoint-radius R b_i (``FKSystem.rotated_midrad``) may
   be taken in another order, which their error bound allows (Higham 2002,
   eq. 3.5).  The centred form of R b_i (step 2) is computed by
   ``FKSystem.centred_form`` and passed in.
 - ``slope_quaternion``: ``FKSystem.slope`` and ``FKSystem.equations`` at the
   midpoints, from the same enclosures of R b_i, with the same operations.
-- ``float_inverse``: the float inverse of each matrix (a preconditioner; no
-  proof depends on it).
-- ``position_gauss_seidel``: ``fk.contract_position`` for a spatial robot (the
+- ``position_gauss_seidel``: ``step.contract_position`` for a spatial robot (the
   difference equations, P [D | g] in midpoint-radius form, one Gauss-Seidel
   sweep), with the same operations and bounds.
 
@@ -26,13 +24,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from intervals.native import INF, div_regular, down, down_sum, gs_update, midrad, mul, up, up_sum, upper
+from intervals.native import INF, div_regular, down, down_sum, gauss_jordan, gs_update, midrad, mul, up, up_sum, upper
 
-from .robots.fk_systems import DIAGONAL, OFF_DIAGONAL
+from .rotation import DIAGONAL, OFF_DIAGONAL
 
 
 def _tables():
-    """R(q)'s entries as integer tables (from ``fk_systems.DIAGONAL`` / ``OFF_DIAGONAL``): entries
+    """R(q)'s entries as integer tables (from ``system.DIAGONAL`` / ``OFF_DIAGONAL``): entries
     (3, 3, 5) rows (kind, a, b, c, d), kind 0 for 1 − 2(q_a² + q_b²), kind σ = ±1 for
     2(q_a q_b + σ q_c q_d); off (6, 7) rows (k, j, a, b, c, d, σ) in the order of step 7."""
     entries = np.zeros((3, 3, 5), dtype=np.int64)
@@ -57,7 +55,7 @@ def _sqr(lo, hi):
 
 @njit(cache=True)
 def _root(xlo, xhi, tlo, thi):
-    """``fk_hc4.root``: hull(x ∩ {y : y² ∈ t}); empty (lo > hi) if there is no such y; x itself
+    """``contract.root``: hull(x ∩ {y : y² ∈ t}); empty (lo > hi) if there is no such y; x itself
     if t is NaN (nothing known)."""
     if not (tlo == tlo and thi == thi):
         return xlo, xhi
@@ -80,7 +78,7 @@ def _scale(lo, hi, k):
 
 @njit(cache=True)
 def _divide_into(xlo, xhi, nlo, nhi, dlo, dhi):
-    """``fk_hc4.divide_into``: x ∩ num / den where 0 ∉ den, x itself elsewhere."""
+    """``contract.divide_into``: x ∩ num / den where 0 ∉ den, x itself elsewhere."""
     if dlo > 0.0 or dhi < 0.0:
         qlo, qhi = div_regular(nlo, nhi, dlo, dhi)
         return max(xlo, qlo), min(xhi, qhi)
@@ -111,14 +109,165 @@ def _divide_at(zlo, zhi, t, glo, ghi, d):
 
 
 @njit(cache=True)
+def _norm_equation(zlo, zhi, slo, shi, p, n):
+    """Step 1: r_k ← root(r_k, 1 − Σ_{j≠k} r_j²) for the rotation unknowns r, j increasing
+    (``slo``/``shi``: their squares); True if the box holds no root."""
+    for k in range(p, n):
+        slo[k], shi[k] = _sqr(zlo[k], zhi[k])
+    for k in range(p, n):
+        olo, ohi = _sum_others(slo, shi, p, n, k)
+        zlo[k], zhi[k] = _root(zlo[k], zhi[k], down_sum(1.0 - ohi), up_sum(1.0 - olo))
+        if zlo[k] > zhi[k]:
+            return True
+        slo[k], shi[k] = _sqr(zlo[k], zhi[k])
+    return False
+
+
+@njit(cache=True)
+def _rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr):
+    """Step 2, first part: R over the box (``FKSystem.rotation``) into [Rlo, Rhi], and in
+    midpoint-radius form [Rm ± Rr]."""
+    for k in range(3):
+        for j in range(3):
+            kind = entries[k, j, 0]
+            a, b_, c, d = entries[k, j, 1], entries[k, j, 2], entries[k, j, 3], entries[k, j, 4]
+            if kind == 0:
+                tlo, thi = down_sum(slo[p + a] + slo[p + b_]), up_sum(shi[p + a] + shi[p + b_])
+                tlo, thi = _scale(tlo, thi, 2.0)
+                vlo, vhi = down_sum(1.0 - thi), up_sum(1.0 - tlo)
+            else:
+                xlo, xhi = mul(zlo[p + a], zhi[p + a], zlo[p + b_], zhi[p + b_])
+                ylo, yhi = mul(zlo[p + c], zhi[p + c], zlo[p + d], zhi[p + d])
+                if kind > 0:
+                    tlo, thi = down_sum(xlo + ylo), up_sum(xhi + yhi)
+                else:
+                    tlo, thi = down_sum(xlo - yhi), up_sum(xhi - ylo)
+                vlo, vhi = _scale(tlo, thi, 2.0)
+            Rlo[k, j], Rhi[k, j] = vlo, vhi
+            m = 0.5 * vlo + 0.5 * vhi
+            Rm[k, j] = m
+            Rr[k, j] = up(max(vhi - m, m - vlo))
+
+
+@njit(cache=True)
+def _rotated_points(box, zlo, zhi, p, Rm, Rr, bm, inner, outer, flo, fhi, alo, ahi, tm, te, ulo, uhi, Pm, Pr,
+                    elo, ehi):
+    """Step 2, second part: u_i = R b_i in midpoint-radius form (``rotated_midrad``, with the sums
+    that leave column j out into [Pm ± Pr]) ∩ the centred form f of box ``box``; e_i = (u_i − a_i) + p."""
+    legs = ulo.shape[0]
+    K = 4 * 3 + 4
+    for i in range(legs):
+        for k in range(3):
+            # the terms R_kj b_ij (midpoints tm, radius terms te), then R b_i (all three) and the
+            # sums that leave column j out (the other two): ``rotated_midrad``'s blocks
+            for jj in range(3):
+                tm[jj] = Rm[k, jj] * bm[jj, i]
+                te[jj] = abs(Rm[k, jj]) * inner[jj, i] + Rr[k, jj] * outer[jj, i]
+            for blk in range(4):          # block 0: R b_i; block 1 + j: column j left out
+                if blk == 0:
+                    sm = (tm[0] + tm[1]) + tm[2]
+                    sr = (te[0] + te[1]) + te[2]
+                else:
+                    a0, a1 = (1, 2) if blk == 1 else ((0, 2) if blk == 2 else (0, 1))
+                    sm = tm[a0] + tm[a1]
+                    sr = te[a0] + te[a1]
+                sr = upper(sr, K) + 3 * 2.0 ** -1022
+                if not (np.isfinite(sm) and np.isfinite(sr)):
+                    sm, sr = 0.0, INF
+                if blk == 0:
+                    ul, uh = down(sm - sr), up(sm + sr)
+                    if ul != ul:
+                        ul = -INF
+                    if uh != uh:
+                        uh = INF
+                    # ∩ the centred form (np.fmax / np.fmin: a NaN bound of the form is ignored)
+                    fl, fh = flo[box, i, k], fhi[box, i, k]
+                    ulo[i, k] = ul if fl != fl else max(ul, fl)
+                    uhi[i, k] = uh if fh != fh else min(uh, fh)
+                else:
+                    Pm[i, k, blk - 1] = sm
+                    Pr[i, k, blk - 1] = sr
+        for k in range(3):
+            vlo, vhi = down_sum(ulo[i, k] - ahi[i, k]), up_sum(uhi[i, k] - alo[i, k])
+            if p:
+                vlo, vhi = down_sum(vlo + zlo[k]), up_sum(vhi + zhi[k])
+            elo[i, k], ehi[i, k] = vlo, vhi
+
+
+@njit(cache=True)
+def _entries_from_points(ulo, uhi, Pm, Pr, nonzero, invlo, invhi, Rlo, Rhi, R2lo, R2hi):
+    """Step 6: R_kj ← R_kj ∩ (u_ik − Σ_{j'≠j} R_kj' b_ij') × (1/b_ij) for the legs with 0 ∉ b_ij, into
+    [R2lo, R2hi]; True if an entry is empty."""
+    legs = ulo.shape[0]
+    dead = False
+    for k in range(3):
+        for j in range(3):
+            vlo, vhi = Rlo[k, j], Rhi[k, j]
+            for i in range(legs):
+                if nonzero[i, j]:
+                    rl, rh = down(Pm[i, k, j] - Pr[i, k, j]), up(Pm[i, k, j] + Pr[i, k, j])
+                    if rl != rl:
+                        rl = -INF
+                    if rh != rh:
+                        rh = INF
+                    nl, nh = down_sum(ulo[i, k] - rh), up_sum(uhi[i, k] - rl)
+                    cl, ch = mul(nl, nh, invlo[i, j], invhi[i, j])
+                    vlo = max(vlo, cl)
+                    vhi = min(vhi, ch)
+            R2lo[k, j], R2hi[k, j] = vlo, vhi
+            if vlo > vhi:
+                dead = True
+    return dead
+
+
+@njit(cache=True)
+def _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):
+    """Step 7: the quaternion from the entries of R, diagonal entries then off-diagonal ones
+    (``rotation.DIAGONAL``, ``OFF_DIAGONAL``, as tables); True if the box holds no root."""
+    for k in range(3):
+        a, b_ = entries[k, k, 1], entries[k, k, 2]
+        tlo, thi = down_sum(1.0 - R2hi[k, k]), up_sum(1.0 - R2lo[k, k])
+        tlo, thi = _scale(tlo, thi, 0.5)
+        sl, sh = _sqr(zlo[p + b_], zhi[p + b_])
+        zlo[p + a], zhi[p + a] = _root(zlo[p + a], zhi[p + a], down_sum(tlo - sh), up_sum(thi - sl))
+        if zlo[p + a] > zhi[p + a]:
+            return True
+        sl, sh = _sqr(zlo[p + a], zhi[p + a])
+        zlo[p + b_], zhi[p + b_] = _root(zlo[p + b_], zhi[p + b_], down_sum(tlo - sh), up_sum(thi - sl))
+        if zlo[p + b_] > zhi[p + b_]:
+            return True
+    for e in range(6):
+        k, j = off[e, 0], off[e, 1]
+        ia, ib, ic, id_ = p + off[e, 2], p + off[e, 3], p + off[e, 4], p + off[e, 5]
+        sigma = off[e, 6]
+        hlo, hhi = _scale(R2lo[k, j], R2hi[k, j], 0.5)
+        clo, chi = mul(zlo[ic], zhi[ic], zlo[id_], zhi[id_])
+        if sigma > 0:
+            glo, ghi = down_sum(hlo - chi), up_sum(hhi - clo)
+        else:
+            glo, ghi = down_sum(hlo + clo), up_sum(hhi + chi)
+        if _divide_at(zlo, zhi, ia, glo, ghi, ib) or _divide_at(zlo, zhi, ib, glo, ghi, ia):
+            return True
+        xlo, xhi = mul(zlo[ia], zhi[ia], zlo[ib], zhi[ib])
+        glo, ghi = down_sum(hlo - xhi), up_sum(hhi - xlo)
+        if sigma < 0:
+            glo, ghi = -ghi, -glo
+        if _divide_at(zlo, zhi, ic, glo, ghi, id_) or _divide_at(zlo, zhi, id_, glo, ghi, ic):
+            return True
+    return False
+
+
+@njit(cache=True)
 def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonzero, invlo, invhi, p, entries, off):
-    """One HC4 pass (``fk_hc4``) over the boxes [lo, hi] (N, p + 4) of a quaternion system.
+    """One HC4 pass (``fk.contract``) over the boxes [lo, hi] (N, p + 4) of a quaternion system.
 
     ``L`` (N, legs) squared leg lengths, ``f`` (N, legs, 3) the centred form of R b_i over the given
     boxes, ``a`` (legs, 3), ``bm``/``inner``/``outer`` (3, ≥ legs; the first legs columns) the factors of
-    ``FKSystem.rotated_midrad`` (``_b_midrad``), ``nonzero`` (legs, 3) where 0 ∉ b_ij, ``inv``
+    ``FKSystem.rotated_midrad`` (``b_midrad``), ``nonzero`` (legs, 3) where 0 ∉ b_ij, ``inv``
     (legs, 3) enclosures of 1/b_ij, ``entries``/``off`` the tables of ``_tables``.  Returns
-    (lo, hi, empty) as ``fk_hc4.hc4``."""
+    (lo, hi, empty) as ``contract.hc4``.  One pass, one algorithm that reads best whole: steps 1, 2,
+    6 and 7 are helpers of their own, steps 3-5 stay inline on the box's working arrays (allocated
+    once, passed on)."""
     N, n = lo.shape
     legs = Llo.shape[1]
     nlo_out = lo.copy()
@@ -144,7 +293,6 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
     eshi = np.empty(3)
     tm = np.empty(3)
     te = np.empty(3)
-    K = 4 * 3 + 4
     for box in range(N):
         finite = True
         for k in range(n):
@@ -157,77 +305,12 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
             zlo[k] = lo[box, k]
             zhi[k] = hi[box, k]
         dead = False
-        # 1. the norm equation: r_k ← root(r_k, 1 − Σ_{j≠k} r_j²), j increasing
-        for k in range(p, n):
-            slo[k], shi[k] = _sqr(zlo[k], zhi[k])
-        for k in range(p, n):
-            olo, ohi = _sum_others(slo, shi, p, n, k)
-            zlo[k], zhi[k] = _root(zlo[k], zhi[k], down_sum(1.0 - ohi), up_sum(1.0 - olo))
-            if zlo[k] > zhi[k]:
-                dead = True
-                break
-            slo[k], shi[k] = _sqr(zlo[k], zhi[k])
-        if dead:
+        if _norm_equation(zlo, zhi, slo, shi, p, n):                                  # 1.
             empty[box] = True
             continue
-        # 2. R over the box (FKSystem.rotation), R b_i in midpoint-radius form (rotated_midrad, with the
-        #    sums leaving column j out), ∩ the centred form; e_i = (u_i − a_i) + p
-        for k in range(3):
-            for j in range(3):
-                kind = entries[k, j, 0]
-                a, b_, c, d = entries[k, j, 1], entries[k, j, 2], entries[k, j, 3], entries[k, j, 4]
-                if kind == 0:
-                    tlo, thi = down_sum(slo[p + a] + slo[p + b_]), up_sum(shi[p + a] + shi[p + b_])
-                    tlo, thi = _scale(tlo, thi, 2.0)
-                    vlo, vhi = down_sum(1.0 - thi), up_sum(1.0 - tlo)
-                else:
-                    xlo, xhi = mul(zlo[p + a], zhi[p + a], zlo[p + b_], zhi[p + b_])
-                    ylo, yhi = mul(zlo[p + c], zhi[p + c], zlo[p + d], zhi[p + d])
-                    if kind > 0:
-                        tlo, thi = down_sum(xlo + ylo), up_sum(xhi + yhi)
-                    else:
-                        tlo, thi = down_sum(xlo - yhi), up_sum(xhi - ylo)
-                    vlo, vhi = _scale(tlo, thi, 2.0)
-                Rlo[k, j], Rhi[k, j] = vlo, vhi
-                m = 0.5 * vlo + 0.5 * vhi
-                Rm[k, j] = m
-                Rr[k, j] = up(max(vhi - m, m - vlo))
-        for i in range(legs):
-            for k in range(3):
-                # the terms R_kj b_ij (midpoints tm, radius terms te), then R b_i (all three) and the
-                # sums that leave column j out (the other two): ``rotated_midrad``'s blocks
-                for jj in range(3):
-                    tm[jj] = Rm[k, jj] * bm[jj, i]
-                    te[jj] = abs(Rm[k, jj]) * inner[jj, i] + Rr[k, jj] * outer[jj, i]
-                for blk in range(4):          # block 0: R b_i; block 1 + j: column j left out
-                    if blk == 0:
-                        sm = (tm[0] + tm[1]) + tm[2]
-                        sr = (te[0] + te[1]) + te[2]
-                    else:
-                        a0, a1 = (1, 2) if blk == 1 else ((0, 2) if blk == 2 else (0, 1))
-                        sm = tm[a0] + tm[a1]
-                        sr = te[a0] + te[a1]
-                    sr = upper(sr, K) + 3 * 2.0 ** -1022
-                    if not (np.isfinite(sm) and np.isfinite(sr)):
-                        sm, sr = 0.0, INF
-                    if blk == 0:
-                        ul, uh = down(sm - sr), up(sm + sr)
-                        if ul != ul:
-                            ul = -INF
-                        if uh != uh:
-                            uh = INF
-                        # ∩ the centred form (np.fmax / np.fmin: a NaN bound of the form is ignored)
-                        fl, fh = flo[box, i, k], fhi[box, i, k]
-                        ulo[i, k] = ul if fl != fl else max(ul, fl)
-                        uhi[i, k] = uh if fh != fh else min(uh, fh)
-                    else:
-                        Pm[i, k, blk - 1] = sm
-                        Pr[i, k, blk - 1] = sr
-            for k in range(3):
-                vlo, vhi = down_sum(ulo[i, k] - ahi[i, k]), up_sum(uhi[i, k] - alo[i, k])
-                if p:
-                    vlo, vhi = down_sum(vlo + zlo[k]), up_sum(vhi + zhi[k])
-                elo[i, k], ehi[i, k] = vlo, vhi
+        _rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr)           # 2.
+        _rotated_points(box, zlo, zhi, p, Rm, Rr, bm, inner, outer, flo, fhi, alo, ahi, tm, te,
+                        ulo, uhi, Pm, Pr, elo, ehi)
         # 3. each leg equation: e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²), k = 0, 1, 2
         for i in range(legs):
             for k in range(3):
@@ -263,66 +346,10 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
                     vlo, vhi = down_sum(vlo - zhi[k]), up_sum(vhi - zlo[k])
                 ulo[i, k] = max(ulo[i, k], down_sum(vlo + alo[i, k]))
                 uhi[i, k] = min(uhi[i, k], up_sum(vhi + ahi[i, k]))
-        # 6. entries of R: R_kj ← R_kj ∩ (u_ik − Σ_{j'≠j} R_kj' b_ij') × (1/b_ij), legs with 0 ∉ b_ij
-        for k in range(3):
-            for j in range(3):
-                vlo, vhi = Rlo[k, j], Rhi[k, j]
-                for i in range(legs):
-                    if nonzero[i, j]:
-                        rl, rh = down(Pm[i, k, j] - Pr[i, k, j]), up(Pm[i, k, j] + Pr[i, k, j])
-                        if rl != rl:
-                            rl = -INF
-                        if rh != rh:
-                            rh = INF
-                        nl, nh = down_sum(ulo[i, k] - rh), up_sum(uhi[i, k] - rl)
-                        cl, ch = mul(nl, nh, invlo[i, j], invhi[i, j])
-                        vlo = max(vlo, cl)
-                        vhi = min(vhi, ch)
-                R2lo[k, j], R2hi[k, j] = vlo, vhi
-                if vlo > vhi:
-                    dead = True
-        if dead:
+        if _entries_from_points(ulo, uhi, Pm, Pr, nonzero, invlo, invhi, Rlo, Rhi, R2lo, R2hi):   # 6.
             empty[box] = True
             continue
-        # 7. the quaternion from R: diagonal entries, then off-diagonal ones (fk_hc4.DIAGONAL, OFF_DIAGONAL)
-        for k in range(3):
-            a, b_ = entries[k, k, 1], entries[k, k, 2]
-            tlo, thi = down_sum(1.0 - R2hi[k, k]), up_sum(1.0 - R2lo[k, k])
-            tlo, thi = _scale(tlo, thi, 0.5)
-            sl, sh = _sqr(zlo[p + b_], zhi[p + b_])
-            zlo[p + a], zhi[p + a] = _root(zlo[p + a], zhi[p + a], down_sum(tlo - sh), up_sum(thi - sl))
-            if zlo[p + a] > zhi[p + a]:
-                dead = True
-                break
-            sl, sh = _sqr(zlo[p + a], zhi[p + a])
-            zlo[p + b_], zhi[p + b_] = _root(zlo[p + b_], zhi[p + b_], down_sum(tlo - sh), up_sum(thi - sl))
-            if zlo[p + b_] > zhi[p + b_]:
-                dead = True
-                break
-        if dead:
-            empty[box] = True
-            continue
-        for e in range(6):
-            k, j = off[e, 0], off[e, 1]
-            ia, ib, ic, id_ = p + off[e, 2], p + off[e, 3], p + off[e, 4], p + off[e, 5]
-            sigma = off[e, 6]
-            hlo, hhi = _scale(R2lo[k, j], R2hi[k, j], 0.5)
-            clo, chi = mul(zlo[ic], zhi[ic], zlo[id_], zhi[id_])
-            if sigma > 0:
-                glo, ghi = down_sum(hlo - chi), up_sum(hhi - clo)
-            else:
-                glo, ghi = down_sum(hlo + clo), up_sum(hhi + chi)
-            if _divide_at(zlo, zhi, ia, glo, ghi, ib) or _divide_at(zlo, zhi, ib, glo, ghi, ia):
-                dead = True
-                break
-            xlo, xhi = mul(zlo[ia], zhi[ia], zlo[ib], zhi[ib])
-            glo, ghi = down_sum(hlo - xhi), up_sum(hhi - xlo)
-            if sigma < 0:
-                glo, ghi = -ghi, -glo
-            if _divide_at(zlo, zhi, ic, glo, ghi, id_) or _divide_at(zlo, zhi, id_, glo, ghi, ic):
-                dead = True
-                break
-        if dead:
+        if _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):                  # 7.
             empty[box] = True
             continue
         nan = False
@@ -412,73 +439,61 @@ def slope_quaternion(xlo, xhi, c, rblo, rbhi, rclo, rchi, Dm, Dr, alo, ahi, Llo,
 
 
 @njit(cache=True)
-def _gauss_jordan(A, n):
-    """Reduce the augmented matrix A (n, n + k) in place, with partial pivoting, so that its first n
-    columns become the identity and its last k the solution of the system; False where a pivot is 0
-    or not finite (A is then meaningless).  Plain floats: for preconditioners only."""
-    width = A.shape[1]
-    for col in range(n):
-        piv = col
-        best = abs(A[col, col])
-        for r in range(col + 1, n):
-            if abs(A[r, col]) > best:
-                best = abs(A[r, col])
-                piv = r
-        if not (best > 0.0) or not np.isfinite(best):
-            return False
-        if piv != col:
-            for j in range(width):
-                A[col, j], A[piv, j] = A[piv, j], A[col, j]
-        inv = 1.0 / A[col, col]
-        for j in range(width):
-            A[col, j] *= inv
-        for r in range(n):
-            if r != col:
-                f = A[r, col]
-                if f != 0.0:
-                    for j in range(width):
-                        A[r, j] -= f * A[col, j]
-    return True
+def _difference_equations(b, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi, slo, shi, Dlo, Dhi):
+    """The differences of the leg equations of box ``b``, D p = g into [Dlo, Dhi] (columns 0-2: D,
+    column 3: g), as ``FKSystem.position_system`` (``slo``/``shi``: scratch for a_i · R b_i)."""
+    legs = rblo.shape[1]
+    # a_i · R b_i, then D = 2((R b_i − R b_1) − (a_i − a_1)), g (FKSystem.position_system)
+    for i in range(legs):
+        sl, sh = 0.0, 0.0
+        for k in range(3):
+            ml, mh = mul(alo[i, k], ahi[i, k], rblo[b, i, k], rbhi[b, i, k])
+            if k == 0:
+                sl, sh = ml, mh
+            else:
+                sl, sh = down_sum(sl + ml), up_sum(sh + mh)
+        slo[i], shi[i] = sl, sh
+    for i in range(1, legs):
+        for k in range(3):
+            t1l, t1h = down_sum(rblo[b, i, k] - rbhi[b, 0, k]), up_sum(rbhi[b, i, k] - rblo[b, 0, k])
+            t2l, t2h = down_sum(alo[i, k] - ahi[0, k]), up_sum(ahi[i, k] - alo[0, k])
+            t3l, t3h = down_sum(t1l - t2h), up_sum(t1h - t2l)
+            Dlo[i - 1, k], Dhi[i - 1, k] = _scale(t3l, t3h, 2.0)
+        ul, uh = down_sum(slo[i] - shi[0]), up_sum(shi[i] - slo[0])
+        ul, uh = _scale(ul, uh, 2.0)
+        cl, ch = down_sum(klo[i] - khi[0]), up_sum(khi[i] - klo[0])
+        ul, uh = down_sum(ul - ch), up_sum(uh - cl)
+        dl, dh = down_sum(Llo[b, i] - Lhi[b, 0]), up_sum(Lhi[b, i] - Llo[b, 0])
+        Dlo[i - 1, 3], Dhi[i - 1, 3] = down_sum(ul + dl), up_sum(uh + dh)
 
 
 @njit(cache=True)
-def float_inverse(Mlo, Mhi, compact):
-    """(C, failed): the float inverse of each midpoint matrix 0.5 lo + 0.5 hi (N, n, n) by Gauss-Jordan
-    elimination with partial pivoting, rounded to float32 values where ``compact``; the identity where
-    a pivot vanishes or the result is not finite (``failed``).  A preconditioner: any C keeps the
-    Krawczyk and Hansen-Sengupta steps sound."""
-    N, n, _ = Mlo.shape
-    C = np.empty((N, n, n))
-    failed = np.zeros(N, dtype=np.bool_)
-    A = np.empty((n, 2 * n))
-    for b in range(N):
-        for i in range(n):
-            for j in range(n):
-                A[i, j] = 0.5 * Mlo[b, i, j] + 0.5 * Mhi[b, i, j]
-                A[i, n + j] = 1.0 if i == j else 0.0
-        ok = _gauss_jordan(A, n)
-        for i in range(n):
-            for j in range(n):
-                v = A[i, n + j] if ok else (1.0 if i == j else 0.0)
-                if not np.isfinite(v):
-                    ok = False
-                C[b, i, j] = v
-        if not ok:
-            failed[b] = True
-            for i in range(n):
-                for j in range(n):
-                    C[b, i, j] = 1.0 if i == j else 0.0
-        if compact:
-            for i in range(n):
-                for j in range(n):
-                    v = C[b, i, j]
-                    C[b, i, j] = np.float64(np.float32(v)) if abs(v) < 2.0 ** 127 else 0.0
-    return C, failed
+def _sweep(Alo, Ahi, xlo, xhi, ylo, yhi):
+    """One interval Gauss-Seidel sweep on [A | g] p = g over the position x (into y), as
+    ``linalg.gauss_seidel`` with ``C=False``; True if the position is proved empty."""
+    for k in range(3):
+        ylo[k], yhi[k] = xlo[k], xhi[k]
+    for i in range(3):
+        sl, sh = 0.0, 0.0
+        first = True
+        for j in range(3):
+            if j != i:
+                ml, mh = mul(Alo[i, j], Ahi[i, j], ylo[j], yhi[j])
+                if first:
+                    sl, sh = ml, mh
+                    first = False
+                else:
+                    sl, sh = down_sum(sl + ml), up_sum(sh + mh)
+        nl, nh = down_sum(Alo[i, 3] - sh), up_sum(Ahi[i, 3] - sl)
+        ylo[i], yhi[i] = gs_update(nl, nh, Alo[i, i], Ahi[i, i], ylo[i], yhi[i])
+        if ylo[i] > yhi[i]:
+            return True
+    return False
 
 
 @njit(cache=True)
 def position_gauss_seidel(xlo, xhi, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi):
-    """``fk.contract_position`` for a spatial robot (position p = x[:, :3]): (lo, hi, empty, P).
+    """``step.contract_position`` for a spatial robot (position p = x[:, :3]): (lo, hi, empty, P).
 
     The differences of leg equations D p = g (``FKSystem.position_system``, the same interval
     operations, from R b_i over the box ``rb`` (N, legs, 3), ``a`` (legs, 3), ``k`` = |a_i|² + |b_i|²
@@ -518,28 +533,7 @@ def position_gauss_seidel(xlo, xhi, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi):
             finite &= np.isfinite(xlo[b, k]) and np.isfinite(xhi[b, k])
         if not finite:
             continue
-        # a_i · R b_i, then D = 2((R b_i − R b_1) − (a_i − a_1)), g (FKSystem.position_system)
-        for i in range(legs):
-            sl, sh = 0.0, 0.0
-            for k in range(3):
-                ml, mh = mul(alo[i, k], ahi[i, k], rblo[b, i, k], rbhi[b, i, k])
-                if k == 0:
-                    sl, sh = ml, mh
-                else:
-                    sl, sh = down_sum(sl + ml), up_sum(sh + mh)
-            slo[i], shi[i] = sl, sh
-        for i in range(1, legs):
-            for k in range(3):
-                t1l, t1h = down_sum(rblo[b, i, k] - rbhi[b, 0, k]), up_sum(rbhi[b, i, k] - rblo[b, 0, k])
-                t2l, t2h = down_sum(alo[i, k] - ahi[0, k]), up_sum(ahi[i, k] - alo[0, k])
-                t3l, t3h = down_sum(t1l - t2h), up_sum(t1h - t2l)
-                Dlo[i - 1, k], Dhi[i - 1, k] = _scale(t3l, t3h, 2.0)
-            ul, uh = down_sum(slo[i] - shi[0]), up_sum(shi[i] - slo[0])
-            ul, uh = _scale(ul, uh, 2.0)
-            cl, ch = down_sum(klo[i] - khi[0]), up_sum(khi[i] - klo[0])
-            ul, uh = down_sum(ul - ch), up_sum(uh - cl)
-            dl, dh = down_sum(Llo[b, i] - Lhi[b, 0]), up_sum(Lhi[b, i] - Llo[b, 0])
-            Dlo[i - 1, 3], Dhi[i - 1, 3] = down_sum(ul + dl), up_sum(uh + dh)
+        _difference_equations(b, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi, slo, shi, Dlo, Dhi)
         for r in range(m):
             for j in range(4):
                 mm, rr = midrad(Dlo[r, j], Dhi[r, j])
@@ -554,7 +548,7 @@ def position_gauss_seidel(xlo, xhi, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi):
                 G[i, j] = acc
             for r in range(m):
                 G[i, 3 + r] = Dm[r, i]
-        ok = _gauss_jordan(G, 3)
+        ok = gauss_jordan(G, 3)
         for i in range(3):
             for r in range(m):
                 v = G[i, 3 + r] if ok else 0.0
@@ -573,24 +567,7 @@ def position_gauss_seidel(xlo, xhi, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi):
                 bad |= not (np.isfinite(Alo[i, j]) and np.isfinite(Ahi[i, j]))
         if bad:
             continue
-        for k in range(3):
-            ylo[k], yhi[k] = xlo[b, k], xhi[b, k]
-        for i in range(3):
-            sl, sh = 0.0, 0.0
-            first = True
-            for j in range(3):
-                if j != i:
-                    ml, mh = mul(Alo[i, j], Ahi[i, j], ylo[j], yhi[j])
-                    if first:
-                        sl, sh = ml, mh
-                        first = False
-                    else:
-                        sl, sh = down_sum(sl + ml), up_sum(sh + mh)
-            nl, nh = down_sum(Alo[i, 3] - sh), up_sum(Ahi[i, 3] - sl)
-            ylo[i], yhi[i] = gs_update(nl, nh, Alo[i, i], Ahi[i, i], ylo[i], yhi[i])
-            if ylo[i] > yhi[i]:
-                empty[b] = True
-                break
+        empty[b] = _sweep(Alo, Ahi, xlo[b], xhi[b], ylo, yhi)
         if not empty[b]:
             for k in range(3):
                 plo[b, k], phi[b, k] = ylo[k], yhi[k]

@@ -46,7 +46,8 @@ from intervals import Interval, mul, sqr
 from intervals.interval import div
 from intervals.rounding import down, up
 
-from .robots.fk_systems import DIAGONAL, OFF_DIAGONAL, _from_midrad   # R(q)'s entries as products of q's
+from .kernels import TABLES, hc4_quaternion
+from .rotation import DIAGONAL, OFF_DIAGONAL, from_midrad   # R(q)'s entries as products of q's
 
 
 def root(x: Interval, t: Interval) -> Interval:
@@ -64,31 +65,29 @@ def root(x: Interval, t: Interval) -> Interval:
         pos = (plo <= phi) & (t.hi >= 0)
         lo = np.where(neg, nlo, np.where(pos, plo, np.inf))
         hi = np.where(pos, phi, np.where(neg, nhi, -np.inf))
-    return Interval._raw(lo, hi)
+    return Interval.from_bounds(lo, hi)
 
 
 def divide_into(x: Interval, num: Interval, den: Interval) -> Interval:
     """x ∩ num / den where 0 ∉ den; x itself elsewhere."""
     with np.errstate(all="ignore"):
         ok = (den.lo > 0) | (den.hi < 0)
-        q = div(num, Interval._raw(np.where(ok, den.lo, 1.0), np.where(ok, den.hi, 1.0)))
-        return Interval._raw(np.where(ok, np.maximum(x.lo, q.lo), x.lo), np.where(ok, np.minimum(x.hi, q.hi), x.hi))
+        q = div(num, Interval.from_bounds(np.where(ok, den.lo, 1.0), np.where(ok, den.hi, 1.0)))
+        return Interval.from_bounds(np.where(ok, np.maximum(x.lo, q.lo), x.lo), np.where(ok, np.minimum(x.hi, q.hi), x.hi))
 
 
 def _inverse(system) -> Interval:
     """Enclosures of 1/b_ij (legs, dim), computed once per system (1 where 0 ∈ b_ij: unused)."""
-    inverse = system.__dict__.get("_hc4_inverse")
-    if inverse is None:
+    def build():
         b = system.b
         ok = (b.lo > 0) | (b.hi < 0)
         one = np.ones(b.shape)
-        inverse = div(Interval._raw(one, one), Interval._raw(np.where(ok, b.lo, 1.0), np.where(ok, b.hi, 1.0)))
-        system._hc4_inverse = inverse
-    return inverse
+        return div(Interval.from_bounds(one, one), Interval.from_bounds(np.where(ok, b.lo, 1.0), np.where(ok, b.hi, 1.0)))
+    return system.memo("hc4_inverse", build)
 
 
 def _meet(x: Interval, y: Interval) -> Interval:
-    return Interval._raw(np.maximum(x.lo, y.lo), np.minimum(x.hi, y.hi))
+    return Interval.from_bounds(np.maximum(x.lo, y.lo), np.minimum(x.hi, y.hi))
 
 
 def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = None, native: bool = True):
@@ -98,7 +97,7 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
     mask of boxes proved to hold no root (their rows are meaningless); ``keep`` (a dict), for a
     quaternion: keep["form"] = ``FKSystem.centred_form`` of the given boxes (step 2).  The planar
     robot takes ``_hc4_planar`` (the same operations, stacked) unless ``generic``; a quaternion
-    system takes the machine-code twin (``fk_native``) unless ``native`` is false.
+    system takes the machine-code twin (``fk.kernels``) unless ``native`` is false.
     """
     if system.kind == "planar-3rpr" and not generic:
         return _hc4_planar(system, lo, hi, L)
@@ -110,7 +109,7 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
     quaternion = system.kind != "planar-3rpr"
     empty = np.zeros(N, dtype=bool)
     with np.errstate(all="ignore"):
-        z = [Interval._raw(lo[:, k], hi[:, k]) for k in range(n)]
+        z = [Interval.from_bounds(lo[:, k], hi[:, k]) for k in range(n)]
 
         def put(k, v):
             nonlocal empty
@@ -126,13 +125,13 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
                     others = squares[j] if others is None else others + squares[j]
             put(k, root(z[k], 1.0 - others))
             squares[k] = sqr(z[k])
-        X = Interval._raw(np.stack([v.lo for v in z], 1), np.stack([v.hi for v in z], 1))
+        X = Interval.from_bounds(np.stack([v.lo for v in z], 1), np.stack([v.hi for v in z], 1))
         # 2. forward: R, u_i = R b_i, e_i = (u_i − a_i) + p
         R = system.rotation(X)                               # (N, dim, dim)
         b = system.b
         if quaternion:      # u_i = R b_i in midpoint-radius form, and its column terms for step 6
             um, ur, Pm, Pr = system.rotated_midrad(R, columns=True)
-            u = _from_midrad(um, ur)
+            u = from_midrad(um, ur)
         else:
             T = R[:, None, :, :] * b[None, :, None, :]       # (N, legs, k, j): R_kj b_ij, also for step 6
             u = T[..., 0]                                    # u_i = R b_i: the products and sums of
@@ -141,10 +140,10 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
         # ∩ the centred form over the given box, around its midpoint (FKSystem.rotated_centred; a superset
         # of the checker's, which is over the box after step 1)
         if quaternion:
-            form = system.centred_form(Interval._raw(lo, hi))
+            form = system.centred_form(Interval.from_bounds(lo, hi))
             if keep is not None:
                 keep["form"] = form
-            u = system.rotated_centred(Interval._raw(lo, hi), rb=u, form=form)
+            u = system.rotated_centred(Interval.from_bounds(lo, hi), rb=u, form=form)
         a = system.a[None, :, :]
         e = u - a
         if p:
@@ -165,59 +164,17 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
         if p:
             for k in range(p):
                 cand = (e[..., k] - u[..., k]) + a[..., k]   # (N, legs)
-                put(k, Interval._raw(np.maximum(z[k].lo, np.max(cand.lo, axis=1)),
+                put(k, Interval.from_bounds(np.maximum(z[k].lo, np.max(cand.lo, axis=1)),
                                      np.minimum(z[k].hi, np.min(cand.hi, axis=1))))
         # 5. u_ik from e_ik
         for k in range(dim):
             back = e[..., k] - z[k][:, None] if p else e[..., k]
             u[..., k] = _meet(u[..., k], back + a[..., k])
         # 6. entries of R from u_i = R b_i (all candidates from the R of step 2)
-        nonzero = (b.lo > 0) | (b.hi < 0)                  # (legs, dim)
-        inverse = _inverse(system)                           # enclosures of 1/b_ij
-        Rlo, Rhi = R.lo.copy(), R.hi.copy()
-        for j in range(dim):
-            legs_j = np.nonzero(nonzero[:, j])[0]
-            if not len(legs_j):
-                continue
-            if quaternion:  # Σ_{j'≠j} R_kj' b_ij' in midpoint-radius form (``rotated_midrad``)
-                rest = _from_midrad(Pm[..., j][:, legs_j], Pr[..., j][:, legs_j])
-                num = u[:, legs_j] - rest                    # (N, legs_j, k)
-            else:
-                rest = None
-                for jj in range(dim):
-                    if jj != j:
-                        rest = T[..., jj] if rest is None else rest + T[..., jj]
-                num = (u - rest)[:, legs_j]                  # (N, legs_j, k)
-            cand = num * inverse[legs_j, j][None, :, None]   # ÷ b_ij, as × an enclosure of 1/b_ij
-            Rlo[:, :, j] = np.maximum(Rlo[:, :, j], np.max(cand.lo, axis=1))
-            Rhi[:, :, j] = np.minimum(Rhi[:, :, j], np.min(cand.hi, axis=1))
-        empty |= np.any(Rlo > Rhi, axis=(1, 2))
-        R = Interval._raw(Rlo, Rhi)
+        R = _entries(system, R, u, T if not quaternion else None, (Pm, Pr) if quaternion else None)
+        empty |= np.any(R.lo > R.hi, axis=(1, 2))
         # 7. the rotation unknowns from R
-        if system.kind == "planar-3rpr":
-            put(2, _meet(_meet(z[2], R[:, 0, 0]), R[:, 1, 1]))
-            put(3, _meet(_meet(z[3], R[:, 1, 0]), -R[:, 0, 1]))
-        else:
-            q = z[p:]
-
-            def setq(m, v):
-                q[m] = v
-                put(p + m, v)
-            for k, ia, ib in DIAGONAL:
-                t = (1.0 - R[:, k, k]) * 0.5
-                setq(ia, root(q[ia], t - sqr(q[ib])))
-                setq(ib, root(q[ib], t - sqr(q[ia])))
-            for (k, j), (ia, ib), (ic, id_), sigma in OFF_DIAGONAL:
-                h = R[:, k, j] * 0.5
-                cd = q[ic] * q[id_]
-                g = h - cd if sigma > 0 else h + cd
-                setq(ia, divide_into(q[ia], g, q[ib]))
-                setq(ib, divide_into(q[ib], g, q[ia]))
-                g2 = h - q[ia] * q[ib]
-                if sigma < 0:
-                    g2 = -g2
-                setq(ic, divide_into(q[ic], g2, q[id_]))
-                setq(id_, divide_into(q[id_], g2, q[ic]))
+        _rotation_unknowns(system, R, z, put)
         nlo = np.stack([v.lo for v in z], 1)
         nhi = np.stack([v.hi for v in z], 1)
         bad = np.any(np.isnan(nlo) | np.isnan(nhi), axis=1) & ~empty   # never expected: keep the box
@@ -226,19 +183,77 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
     return nlo, nhi, empty
 
 
+def _entries(system, R: Interval, u: Interval, T: Interval | None, parts) -> Interval:
+    """Step 6: R_kj ← R_kj ∩ (u_ik − Σ_{j'≠j} R_kj' b_ij') / b_ij for the legs with 0 ∉ b_ij, every
+    candidate from the R of step 2 (``T``: the products R_kj b_ij, planar; ``parts``: the sums that
+    leave column j out in midpoint-radius form, quaternion)."""
+    b = system.b
+    dim = b.shape[1]
+    nonzero = (b.lo > 0) | (b.hi < 0)                  # (legs, dim)
+    inverse = _inverse(system)                           # enclosures of 1/b_ij
+    Rlo, Rhi = R.lo.copy(), R.hi.copy()
+    for j in range(dim):
+        legs_j = np.nonzero(nonzero[:, j])[0]
+        if not len(legs_j):
+            continue
+        if parts is not None:  # Σ_{j'≠j} R_kj' b_ij' in midpoint-radius form (``rotated_midrad``)
+            Pm, Pr = parts
+            rest = from_midrad(Pm[..., j][:, legs_j], Pr[..., j][:, legs_j])
+            num = u[:, legs_j] - rest                    # (N, legs_j, k)
+        else:
+            rest = None
+            for jj in range(dim):
+                if jj != j:
+                    rest = T[..., jj] if rest is None else rest + T[..., jj]
+            num = (u - rest)[:, legs_j]                  # (N, legs_j, k)
+        cand = num * inverse[legs_j, j][None, :, None]   # ÷ b_ij, as × an enclosure of 1/b_ij
+        Rlo[:, :, j] = np.maximum(Rlo[:, :, j], np.max(cand.lo, axis=1))
+        Rhi[:, :, j] = np.minimum(Rhi[:, :, j], np.min(cand.hi, axis=1))
+    return Interval.from_bounds(Rlo, Rhi)
+
+
+def _rotation_unknowns(system, R: Interval, z: list, put):
+    """Step 7: the rotation unknowns of ``z`` from the entries of R (``put(k, v)`` sets z[k])."""
+    p = system.n_pos
+    if system.kind == "planar-3rpr":
+        put(2, _meet(_meet(z[2], R[:, 0, 0]), R[:, 1, 1]))
+        put(3, _meet(_meet(z[3], R[:, 1, 0]), -R[:, 0, 1]))
+        return
+    q = z[p:]
+
+    def setq(m, v):
+        q[m] = v
+        put(p + m, v)
+    for k, ia, ib in DIAGONAL:
+        t = (1.0 - R[:, k, k]) * 0.5
+        setq(ia, root(q[ia], t - sqr(q[ib])))
+        setq(ib, root(q[ib], t - sqr(q[ia])))
+    for (k, j), (ia, ib), (ic, id_), sigma in OFF_DIAGONAL:
+        h = R[:, k, j] * 0.5
+        cd = q[ic] * q[id_]
+        g = h - cd if sigma > 0 else h + cd
+        setq(ia, divide_into(q[ia], g, q[ib]))
+        setq(ib, divide_into(q[ib], g, q[ia]))
+        g2 = h - q[ia] * q[ib]
+        if sigma < 0:
+            g2 = -g2
+        setq(ic, divide_into(q[ic], g2, q[id_]))
+        setq(id_, divide_into(q[id_], g2, q[ic]))
+
+
 def _hc4_native(system, lo, hi, L: Interval, keep: dict | None):
-    """``hc4`` for a quaternion system by ``fk_native.hc4_quaternion`` (the same pass, box by box)."""
-    from .fk_native import TABLES, hc4_quaternion
+    """``hc4`` for a quaternion system by ``kernels.hc4_quaternion`` (the same pass, box by box)."""
     lo, hi = np.ascontiguousarray(lo, dtype=np.float64), np.ascontiguousarray(hi, dtype=np.float64)
-    form = system.centred_form(Interval._raw(lo, hi))
+    form = system.centred_form(Interval.from_bounds(lo, hi))
     if keep is not None:
         keep["form"] = form
-    consts = system.__dict__.get("_hc4_native_consts")
-    if consts is None:
-        bm, inner, outer = system._b_midrad()
+
+    def build():
+        bm, inner, outer = system.b_midrad()
         b, inverse = system.b, _inverse(system)
-        consts = system._hc4_native_consts = tuple(np.ascontiguousarray(v) for v in (
+        return tuple(np.ascontiguousarray(v) for v in (
             system.a.lo, system.a.hi, bm, inner, outer, (b.lo > 0) | (b.hi < 0), inverse.lo, inverse.hi))
+    consts = system.memo("hc4_native_consts", build)
     f64 = np.ascontiguousarray
     return hc4_quaternion(lo, hi, f64(L.lo, dtype=np.float64), f64(L.hi, dtype=np.float64),
                           f64(form[0]), f64(form[1]), *consts, system.n_pos, *TABLES)
@@ -253,16 +268,16 @@ def _hc4_planar(system, lo, hi, L: Interval):
     lo, hi = np.array(lo, dtype=np.float64), np.array(hi, dtype=np.float64)
     with np.errstate(all="ignore"):
         # 1. the norm equation: c from s, then s from the new c
-        c = root(Interval._raw(lo[:, 2], hi[:, 2]), 1.0 - sqr(Interval._raw(lo[:, 3], hi[:, 3])))
-        s = root(Interval._raw(lo[:, 3], hi[:, 3]), 1.0 - sqr(c))
+        c = root(Interval.from_bounds(lo[:, 2], hi[:, 2]), 1.0 - sqr(Interval.from_bounds(lo[:, 3], hi[:, 3])))
+        s = root(Interval.from_bounds(lo[:, 3], hi[:, 3]), 1.0 - sqr(c))
         empty = (c.lo > c.hi) | (s.lo > s.hi)
         zlo = np.stack([lo[:, 0], lo[:, 1], c.lo, s.lo], 1)
         zhi = np.stack([hi[:, 0], hi[:, 1], c.hi, s.hi], 1)
-        X = Interval._raw(zlo, zhi)
+        X = Interval.from_bounds(zlo, zhi)
         # 2. forward: R, the products R_kj b_ij, u_i = R b_i, e_i = (u_i − a_i) + p
         R = system.rotation(X)                                               # (N, 2, 2)
         b = system.b
-        T = mul(R[:, None, :, :], Interval._raw(b.lo[None, :, None, :], b.hi[None, :, None, :]))  # (N, legs, k, j)
+        T = mul(R[:, None, :, :], Interval.from_bounds(b.lo[None, :, None, :], b.hi[None, :, None, :]))  # (N, legs, k, j)
         u = T[..., 0] + T[..., 1]                                           # (N, legs, 2)
         a = system.a[None, :, :]
         e = (u - a) + X[:, None, :2]
@@ -270,7 +285,7 @@ def _hc4_planar(system, lo, hi, L: Interval):
         e0 = root(e[..., 0], L - sqr(e[..., 1]))
         e1 = root(e[..., 1], L - sqr(e0))
         empty |= np.logical_or.reduce(e0.lo > e0.hi, axis=1) | np.logical_or.reduce(e1.lo > e1.hi, axis=1)
-        e = Interval._raw(np.stack([e0.lo, e1.lo], -1), np.stack([e0.hi, e1.hi], -1))
+        e = Interval.from_bounds(np.stack([e0.lo, e1.lo], -1), np.stack([e0.hi, e1.hi], -1))
         # 4. the position, both coordinates at once
         cand = (e - u) + a                                                   # (N, legs, 2)
         plo = np.maximum(zlo[:, :2], np.maximum.reduce(cand.lo, axis=1))
@@ -278,13 +293,13 @@ def _hc4_planar(system, lo, hi, L: Interval):
         empty |= np.logical_or.reduce(plo > phi, axis=1)
         zlo[:, :2], zhi[:, :2] = plo, phi
         # 5. u_ik from e_ik, both coordinates at once
-        u = _meet(u, (e - Interval._raw(plo[:, None, :], phi[:, None, :])) + a)
+        u = _meet(u, (e - Interval.from_bounds(plo[:, None, :], phi[:, None, :])) + a)
         # 6. entries of R: column j from u_i − R_k(1−j) b_i(1−j), for the legs with 0 ∉ b_ij
         nonzero = (b.lo > 0) | (b.hi < 0)                                    # (legs, 2)
         inverse = _inverse(system)
         rest = T[..., ::-1]                                                  # [..., j] = R_k(1−j) b_i(1−j)
-        num = Interval._raw(u.lo[..., None], u.hi[..., None]) - rest         # (N, legs, k, j)
-        cand = num * Interval._raw(inverse.lo[None, :, None, :], inverse.hi[None, :, None, :])
+        num = Interval.from_bounds(u.lo[..., None], u.hi[..., None]) - rest         # (N, legs, k, j)
+        cand = num * Interval.from_bounds(inverse.lo[None, :, None, :], inverse.hi[None, :, None, :])
         used = nonzero[None, :, None, :]
         Rlo = np.maximum(R.lo, np.maximum.reduce(np.where(used, cand.lo, -np.inf), axis=1))
         Rhi = np.minimum(R.hi, np.minimum.reduce(np.where(used, cand.hi, np.inf), axis=1))

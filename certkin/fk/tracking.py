@@ -1,6 +1,6 @@
 """Forward-kinematics tracking: the posture near a previous one, proved unique (seed 002 §4).
 
-For new leg lengths and a previous posture x0 (unknowns of ``robots.fk_systems``):
+For new leg lengths and a previous posture x0 (unknowns of ``fk.system``):
 
 1. a guess x* from float Newton iterations started at x0 (``FKSystem.float_system``:
    plain float64, never used as a proof);
@@ -40,11 +40,14 @@ import time
 
 import numpy as np
 
-from intervals import Interval, linalg, sqr
+from intervals import Interval, linalg, native, sqr
 from intervals.rounding import enclose_plain
 
-from .fk import FKResult, _pose_names, float_inverse, unique_in
-from .robots.fk_stacked import StackedFKSystem
+from ..robots.poses import float_length_rows, parse_lengths, parse_pose
+from .result import FKResult, robot_pose
+from .stacked import StackedFKSystem
+from .step import unique_in
+from .system import fk_system
 
 GROWS = (0.5, 0.25)          # tracking box: hull(x0, x*) widened by grow × the move (first try, smaller retry)
 INFLATE = 0.25               # retries: hull(x0, x*, K(B)) widened by this fraction of its width
@@ -59,11 +62,8 @@ ROOT_RETRY = 2.0 ** 10       # the root box is widened by this factor when its f
 def _scale(system):
     """Size of each unknown: the robot's size for positions, 1 for rotation unknowns (computed once
     per system; read only)."""
-    scale = system.__dict__.get("_tracking_scale")
-    if scale is None:
-        scale = system._tracking_scale = np.concatenate([np.full(system.n_pos, system.size),
-                                                         np.ones(system.n - system.n_pos)])
-    return scale
+    return system.memo("tracking_scale", lambda: np.concatenate([np.full(system.n_pos, system.size),
+                                                                  np.ones(system.n - system.n_pos)]))
 
 
 def newton(system, x, L2, scale, steps: int = NEWTON_STEPS, model: list | None = None):
@@ -110,29 +110,14 @@ def _planar_float_system(g, x, L2):
 
 
 def _gauss_jordan(J, B):
-    """J⁻¹ B (row lists, Python floats) by Gauss-Jordan elimination with partial pivoting on
-    [J | B]; None if J is singular or the result is not finite.  An estimate, never a proof."""
-    n, m = len(J), len(B[0])
-    A = [list(row) + list(extra) for row, extra in zip(J, B)]
-    for k in range(n):
-        piv, big = k, abs(A[k][k])
-        for i in range(k + 1, n):
-            if abs(A[i][k]) > big:
-                piv, big = i, abs(A[i][k])
-        if not big > 0.0:
-            return None
-        A[k], A[piv] = A[piv], A[k]
-        rk = A[k]
-        inv = 1.0 / rk[k]
-        for j in range(n + m):
-            rk[j] *= inv
-        for i in range(n):
-            if i != k and A[i][k]:
-                ri, c = A[i], A[i][k]
-                for j in range(n + m):
-                    ri[j] -= c * rk[j]
-    out = [row[n:] for row in A]
-    return out if all(math.isfinite(v) for row in out for v in row) else None
+    """J⁻¹ B (row lists of Python floats) by ``intervals.native.gauss_jordan`` (partial pivoting on
+    [J | B]); None if J is singular or the result is not finite.  An estimate, never a proof."""
+    n = len(J)
+    A = np.array([list(row) + list(extra) for row, extra in zip(J, B)], dtype=np.float64)
+    if not native.gauss_jordan(A, n):
+        return None
+    out = A[:, n:]
+    return out.tolist() if np.isfinite(out).all() else None
 
 
 def _solve(J, f):
@@ -170,7 +155,7 @@ def _root_radius(system, x, L2, model=None):
     ``model``: (f, J, d) of ``newton``'s last step (rows of N), used instead of f(x*), J(x*): f(x*)
     is then estimated as |f| plus the quadratic term (1 + |b_i|)² |d|₁² the model leaves out."""
     p = system.n_pos
-    geometry, curve = system.__dict__.get("_radius_terms") or _radius_terms(system)
+    geometry, curve = system.memo("radius_terms", lambda: _radius_terms(system))
     with np.errstate(all="ignore"):
         if model is None:
             f, J = system.float_system(x, L2)
@@ -178,7 +163,7 @@ def _root_radius(system, x, L2, model=None):
         else:
             f, J, d = model
             f = np.abs(f) + curve * np.sum(np.abs(d), -1, keepdims=True) ** 2
-        C, failed = float_inverse(J)
+        C, failed = linalg.float_inverse(J)
         # each leg equation sums terms of magnitude <= 3 (|p|² + |a_i|² + |b_i|²) + ρ_i²; the norm's, 2
         terms = np.concatenate([L2, np.zeros((len(x), 1))], -1) + geometry
         if p:
@@ -192,7 +177,7 @@ def _root_radius(system, x, L2, model=None):
 def _root_radius_one(system, x, L2, model):
     """``_root_radius`` for one step with ``newton``'s model, in Python floats (C by Gauss-Jordan
     elimination; None where that fails: then ``_root_radius`` decides)."""
-    geometry, curve = system.__dict__.get("_radius_terms") or _radius_terms(system)
+    geometry, curve = system.memo("radius_terms", lambda: _radius_terms(system))
     f, J, d = model
     n, p = len(x), system.n_pos
     x, L2 = x.tolist(), L2.tolist()
@@ -214,26 +199,24 @@ def _radius_terms(system):
     the robot's part of ``_root_radius``'s estimate, computed once per system."""
     a, b = system.float_geometry()
     b2 = np.sum(b * b, -1)
-    terms = (np.concatenate([3.0 * (np.sum(a * a, -1) + b2), [2.0]]),
-             np.concatenate([(1.0 + np.sqrt(b2)) ** 2, [1.0]]))
-    system._radius_terms = terms
-    return terms
+    return (np.concatenate([3.0 * (np.sum(a * a, -1) + b2), [2.0]]),
+            np.concatenate([(1.0 + np.sqrt(b2)) ** 2, [1.0]]))
 
 
 def krawczyk(system: StackedFKSystem, lo, hi, L: Interval, points: bool = False):
     """(K, C[, platform points]) for the boxes [lo, hi] (N, n): one stacked evaluation of f at the
     midpoints and of J over the boxes, then the Krawczyk image (C ≈ inverse of the midpoint
     Jacobian; the tests K ⊂ int X are made by the caller)."""
-    X = Interval._raw(lo, hi)
+    X = Interval.from_bounds(lo, hi)
     f, J, c, *pts = system.krawczyk_data(X, L, points=points)
-    C, _ = float_inverse(J.mid())
-    return (linalg._krawczyk_image(f, J, X, c, C), C, *pts)
+    C, _ = linalg.float_inverse(J.mid())
+    return (linalg.krawczyk_image(f, J, X, c, C), C, *pts)
 
 
 @dataclass
 class Proofs:
     """Per step: ``ok``, the tracking box B (``blo``, ``bhi``, ``bC``) and the root box R ⊂ B
-    (``rlo``, ``rhi``, ``rC``); both passed K ⊂ int (with the margin of ``fk.unique_in``) where ok."""
+    (``rlo``, ``rhi``, ``rC``); both passed K ⊂ int (with the margin of ``step.unique_in``) where ok."""
 
     ok: np.ndarray
     blo: np.ndarray
@@ -266,7 +249,7 @@ def prove(system: StackedFKSystem, x0, x, L: Interval, L2, model=None) -> Proofs
     blo, bhi = grown(GROWS[0], slice(None))
     # the first round (usually the only one): every tracking box and every root box
     los, his = np.concatenate([blo, rlo]), np.concatenate([bhi, rhi])
-    K, C, pts = krawczyk(system, los, his, Interval._raw(np.concatenate([L.lo, L.lo]), np.concatenate([L.hi, L.hi])),
+    K, C, pts = krawczyk(system, los, his, Interval.from_bounds(np.concatenate([L.lo, L.lo]), np.concatenate([L.hi, L.hi])),
                          points=True)
     good = unique_in(K, los, his)
     okB, okR = good[:N].copy(), good[N:].copy()
@@ -299,7 +282,7 @@ def prove(system: StackedFKSystem, x0, x, L: Interval, L2, model=None) -> Proofs
         if not len(idx):
             break
         los, his = np.concatenate([t[1] for t in tries]), np.concatenate([t[2] for t in tries])
-        K, C = krawczyk(system, los, his, Interval._raw(L.lo[idx], L.hi[idx]))
+        K, C = krawczyk(system, los, his, Interval.from_bounds(L.lo[idx], L.hi[idx]))
         good = unique_in(K, los, his)
         at = 0
         for t, (rows, tlo, thi) in enumerate(b_tries):   # the first proved box of each row, in order
@@ -324,10 +307,10 @@ def prove(system: StackedFKSystem, x0, x, L: Interval, L2, model=None) -> Proofs
 
 def _tracked_results(robot, system, texts, proofs: Proofs, rows):
     """FKResults (tracked) for the proved rows: pose and platform points of every root box in one
-    evaluation (as ``fk._finish`` does for one result)."""
+    evaluation (as ``api._finish`` does for one result)."""
     if not len(rows):
         return []
-    X = Interval._raw(proofs.rlo[rows], proofs.rhi[rows])
+    X = Interval.from_bounds(proofs.rlo[rows], proofs.rhi[rows])
     poses = system.pose(X)
     if proofs.has_points is not None and proofs.has_points[rows].all():   # computed with the proof
         pts = proofs.points[rows]
@@ -337,9 +320,9 @@ def _tracked_results(robot, system, texts, proofs: Proofs, rows):
     out = []
     for j, k in enumerate(rows):
         res = FKResult(robot, system, texts[k], (proofs.blo[k], proofs.bhi[k]), tracked=True, complete=True)
-        res.solutions.append({"status": "unique", "box": Interval._raw(proofs.rlo[k], proofs.rhi[k]),
+        res.solutions.append({"status": "unique", "box": Interval.from_bounds(proofs.rlo[k], proofs.rhi[k]),
                               "C": proofs.rC[k],
-                              "pose": _pose_names(robot, {name: v[j] for name, v in poses.items()}),
+                              "pose": robot_pose(robot, {name: v[j] for name, v in poses.items()}),
                               "platform_points": [[pts[j, i, c] for c in range(dim)] for i in range(legs)]})
         res.all_solutions = list(res.solutions)
         res.track_C = proofs.bC[k]
@@ -366,8 +349,7 @@ def _pose_guess(robot, previous):
             out.append(min(max(0.5 * lo + 0.5 * hi, lo), hi))     # Interval.mid
         else:
             return np.array(out)
-    from .poses import parse_pose
-    return parse_pose(previous, robot, "--track")[0].mid()
+    return parse_pose(previous, robot, "track")[0].mid()
 
 
 def track_one(robot, system, texts, L: Interval, previous):
@@ -393,45 +375,25 @@ def track_one(robot, system, texts, L: Interval, previous):
     return res
 
 
-def _float_rows(robot, lengths):
-    """(enclosures (M, legs), texts) of a 2-D float array of leg lengths, or None for other input
-    (``fk._parse_lengths`` then parses it and reports bad values).
-
-    As in ``forward_kinematics``, a float's text is its ``repr``: the shortest decimal that rounds
-    to it, so that decimal lies within half a spacing of the float, between the float's two
-    neighbours — the enclosure used here (no decimal-to-rational conversion per value).
-    """
-    if not isinstance(lengths, np.ndarray) or lengths.dtype.kind != "f" or lengths.ndim != 2 \
-            or lengths.shape[1] != robot.n_legs or not len(lengths):
-        return None
-    v = lengths.astype(np.float64)
-    if not (np.all(np.isfinite(v)) and np.all(v >= 0)):
-        return None
-    texts = [[repr(t) for t in row] for row in v.tolist()]
-    lo = np.where(v > 0, np.nextafter(v, -np.inf), 0.0)
-    return Interval._raw(lo, np.nextafter(v, np.inf)), texts
-
-
-def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budget=None):
+def track_rows(robot, lengths_rows, start_pose):
     """Track the posture through a sequence of leg-length sets, starting near ``start_pose``.
 
     ``lengths_rows``: one row per step (2-D array or list of rows; exact decimals or floats, as
     ``forward_kinematics``); ``start_pose``: the pose before the first step (text or sequence).
     Step k starts its Newton iterations from step k−1's posture (extrapolated from the last two)
     and is proved unique in a box around both (``result.tracked``); all proofs of the sequence
-    run in one batched evaluation.  A step that is not proved is not guessed: with ``fallback``
-    its leg lengths get the full search (all postures, ``tracked`` false; the steps needing it
-    are searched together as one batch, with ``budget``); without, its result has no solution,
-    ``complete`` false and ``tracked`` false.  Returns one ``FKResult`` per row.
+    run in one batched evaluation.  A step that is not proved is not guessed.
+
+    Returns ``(results, missing)``: one ``FKResult`` per row, and the rows that were not proved;
+    their result has no solution, ``complete`` false and ``tracked`` false (its claim covers only
+    the posture guess).  What to do with them (the full search, ``fk.api.track_sequence``) is the
+    caller's choice.
     """
-    from .fk import FKResult, _parse_lengths, fk_system, forward_kinematics
-    from .poses import parse_pose
-    t0 = time.perf_counter()
-    parsed = _float_rows(robot, lengths_rows)
+    parsed = float_length_rows(robot, lengths_rows)
     if parsed is None:
-        rows, texts, _ = _parse_lengths(robot, lengths_rows)
-        rho = Interval._raw(np.array([[float(v.lo) for v in r] for r in rows]),
-                            np.array([[float(v.hi) for v in r] for r in rows]))
+        rows, texts, _ = parse_lengths(robot, lengths_rows)
+        rho = Interval.from_bounds(np.array([[float(v.lo) for v in r] for r in rows]),
+                                   np.array([[float(v.hi) for v in r] for r in rows]))
     else:
         rho, texts = parsed
     pose, _ = parse_pose(start_pose, robot, "start_pose")
@@ -459,22 +421,13 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
     conv = np.nonzero(converged)[0]
     results = [None] * M
     if len(conv):
-        proofs = prove(system, starts[conv], xs[conv], Interval._raw(L.lo[conv], L.hi[conv]), L2[conv])
+        proofs = prove(system, starts[conv], xs[conv], Interval.from_bounds(L.lo[conv], L.hi[conv]), L2[conv])
         for k, r in zip(conv[proofs.ok], _tracked_results(robot, system, [texts[k] for k in conv], proofs,
                                                           np.nonzero(proofs.ok)[0])):
             results[k] = r
     missing = [k for k in range(M) if results[k] is None]
-    if missing and fallback:
-        searched = forward_kinematics(robot, [list(texts[k]) for k in missing], budget=budget)
-        for k, r in zip(missing, searched):
-            results[k] = r
-    elif missing:
-        for k in missing:
-            # nothing proved: the claim covers only the posture guess x_prev, and is incomplete
-            box = (starts[k].copy(), starts[k].copy())
-            results[k] = FKResult(robot, system, texts[k], box, tracked=False, complete=False, user_domain=True)
-    seconds = (time.perf_counter() - t0) / M
-    for r in results:
-        if r.tracked or not fallback:
-            r.seconds = seconds
-    return results
+    for k in missing:
+        # nothing proved: the claim covers only the posture guess x_prev, and is incomplete
+        box = (starts[k].copy(), starts[k].copy())
+        results[k] = FKResult(robot, system, texts[k], box, tracked=False, complete=False, user_domain=True)
+    return results, missing
