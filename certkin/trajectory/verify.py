@@ -1,12 +1,10 @@
 """Certified trajectory feasibility (seed 000 ch. 1, with the digest's corrections).
 
-A path is a polyline of poses P_0 … P_n; on segment k the pose is
-P_k + t (P_{k+1} − P_k), t ∈ [0, 1]: a straight line in position and a linear
-interpolation of the pose angles (seed 000 eq. 1.82–1.83; constant orientation
-when the angles are equal).  The global parameter is s = k + t.
+A path (``trajectory.path``) is a polyline of poses; on segment k the pose is
+P_k + t (P_{k+1} − P_k), t ∈ [0, 1], and the global parameter is s = k + t.
 
 The shared engine bisects t; each t-interval is decided by
-``trajectory_constraints.Constraints`` (every constraint instance proved
+``trajectory.constraints.Constraints`` (every constraint instance proved
 satisfied, proved violated over the whole interval, or unknown).  Boxes are
 split while some instance is unknown (down to ``min_width``) or while a
 satisfied instance could still lower its certified minimum margin by more
@@ -24,9 +22,6 @@ than the tolerance.  Verdicts:
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from fractions import Fraction
-import math
 import time
 
 import numpy as np
@@ -34,58 +29,17 @@ import numpy as np
 from intervals import Interval
 from intervals.rounding import down, sum_bounds, up
 
-from . import budgets
-from .engine.search import OPEN, PROVED, EXCLUDED, Budget, search
-from .errors import InputError
-from .poses import parse_pose
-from .trajectory_constraints import SATISFIED, UNKNOWN, VIOLATED, Constraints, crossing_points, piece_plan
+from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, budgets, search
+from ..errors import InputError
+from .constraints import Constraints, piece_plan
+from .crossings import crossing_points
+from .families.base import SATISFIED, UNKNOWN, VIOLATED
+from .path import angle_step, parse_path
+from .result import TrajectoryResult, conclude
 
 FIRST_BATCH = 256    # constant orientation: about this many initial sub-intervals in all (2 to 16 per segment)
 MARGIN_RTOL = 1e-4   # relative tolerance of the certified minimum margins
 INDEX_STEPS = 64     # sub-intervals per segment for the mean indices
-
-
-@dataclass
-class Path:
-    """A polyline of poses (exact texts and their enclosures)."""
-
-    texts: list
-    poses: Interval                      # (n + 1, d)
-
-    @property
-    def segments(self) -> int:
-        return self.poses.shape[0] - 1
-
-    def start_and_step(self):
-        """Per segment, P_k and P_{k+1} − P_k; a coordinate whose exact text is the same at
-        both ends has a step of exactly 0 (so constant angles give the constant-orientation path)."""
-        P0 = self.poses[:-1]
-        D = self.poses[1:] - self.poses[:-1]
-        same = np.array([[a == b for a, b in zip(p, q)] for p, q in zip(self.texts[:-1], self.texts[1:])])
-        if same.any():
-            D = Interval._raw(np.where(same, 0.0, D.lo), np.where(same, 0.0, D.hi))
-        return P0, D
-
-
-def angle_step(robot, D: Interval) -> float:
-    """The largest change of a pose angle along one segment (radians; 0 without angles)."""
-    cols = [k for k, name in enumerate(robot.pose_names) if name in robot.angle_names]
-    if not cols:
-        return 0.0
-    return float(np.max(np.maximum(np.abs(D.lo[:, cols]), np.abs(D.hi[:, cols]))))
-
-
-def parse_path(robot, start, goal, waypoints=()) -> Path:
-    """``start``, ``goal`` and optional ``waypoints`` (pose texts or sequences) -> ``Path``."""
-    items = [("--from", start)] + [(f"--via[{k}]", w) for k, w in enumerate(waypoints or ())] + [("--to", goal)]
-    ivs, texts = [], []
-    for option, pose in items:
-        iv, t = parse_pose(pose, robot, option)
-        ivs.append(iv)
-        texts.append(t)
-    lo = np.stack([i.lo for i in ivs])
-    hi = np.stack([i.hi for i in ivs])
-    return Path(texts, Interval._raw(lo, hi))
 
 
 class TrajectoryProblem:
@@ -138,7 +92,6 @@ class TrajectoryProblem:
         return self.c.evaluate(P0, D, tlo, thi, self.c.rows_of(self.linear, segment), upper=upper)
 
     def decide(self, lo, hi, roots):
-        from .engine.search import Decisions
         seg = self.piece_segment[roots]
         state, mlo, mhi = self.evaluate(lo[:, 0], hi[:, 0], seg, upper=self.rtol is not None)
         path = self.segment_path[seg]
@@ -240,59 +193,6 @@ class TrajectoryProblem:
         return np.where(np.isfinite(out), out, np.nan)
 
 
-@dataclass
-class TrajectoryResult:
-    """The verdict on one path, with the leaves that prove it."""
-
-    robot: object
-    path: Path
-    constraints: Constraints
-    status: str = "undecided"
-    leaves: dict = field(default_factory=dict)    # segment, tlo, thi (arrays), state (L, K), mlo, mhi
-    margins: list = field(default_factory=list)
-    violations: list = field(default_factory=list)
-    undecided: list = field(default_factory=list)
-    det_sign: int = 0
-    stats: dict = field(default_factory=dict)
-    indices: list | None = None
-
-    def to_json(self) -> dict:
-        c = self.constraints
-        out = {"problem": "trajectory", "status": self.status,
-               "path": [dict(zip(self.robot.pose_names, t)) for t in self.path.texts],
-               "constraints": sorted({i.constraint for i in c.instances}),
-               "skipped": dict(c.skipped),
-               "margins": self.margins,
-               "violations": self.violations,
-               "undecided": self.undecided,
-               "stats": self.stats}
-        if c.det is not None:
-            out["det_sign"] = self.det_sign
-        if self.indices is not None:
-            out["indices"] = self.indices
-        return out
-
-    def certificate(self) -> dict:
-        from .certificates import trajectory_certificate
-        return trajectory_certificate([self])
-
-
-def _runs(mask_sorted, s_lo, s_hi):
-    """Maximal runs of consecutive True leaves -> list of (first, last) indices."""
-    idx = np.nonzero(mask_sorted)[0]
-    if not len(idx):
-        return []
-    breaks = np.nonzero((np.diff(idx) > 1) | (s_lo[idx[1:]] > s_hi[idx[:-1]]))[0]
-    starts = np.concatenate([[idx[0]], idx[breaks + 1]])
-    ends = np.concatenate([idx[breaks], [idx[-1]]])
-    return list(zip(starts.tolist(), ends.tolist()))
-
-
-def _interval(lo, hi):
-    """[lo, hi] for JSON; an infinite bound (not computed) is null."""
-    return [float(lo) if np.isfinite(lo) else None, float(hi) if np.isfinite(hi) else None]
-
-
 def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = None, progress=None,
                         indices: bool = True, rtol: float = MARGIN_RTOL) -> list[TrajectoryResult]:
     """Verify many paths in one search (the batch path).  ``paths``: list of ``Path``."""
@@ -301,7 +201,7 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     budget = budget or Budget(**budgets.TRAJECTORY)
     cons = constraints if isinstance(constraints, Constraints) else Constraints.of(robot, constraints)
     if cons.K == 0:
-        raise InputError("--constraints", "", "no constraint can be checked: " +
+        raise InputError("constraints", "", "no constraint can be checked: " +
                          "; ".join(f"{k}: {v}" for k, v in cons.skipped.items()))
     t0 = time.perf_counter()
     P0s, Ds, seg_path = [], [], []
@@ -310,8 +210,8 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
         P0s.append(P0)
         Ds.append(D)
         seg_path += [p_index] * path.segments
-    P0 = Interval._raw(np.concatenate([p.lo for p in P0s]), np.concatenate([p.hi for p in P0s]))
-    D = Interval._raw(np.concatenate([p.lo for p in Ds]), np.concatenate([p.hi for p in Ds]))
+    P0 = Interval.from_bounds(np.concatenate([p.lo for p in P0s]), np.concatenate([p.hi for p in P0s]))
+    D = Interval.from_bounds(np.concatenate([p.lo for p in Ds]), np.concatenate([p.hi for p in Ds]))
     seg_path = np.asarray(seg_path, dtype=np.int64)
     n_seg = len(seg_path)
     linear = cons.linear_data(P0, D)
@@ -349,7 +249,7 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
         r = TrajectoryResult(robot, path, cons)
         r.leaves = {"segment": local[order], "tlo": tlo[mine][order], "thi": thi[mine][order],
                     "state": state[mine][order], "mlo": mlo[mine][order], "mhi": mhi[mine][order]}
-        _conclude(r, problem.best[p_index])
+        conclude(r, problem.best[p_index])
         if indices:
             r.indices = _mean_indices(problem, cons, segs)
         r.stats = {"boxes": int(found.boxes), "leaves": int(mine.sum()), "seconds": round(time.perf_counter() - t0, 6),
@@ -365,75 +265,6 @@ def verify_trajectory(robot, start, goal, waypoints=(), constraints=None, budget
     return verify_trajectories(robot, [path], constraints, budget, progress, indices)[0]
 
 
-def _conclude(r: TrajectoryResult, best=None) -> None:
-    """The verdict, margins and violations of a path from its leaves; ``best``: upper bounds of
-    the minimum margins found during the search (intervals or instants evaluated), per column."""
-    c = r.constraints
-    L = r.leaves
-    s_lo = L["segment"] + L["tlo"]
-    s_hi = L["segment"] + L["thi"]
-    state = L["state"]
-    dcol = c.det_column
-    certain = False
-    lo_min, hi_min = L["mlo"].min(axis=0), L["mhi"].min(axis=0)
-    if best is not None:
-        hi_min = np.minimum(hi_min, best)
-    open_cols = (state != SATISFIED).any(axis=0)
-    for k, inst in enumerate(c.instances):
-        if k == dcol:
-            continue
-        entry = inst.to_json()
-        entry["margin"] = _interval(lo_min[k], hi_min[k])
-        r.margins.append(entry)
-        if not open_cols[k]:
-            continue
-        for a, b in _runs(state[:, k] != SATISFIED, s_lo, s_hi):
-            sure = bool((state[a:b + 1, k] == VIOLATED).any())
-            certain |= sure
-            r.violations.append({**inst.to_json(), **_where(L, a, b), "certain": sure})
-    if dcol is not None:
-        sign = np.where(L["mlo"][:, dcol] > 0, 1, np.where(L["mhi"][:, dcol] < 0, -1, 0))
-        mig = np.where(sign > 0, L["mlo"][:, dcol], np.where(sign < 0, -L["mhi"][:, dcol], 0.0))
-        mag = np.maximum(np.abs(L["mlo"][:, dcol]), np.abs(L["mhi"][:, dcol]))
-        signs = set(sign[sign != 0].tolist())
-        entry = c.instances[dcol].to_json()
-        entry["margin"] = _interval(mig.min(), mag.min())      # min over the path of |det A|
-        entry["sign"] = signs.pop() if len(signs) == 1 and (sign != 0).all() else 0
-        r.det_sign = entry["sign"]
-        r.margins.append(entry)
-        crossing = len(set(sign[sign != 0].tolist())) > 1
-        certain |= crossing
-        for a, b in _runs(sign == 0, s_lo, s_hi):
-            before = sign[a - 1] if a > 0 else 0
-            after = sign[b + 1] if b + 1 < len(sign) else 0
-            sure = bool(before and after and before != after)
-            r.violations.append({**c.instances[dcol].to_json(), **_where(L, a, b), "certain": sure})
-    unknown = (state == UNKNOWN).any(axis=1)
-    if certain:
-        r.status = "infeasible"
-    elif not unknown.any() and not r.violations:
-        r.status = "feasible"
-    else:
-        r.status = "undecided"
-    for a, b in _runs(unknown, s_lo, s_hi):
-        r.undecided.append(_where(L, a, b))
-
-
-def _where(L, a, b) -> dict:
-    """The t-range of leaves a..b: local t when in one segment, and the global s."""
-    s0 = float(L["segment"][a] + L["tlo"][a])      # k + t may round: widen outward by one ulp if so
-    s1 = float(L["segment"][b] + L["thi"][b])
-    if Fraction(s0) > Fraction(int(L["segment"][a])) + Fraction(float(L["tlo"][a])):
-        s0 = math.nextafter(s0, -math.inf)
-    if Fraction(s1) < Fraction(int(L["segment"][b])) + Fraction(float(L["thi"][b])):
-        s1 = math.nextafter(s1, math.inf)
-    out = {"s": [s0, s1]}
-    if L["segment"][a] == L["segment"][b]:
-        out["segment"] = int(L["segment"][a])
-        out["t"] = [float(L["tlo"][a]), float(L["thi"][b])]
-    return out
-
-
 def _mean_indices(problem, cons, segs) -> list:
     """Certified enclosures of the mean margin over the path (∫ margin ds / segments),
     from INDEX_STEPS sub-intervals per segment: each contributes width × [min, max]."""
@@ -442,7 +273,7 @@ def _mean_indices(problem, cons, segs) -> list:
     tlo = np.tile(edges[:-1], len(segs))
     thi = np.tile(edges[1:], len(segs))
     _, mlo, mhi = problem.evaluate(tlo, thi, seg)
-    mean = Interval._raw(*sum_bounds(mlo, mhi, axis=0)) / Interval(INDEX_STEPS * len(segs))   # every column at once
+    mean = Interval.from_bounds(*sum_bounds(mlo, mhi, axis=0)) / Interval(INDEX_STEPS * len(segs))   # every column at once
     out = []
     for k, inst in enumerate(cons.instances):
         if k == cons.det_column:

@@ -26,9 +26,11 @@ import time
 
 import numpy as np
 
-from .engine import Budget
-from .poses import parse_pose
-from .trajectory import parse_path, verify_trajectories
+from ..certificates import trajectory_certificate
+from ..engine import Budget, budgets
+from ..robots.poses import parse_pose
+from .path import parse_path
+from .verify import verify_trajectories
 
 
 @dataclass
@@ -50,7 +52,6 @@ class PlanResult:
         return out
 
     def certificate(self) -> dict:
-        from .certificates import trajectory_certificate
         if not self.segments:
             raise ValueError("no path: nothing to certify")
         return trajectory_certificate(self.segments)
@@ -61,12 +62,12 @@ def _text(v: float) -> str:
 
 
 def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int = 3,
-         max_edges: int = 4000, max_seconds: float = 120.0, budget: Budget | None = None) -> PlanResult:
+         max_edges: int = 4000, max_seconds: float = budgets.PLAN_SECONDS, budget: Budget | None = None) -> PlanResult:
     """A path from ``start`` to ``goal`` whose every segment is certified ``feasible``."""
     t0 = time.perf_counter()
-    budget = budget or Budget(max_boxes=50_000, max_seconds=30.0, min_width=1e-9)
-    s_iv, s_txt = parse_pose(start, robot, "--from")
-    g_iv, g_txt = parse_pose(goal, robot, "--to")
+    budget = budget or Budget(**budgets.PLAN)
+    s_iv, s_txt = parse_pose(start, robot, "start")
+    g_iv, g_txt = parse_pose(goal, robot, "goal")
     verify = lambda paths: verify_trajectories(robot, paths, constraints, budget, indices=False, rtol=None)  # noqa: E731
     ends = verify([parse_path(robot, s_txt, s_txt), parse_path(robot, g_txt, g_txt)])
     for name, r in zip(("start", "goal"), ends):
@@ -80,41 +81,72 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
         return PlanResult(robot, "found", [s_txt, g_txt], [straight],
                           stats={"edges_verified": 1, "seconds": time.perf_counter() - t0})
 
-    # ----- A* on the grid of poses -------------------------------------------------------
-    a = 0.5 * (s_iv.lo + s_iv.hi)
-    b = 0.5 * (g_iv.lo + g_iv.hi)
-    angle = np.array([n in robot.angle_names for n in robot.pose_names])
-    differs = a != b
-    moving = np.nonzero(differs | ~angle)[0]              # positions always, angles that change
-    if len(moving) < 2:
-        moving = np.arange(len(a))
-    span = np.linalg.norm((b - a)[~angle]) if (~angle).any() else 0.0
-    step = np.where(differs, (b - a) / divisions,
-                    np.where(angle, np.deg2rad(5.0), max(span, 1e-9) / divisions))
-    side = divisions // 2 + margin
-    lo_idx = np.where(differs[moving], -margin, -side)
-    hi_idx = np.where(differs[moving], divisions + margin, side)
-    goal_node = tuple(int(v) for v in np.where(differs[moving], divisions, 0))
-    start_node = tuple([0] * len(moving))
-    scale = np.abs(step[moving])
+    grid = _Grid(robot, s_iv, s_txt, g_iv, g_txt, divisions, margin)
+    nodes, edge_result, stats = _astar(robot, grid, verify, max_edges, max_seconds, t0)
+    if nodes is None:
+        stats["seconds"] = time.perf_counter() - t0
+        return PlanResult(robot, "no-path-found", stats=stats)
+    kept, segments = _shortcuts(robot, grid, nodes, edge_result, verify, stats)
+    stats["seconds"] = time.perf_counter() - t0
+    return PlanResult(robot, "found", [grid.pose(n) for n in kept], segments, stats=stats)
 
-    def pose_of(node):
-        if node == start_node:
-            return s_txt
-        if node == goal_node:
-            return g_txt
-        p = a.copy()
-        p[moving] = a[moving] + np.asarray(node) * step[moving]
+
+class _Grid:
+    """The grid of poses of step 3: it spans the coordinates in which the end poses differ (and the
+    positions), ``divisions`` steps between start and goal, ``margin`` steps beyond; a node is a
+    tuple of step counts from the start."""
+
+    def __init__(self, robot, s_iv, s_txt, g_iv, g_txt, divisions, margin):
+        a = 0.5 * (s_iv.lo + s_iv.hi)
+        b = 0.5 * (g_iv.lo + g_iv.hi)
+        angle = np.array([n in robot.angle_names for n in robot.pose_names])
+        differs = a != b
+        moving = np.nonzero(differs | ~angle)[0]              # positions always, angles that change
+        if len(moving) < 2:
+            moving = np.arange(len(a))
+        span = np.linalg.norm((b - a)[~angle]) if (~angle).any() else 0.0
+        step = np.where(differs, (b - a) / divisions,
+                        np.where(angle, np.deg2rad(5.0), max(span, 1e-9) / divisions))
+        side = divisions // 2 + margin
+        self.lo_idx = np.where(differs[moving], -margin, -side)
+        self.hi_idx = np.where(differs[moving], divisions + margin, side)
+        self.goal = tuple(int(v) for v in np.where(differs[moving], divisions, 0))
+        self.start = tuple([0] * len(moving))
+        self.scale = np.abs(step[moving])
+        self.moves = [m for m in itertools.product((-1, 0, 1), repeat=len(moving)) if any(m)]
+        self.a, self.step, self.moving = a, step, moving
+        self.s_txt, self.g_txt = s_txt, g_txt
+
+    def pose(self, node):
+        """The exact texts of a node's pose (the end poses as the user wrote them)."""
+        if node == self.start:
+            return self.s_txt
+        if node == self.goal:
+            return self.g_txt
+        p = self.a.copy()
+        p[self.moving] = self.a[self.moving] + np.asarray(node) * self.step[self.moving]
         return [_text(v) for v in p]
 
-    def h(node):
-        return float(np.linalg.norm((np.asarray(goal_node) - np.asarray(node)) * scale))
+    def distance(self, node, other) -> float:
+        return float(np.linalg.norm((np.asarray(other) - np.asarray(node)) * self.scale))
 
-    moves = [m for m in itertools.product((-1, 0, 1), repeat=len(moving)) if any(m)]
-    best = {start_node: 0.0}
-    parent = {start_node: None}
+    def neighbours(self, node, closed):
+        out = []
+        for m in self.moves:
+            nb = tuple(n + d for n, d in zip(node, m))
+            if all(lo <= v <= hi for lo, v, hi in zip(self.lo_idx, nb, self.hi_idx)) and nb not in closed:
+                out.append(nb)
+        return out
+
+
+def _astar(robot, grid: _Grid, verify, max_edges, max_seconds, t0):
+    """A* from the start node to the goal node; an edge counts only when its segment is proved
+    ``feasible`` (a whole expansion verified in one batch).  Returns (the nodes of the path, or
+    None; the verified edges' results; stats)."""
+    best = {grid.start: 0.0}
+    parent = {grid.start: None}
     edge_result = {}
-    frontier = [(h(start_node), 0.0, start_node)]
+    frontier = [(grid.distance(grid.start, grid.goal), 0.0, grid.start)]
     closed = set()
     edges = 1
     found = False
@@ -123,43 +155,42 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
         if node in closed:
             continue
         closed.add(node)
-        if node == goal_node:
+        if node == grid.goal:
             found = True
             break
-        nbrs = []
-        for m in moves:
-            nb = tuple(n + d for n, d in zip(node, m))
-            if all(lo <= v <= hi for lo, v, hi in zip(lo_idx, nb, hi_idx)) and nb not in closed:
-                nbrs.append(nb)
-        results = verify([parse_path(robot, pose_of(node), pose_of(nb)) for nb in nbrs])
+        nbrs = grid.neighbours(node, closed)
+        results = verify([parse_path(robot, grid.pose(node), grid.pose(nb)) for nb in nbrs])
         edges += len(nbrs)
         for nb, r in zip(nbrs, results):
             if r.status != "feasible":
                 continue
-            c = cost + float(np.linalg.norm((np.asarray(nb) - np.asarray(node)) * scale))
+            c = cost + grid.distance(node, nb)
             if c < best.get(nb, np.inf):
                 best[nb], parent[nb] = c, node
                 edge_result[(node, nb)] = r
-                heapq.heappush(frontier, (c + h(nb), c, nb))
+                heapq.heappush(frontier, (c + grid.distance(nb, grid.goal), c, nb))
     stats = {"edges_verified": edges, "nodes_expanded": len(closed)}
     if not found:
-        stats["seconds"] = time.perf_counter() - t0
-        return PlanResult(robot, "no-path-found", stats=stats)
-    nodes = [goal_node]
+        return None, edge_result, stats
+    nodes = [grid.goal]
     while parent[nodes[-1]] is not None:
         nodes.append(parent[nodes[-1]])
     nodes.reverse()
-    # ----- shortcuts: from each anchor, the farthest later node with a feasible segment --------
+    return nodes, edge_result, stats
+
+
+def _shortcuts(robot, grid: _Grid, nodes, edge_result, verify, stats):
+    """Step 4: from each anchor, the farthest later node joined by a ``feasible`` segment (else
+    the next node, by the edge A* verified).  Returns (the nodes kept, their segments' results)."""
     kept, segments = [nodes[0]], []
     i = 0
     while i < len(nodes) - 1:
         later = list(range(len(nodes) - 1, i + 1, -1))
-        results = verify([parse_path(robot, pose_of(nodes[i]), pose_of(nodes[j])) for j in later]) if later else []
+        results = verify([parse_path(robot, grid.pose(nodes[i]), grid.pose(nodes[j])) for j in later]) if later else []
         stats["edges_verified"] += len(later)
         j, r = next(((j, r) for j, r in zip(later, results) if r.status == "feasible"),
                     (i + 1, edge_result[(nodes[i], nodes[i + 1])]))
         kept.append(nodes[j])
         segments.append(r)
         i = j
-    stats["seconds"] = time.perf_counter() - t0
-    return PlanResult(robot, "found", [pose_of(n) for n in kept], segments, stats=stats)
+    return kept, segments
