@@ -13,13 +13,19 @@ from __future__ import annotations
 from pathlib import Path
 import time
 
+import proofs
 
-from .errors import InputError
+from ..certificates import singularity_certificate
+from ..errors import InputError
+from ..fk import forward_kinematics
+from ..robots import load_robot
+from ..singularity import certify_singularity_free, classify_cells
+from ..trajectory import verify_trajectory
 
 
 def bundled_robots_dir() -> Path:
     """``examples/robots`` of the source tree (the package is installed editable)."""
-    here = Path(__file__).resolve().parent.parent / "examples" / "robots"
+    here = Path(__file__).resolve().parent.parent.parent / "examples" / "robots"
     return here
 
 
@@ -45,7 +51,6 @@ def summarise(robot) -> list[str]:
 
 
 def run_demo(directory=None, out=print) -> int:
-    from . import load_robot
     directory = Path(directory) if directory else bundled_robots_dir()
     files = sorted(directory.glob("*.toml"))
     if not files:
@@ -64,10 +69,6 @@ def run_demo(directory=None, out=print) -> int:
 
 
 def _check(out, result, what):
-    try:
-        import proofs
-    except ImportError:  # pragma: no cover
-        return
     t = time.perf_counter()
     report = proofs.check(result.certificate())
     out(f"  certificate of {what} re-checked by proofs: {'OK' if report.ok else 'REJECTED: ' + report.step} "
@@ -76,7 +77,6 @@ def _check(out, result, what):
 
 def _fk_demo(robots, out):
     """Seed 003 planar example 2 geometry: 6 real assembly modes (each proved unique, complete)."""
-    from .fk import forward_kinematics
     robot = next((r for k, r in robots.items() if "planar-example-2" in k), None)
     if robot is None:
         return
@@ -93,7 +93,6 @@ def _fk_demo(robots, out):
 
 def _trajectory_demo(robots, out):
     """Seed 000 Fig. 1.8 on the MEL robot: legs 1-2 and 2-5 collide before the goal."""
-    from .trajectory import verify_trajectory
     robot = next((r for k, r in robots.items() if "seed000" in k), None)
     if robot is None:
         return
@@ -114,8 +113,6 @@ def _trajectory_demo(robots, out):
 
 
 def _singularity_demo(robots, out):
-    from .certificates import singularity_certificate
-    from .singularity import certify_singularity_free, classify_cells
     robot = next((r for k, r in robots.items() if "planar-example-2" in k or "planar-ex2" in k), None)
     if robot is None:
         return
@@ -134,11 +131,15 @@ def _singularity_demo(robots, out):
     counts = {s: sum(c.status == s for c in cells) for s in ("singularity-free", "singular", "undecided")}
     out(f"  10x10x10 cells: {counts['singularity-free']} singularity-free, {counts['singular']} singular, "
         f"{counts['undecided']} undecided ({dt:.2f} s)")
-    try:
-        import proofs
-    except ImportError:  # pragma: no cover
-        return
     t = time.perf_counter()
     report = proofs.check(singularity_certificate(cells))
     out(f"  certificate of the 1000 cells re-checked by proofs: {'OK' if report.ok else 'REJECTED'} "
         f"({time.perf_counter() - t:.1f} s)")
+
+
+def add_arguments(d):
+    d.add_argument("--robots", help="directory of robot files (default: the bundled examples)")
+
+
+def run(args):
+    return run_demo(args.robots)
