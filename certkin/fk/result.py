@@ -26,7 +26,7 @@ class FKResult:
     boxes: int = 0
     seconds: float = 0.0
     tracked: bool = False
-    user_domain: bool = False                           # a user --domain narrowed the search
+    user_domain: bool = False                           # a user domain narrowed the search
     track_C: np.ndarray | None = None                   # the Krawczyk matrix of a tracking proof
     all_solutions: list = field(default_factory=list)   # every proved root of the searched box (certificate order)
     filtered: list = field(default_factory=list)        # solutions outside a user domain (pose filter)
