@@ -32,7 +32,7 @@ MARGIN = 2.0 ** -30      # uniqueness requires K inside X shrunk by this relativ
 
 WIDEN = 2.0 ** -20       # contracted boxes are widened by this fraction of the parent's width
 
-SMALL_BATCH = 512        # batches of at most this many boxes use the stacked evaluation (fk_stacked)
+SMALL_BATCH = 512        # batches of at most this many boxes use the stacked evaluation (fk.stacked)
 
 
 def _inner(lo, hi, rel=MARGIN):
@@ -94,7 +94,7 @@ def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False, rbc=No
 
 def for_batch(system, n_box):
     """The equations for a batch of n_box boxes: the stacked twin for small batches (the same
-    enclosures, bit for bit, in fewer and larger operations: ``robots/fk_stacked.py``)."""
+    enclosures, bit for bit, in fewer and larger operations: ``fk.stacked``)."""
     if n_box > SMALL_BATCH:
         return system
     return StackedFKSystem.of(system)

@@ -331,7 +331,7 @@ def _tracked_results(robot, system, texts, proofs: Proofs, rows):
 
 
 def _pose_guess(robot, previous):
-    """The midpoint of ``poses.parse_pose``'s enclosure of a pose (a start for Newton iterations
+    """The midpoint of ``robots.poses.parse_pose``'s enclosure of a pose (a start for Newton iterations
     only), directly for plain decimal texts and floats; anything else goes through ``parse_pose``
     (which also reports bad input)."""
     parts = [p.strip() for p in previous.split(",")] if isinstance(previous, str) else previous

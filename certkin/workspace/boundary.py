@@ -25,9 +25,6 @@ def _iv(lo, hi=None) -> Interval:
     return Interval.from_bounds(lo, lo.copy() if hi is None else np.asarray(hi, dtype=np.float64))
 
 
-# ---------------------------------------------------------------------------
-# the exact boundary
-# ---------------------------------------------------------------------------
 _TWO_PI = Interval(2) * PI
 
 

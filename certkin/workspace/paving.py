@@ -24,9 +24,6 @@ REASONS = ("inside: every leg length within its limits on the whole box",
            "outside: one leg length outside its limits on the whole box")
 
 
-# ---------------------------------------------------------------------------
-# the paving (one engine search; each root is one section or one z-slab)
-# ---------------------------------------------------------------------------
 class PavingProblem:
     """Decides batches of (X, Y) boxes; root k carries the z-interval Z[k]."""
 
