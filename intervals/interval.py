@@ -21,7 +21,8 @@ import numbers
 
 import numpy as np
 
-from .rounding import ABS, INF, MAX, REL, down, down_sum, enclose, up, up_sum
+from .rounding import (ABS, INF, MAX, REL, down, down_product, down_square, down_sum, enclose, up, up_product,
+                       up_square, up_sum)
 
 _EXACT_SCALARS = (str, Decimal, Fraction, numbers.Integral)
 
@@ -398,22 +399,28 @@ def _div_zero(xlo, xhi, ylo, yhi, lo, hi, mask):
 
 
 def sqr(x: Interval) -> Interval:
-    """Tight square: ``sqr([-1, 2]) = [0, 4]`` (not ``x*x = [-2, 4]``)."""
+    """Tight square: ``sqr([-1, 2]) = [0, 4]`` (not ``x*x = [-2, 4]``), exactly: a bound whose float
+    square is exact (Dekker's error-free check, ``rounding.up_square``) is not widened."""
     a = x.mig()
     b = x.mag()
-    return Interval.from_bounds(np.maximum(down(a * a), 0.0), up(b * b))
+    with np.errstate(invalid="ignore", over="ignore"):
+        lo, hi = a * a, b * b
+        return Interval.from_bounds(np.maximum(down_square(a, lo), 0.0), up_square(b, hi))
 
 
 def _pow_nonneg(base, n, direction):
-    """base**n for base >= 0 by binary powering, each product rounded ``direction``."""
+    """base**n for base >= 0 by binary powering, each product rounded ``direction`` (``up`` or
+    ``down``) unless Dekker's error-free check proves it exact (``rounding.up_product``)."""
+    product, square = (up_product, up_square) if direction is up else (down_product, down_square)
     result = np.ones_like(base)
     b = np.array(base, dtype=np.float64, copy=True)
-    while n:
-        if n & 1:
-            result = direction(result * b)
-        n >>= 1
-        if n:
-            b = direction(b * b)
+    with np.errstate(invalid="ignore", over="ignore"):
+        while n:
+            if n & 1:
+                result = product(result, b, result * b)
+            n >>= 1
+            if n:
+                b = square(b, b * b)
     if direction is down:
         result = np.maximum(result, 0.0)
     return result

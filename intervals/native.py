@@ -77,6 +77,35 @@ def midrad(lo, hi):
     return m, up(max(hi - m, m - lo))
 
 
+SPLIT = 134217729.0          # rounding.SPLIT, EXACT_LOW, EXACT_HIGH
+EXACT_LOW = 2.0 ** -800
+EXACT_HIGH = 2.0 ** 800
+
+
+@njit(cache=True)
+def square_exact(a, p):
+    """``rounding.square_exact``: a = 0, or a has at most 26 significant bits (Veltkamp's split leaves
+    no low part: the same verdict as the fraction-bit test for such p) and EXACT_LOW ≤ p ≤ MAX."""
+    if a == 0.0:
+        return True
+    if not (p >= EXACT_LOW and p <= MAX):
+        return False
+    t = SPLIT * a
+    return a - (t - (t - a)) == 0.0
+
+
+@njit(cache=True)
+def up_square(a, p):
+    """``rounding.up_square``: p where a² = p exactly, else ``up(p)``."""
+    return p if square_exact(a, p) else up(p)
+
+
+@njit(cache=True)
+def down_square(a, p):
+    """``rounding.down_square``."""
+    return p if square_exact(a, p) else down(p)
+
+
 # ----------------------------------------------------------------- interval operations on (lo, hi)
 @njit(cache=True)
 def mul(alo, ahi, blo, bhi):

@@ -15,7 +15,7 @@ from hypothesis import given, settings, strategies as st
 from intervals import Interval, native
 from intervals.interval import div, mul
 from intervals.linalg import _gs_update, _hansen_sengupta_numpy, hansen_sengupta
-from intervals.rounding import down, down_sum, up, up_sum
+from intervals.rounding import down, down_square, down_sum, up, up_square, up_sum
 
 from test_linalg import inside, zero_problem
 
@@ -131,3 +131,18 @@ def test_kernels_are_compiled_without_fused_multiply_add():
     for kernel in (fresh, inverse):
         asm = "\n".join(kernel.inspect_asm().values())
         assert "mul" in asm and not fused.search(asm)
+
+
+def test_exact_square_kernels_give_the_numpy_floats():
+    """``native.up_square``/``down_square`` (no widening where the square is exact) give the floats
+    of ``rounding.up_square``/``down_square``, on exact and inexact squares alike."""
+    rng = np.random.default_rng(8)
+    short = rng.integers(-2 ** 28, 2 ** 28, 400) * 2.0 ** rng.integers(-420, 420, 400)
+    a = np.abs(np.concatenate([_floats(rng, 400), short]))
+    with np.errstate(over="ignore", under="ignore"):
+        p = a * a
+    for kernel, ref in ((native.up_square, up_square), (native.down_square, down_square)):
+        got = np.array([kernel(x, y) for x, y in zip(a, p)])
+        assert np.array_equal(got, ref(a, p))
+    exact = np.array([native.square_exact(x, y) for x, y in zip(a, p)])
+    assert 100 < exact.sum() < len(a)

@@ -24,7 +24,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from intervals.native import INF, div_regular, down, down_sum, gauss_jordan, gs_update, midrad, mul, up, up_sum, upper
+from intervals.native import (INF, div_regular, down, down_square, down_sum, gauss_jordan, gs_update, midrad, mul, up,
+                              up_square, up_sum, upper)
 
 from .rotation import DIAGONAL, OFF_DIAGONAL
 
@@ -47,10 +48,11 @@ TABLES = _tables()
 
 @njit(cache=True)
 def _sqr(lo, hi):
-    """``interval.sqr``: [max(down(mig²), 0), up(mag²)]."""
+    """``interval.sqr``: [max(down(mig²), 0), up(mag²)], a bound not widened where its square is
+    exact (``native.up_square``)."""
     mig = 0.0 if (lo <= 0.0 and hi >= 0.0) else min(abs(lo), abs(hi))
     mag = max(abs(lo), abs(hi))
-    return max(down(mig * mig), 0.0), up(mag * mag)
+    return max(down_square(mig, mig * mig), 0.0), up_square(mag, mag * mag)
 
 
 @njit(cache=True)
