@@ -24,7 +24,7 @@ Workloads (DESIGN.md "Performance targets"):
   step.  ``--only tracking`` runs the tracking rows alone.
 
 Peers, on the same equations (platform origin + rotation as unit complex
-number / unit quaternion, ``certkin.robots.fk_systems``) and the same domain:
+number / unit quaternion, ``certkin.fk.system``) and the same domain:
 
 - numpy Newton from many starts (vectorised over starts and instances;
   Jacobian by complex step): fast, finds roots, proves nothing (a root may be
@@ -100,7 +100,7 @@ def timed(fn, repeat):
 
 # ----- the FK equations in floats (peers) ----------------------------------------------------
 class FloatFK:
-    """The FK system of ``certkin.robots.fk_systems`` in plain floats (works on complex too).
+    """The FK system of ``certkin.fk.system`` in plain floats (works on complex too).
 
     Unknowns: planar (x, y, c, s); spherical (q0..q3); Gough (x, y, z, q0..q3).
     """

@@ -4,7 +4,8 @@ Side by side in one run, on the same boxes (seed 003 planar example 2,
 random boxes of width ~1 in x, y and 0.05 in phi):
 
 - certkin: the compiled batch evaluator (``robot.det_enclosure``) on all
-  boxes at once;
+  boxes at once, and the squared leg lengths (``robot.leg_lengths_squared``,
+  sums of ``sqr``: the kernel of the exact-square check) on the same boxes;
 - mpmath ``iv``: the same sympy expression evaluated one box at a time
   (the naive rigorous alternative), on a subsample, extrapolated;
 - codac: ``AnalyticFunction.eval`` on an ``IntervalVector``, one box at a
@@ -132,6 +133,9 @@ def main():
     rows = []
     t = median_time(lambda: robot.det_enclosure(box), args.repeat)
     rows.append(("certkin batch (compiled, outward rounded)", args.boxes, t))
+    robot.leg_lengths_squared(box[:10])
+    t = median_time(lambda: robot.leg_lengths_squared(box), args.repeat)
+    rows.append(("certkin batch, squared leg lengths (sqr)", args.boxes, t))
     mid = 0.5 * (lo + hi)
     t = median_time(lambda: robot.det_float(mid), args.repeat)
     rows.append(("numpy floats at midpoints (not an enclosure)", args.boxes, t))

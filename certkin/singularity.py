@@ -33,9 +33,10 @@ import numpy as np
 
 from intervals import Interval
 
-from . import budgets
-from .engine import OPEN, PROVED, Budget, Decisions, search
-from .poses import parse_box
+from .certificates import singularity_certificate
+from .engine import OPEN, PROVED, Budget, Decisions, budgets, search
+from .errors import InputError
+from .robots.poses import parse_box, parse_pose
 
 
 class SingularityProblem:
@@ -63,7 +64,7 @@ class SingularityProblem:
 
     def decide(self, lo, hi, roots) -> Decisions:
         n, d = lo.shape
-        box = Interval._raw(lo, hi)
+        box = Interval.from_bounds(lo, hi)
         D = self.robot.det_enclosure(box)
         sign = _sign(D)
         reason = np.zeros(n, dtype=np.int64)             # natural
@@ -72,7 +73,7 @@ class SingularityProblem:
         rest = np.nonzero(sign == 0)[0]
         if len(rest):
             m = mids[rest]
-            Dm = self.robot.det_enclosure(Interval._raw(m, m.copy()))
+            Dm = self.robot.det_enclosure(Interval.from_bounds(m, m.copy()))
             self._witness(roots[rest], m, _sign(Dm))
             s, r, flags = self._refine(box[rest], m, Dm, roots[rest])
             sign[rest], reason[rest], mono[rest] = s, r, flags
@@ -89,7 +90,7 @@ class SingularityProblem:
         """
         n, d = sub.shape
         _, grad = self.robot.det_gradient(sub)
-        dx = sub - Interval._raw(m, m.copy())
+        dx = sub - Interval.from_bounds(m, m.copy())
         sign = _sign(Dm + _dot(grad, dx))
         reason = np.where(sign != 0, 1, 0)
         flags = np.zeros((n, d), dtype=np.int8)
@@ -104,7 +105,7 @@ class SingularityProblem:
         fmin_hi = np.where(s > 0, slo, np.where(s < 0, shi, shi))
         fmax_lo = np.where(s > 0, shi, np.where(s < 0, slo, slo))
         fmax_hi = np.where(s > 0, shi, np.where(s < 0, slo, shi))
-        faces = Interval._raw(np.concatenate([fmin_lo, fmax_lo]), np.concatenate([fmin_hi, fmax_hi]))
+        faces = Interval.from_bounds(np.concatenate([fmin_lo, fmax_lo]), np.concatenate([fmin_hi, fmax_hi]))
         F = self._face_enclosure(faces)
         t = len(todo)
         lower, upper = F.lo[:t], F.hi[t:]
@@ -117,7 +118,7 @@ class SingularityProblem:
         if vertex.any():
             idx = np.nonzero(vertex)[0]
             pts = np.concatenate([fmin_lo[idx], fmax_lo[idx]])
-            vals = Interval._raw(np.concatenate([F.lo[:t][idx], F.lo[t:][idx]]),
+            vals = Interval.from_bounds(np.concatenate([F.lo[:t][idx], F.lo[t:][idx]]),
                                  np.concatenate([F.hi[:t][idx], F.hi[t:][idx]]))
             r = roots[todo[idx]]
             self._witness(np.concatenate([r, r]), pts, _sign(vals))
@@ -127,9 +128,9 @@ class SingularityProblem:
         """Natural extension intersected with the centred form on the faces."""
         D = self.robot.det_enclosure(faces)
         m = faces.mid()
-        Dm = self.robot.det_enclosure(Interval._raw(m, m.copy()))
+        Dm = self.robot.det_enclosure(Interval.from_bounds(m, m.copy()))
         _, grad = self.robot.det_gradient(faces)
-        centred = Dm + _dot(grad, faces - Interval._raw(m, m.copy()))
+        centred = Dm + _dot(grad, faces - Interval.from_bounds(m, m.copy()))
         return D.intersect(centred)
 
 
@@ -181,7 +182,6 @@ class SingularityResult:
         return out
 
     def certificate(self) -> dict:
-        from .certificates import singularity_certificate
         return singularity_certificate(self)
 
 
@@ -267,9 +267,7 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     certified box and its tree; ``result.scale_factor`` is s.  If the pose
     itself cannot be proved regular, the result is ``undecided`` with s = 0.
     """
-    from .errors import InputError
-    from .poses import parse_pose
-    center, texts = parse_pose(pose, robot, "--around") if not isinstance(pose, Interval) else (pose, None)
+    center, texts = parse_pose(pose, robot, "pose") if not isinstance(pose, Interval) else (pose, None)
     d = len(robot.pose_names)
     if scale is None:
         sc = np.ones(d)
@@ -278,14 +276,14 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
         try:
             sc = np.array([float(p) for p in parts], dtype=np.float64)
         except ValueError:
-            raise InputError("--scale", "", f"expected {d} comma-separated positive numbers") from None
+            raise InputError("scale", "", f"expected {d} comma-separated positive numbers") from None
         if len(sc) != d or not np.all(np.isfinite(sc)) or np.any(sc <= 0):
-            raise InputError("--scale", "", f"expected {d} comma-separated positive numbers")
-    budget = budget or Budget(max_boxes=20_000, max_seconds=10.0, min_width=1e-7)
+            raise InputError("scale", "", f"expected {d} comma-separated positive numbers")
+    budget = budget or Budget(**budgets.LARGEST_FREE_BOX)
 
     def attempt(s):
         lo, hi = center.lo - s * sc, center.hi + s * sc
-        iv = Interval._raw(lo, hi)
+        iv = Interval.from_bounds(lo, hi)
         texts_s = _cell_texts(robot, lo, hi)
         r = classify_cells(robot, (iv, texts_s), 1, budget)[0]
         r.scale_factor = s

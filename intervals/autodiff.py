@@ -15,12 +15,12 @@ from __future__ import annotations
 import numpy as np
 
 from . import elementary as el
-from .interval import Interval, _as_interval, pown as _pown, sqr as _sqr
+from .interval import Interval, as_interval, pown as _pown, sqr as _sqr
 
 
 def _expand(iv: Interval) -> Interval:
     """Add a trailing axis so a value broadcasts against a gradient."""
-    return Interval._raw(iv.lo[..., None], iv.hi[..., None])
+    return Interval.from_bounds(iv.lo[..., None], iv.hi[..., None])
 
 
 class Dual:
@@ -42,15 +42,17 @@ class Dual:
         for i in range(d):
             g = np.zeros(box.shape[:-1] + (d,))
             g[..., i] = 1.0
-            out.append(Dual(box[..., i], Interval._raw(g, g.copy())))
+            out.append(Dual(box[..., i], Interval.from_bounds(g, g.copy())))
         return out
 
-    def _lift(self, other) -> "Dual":
+    def lift(self, other) -> "Dual":
+        """``other`` as a Dual with this one's number of partial derivatives (a constant: zero
+        gradient; a Dual is returned as it is)."""
         if isinstance(other, Dual):
             return other
-        iv = _as_interval(other)
+        iv = as_interval(other)
         z = np.zeros(iv.shape + self.grad.shape[-1:])
-        return Dual(iv, Interval._raw(z, z.copy()))
+        return Dual(iv, Interval.from_bounds(z, z.copy()))
 
     def __neg__(self):
         return Dual(-self.value, -self.grad)
@@ -72,7 +74,7 @@ class Dual:
 
     def __mul__(self, other):
         if not isinstance(other, Dual):
-            o = _as_interval(other)
+            o = as_interval(other)
             return Dual(self.value * o, self.grad * _expand(o))
         return Dual(self.value * other.value,
                     self.grad * _expand(other.value) + other.grad * _expand(self.value))
@@ -81,13 +83,13 @@ class Dual:
 
     def __truediv__(self, other):
         if not isinstance(other, Dual):
-            o = _as_interval(other)
+            o = as_interval(other)
             return Dual(self.value / o, self.grad / _expand(o))
         q = self.value / other.value
         return Dual(q, (self.grad - other.grad * _expand(q)) / _expand(other.value))
 
     def __rtruediv__(self, other):
-        return self._lift(other) / self
+        return self.lift(other) / self
 
     def __pow__(self, n):
         return pown(self, n)
@@ -111,7 +113,7 @@ def pown(x, n):
     if not isinstance(x, Dual):
         return _pown(x, n)
     if n == 0:
-        return x._lift(_pown(x.value, 0))
+        return x.lift(_pown(x.value, 0))
     return _chain(x, _pown(x.value, n), n * _pown(x.value, n - 1))
 
 
@@ -164,7 +166,7 @@ def atan2(y, x):
     if not isinstance(y, Dual) and not isinstance(x, Dual):
         return el.atan2(y, x)
     ref = y if isinstance(y, Dual) else x
-    y, x = ref._lift(y), ref._lift(x)
+    y, x = ref.lift(y), ref.lift(x)
     r2 = _sqr(x.value) + _sqr(y.value)
     grad = (y.grad * _expand(x.value) - x.grad * _expand(y.value)) / _expand(r2)
     return Dual(el.atan2(y.value, x.value), grad)
@@ -176,4 +178,4 @@ def abs(x):
     # derivative of |x| is sign(x) in [-1, 1]: a sound enclosure of the Clarke gradient
     lo = np.where(x.value.lo > 0, 1.0, -1.0)
     hi = np.where(x.value.hi < 0, -1.0, 1.0)
-    return _chain(x, el.abs(x.value), Interval._raw(lo, hi))
+    return _chain(x, el.abs(x.value), Interval.from_bounds(lo, hi))

@@ -23,7 +23,9 @@ import numpy as np
 import sympy as sp
 
 from . import autodiff
-from .interval import Interval, stack
+from . import elementary as el
+from . import polynomial as pl
+from .interval import Interval, pown, sqr, stack
 
 _FUNCTIONS = {
     sp.sin: "sin", sp.cos: "cos", sp.tan: "tan", sp.atan: "atan", sp.exp: "exp",
@@ -127,16 +129,12 @@ def _unsupported(name):
 
 def _poly_namespace():
     """Functions for ``polynomial.Poly`` variables (polynomials in t ∈ [0, 1])."""
-    from . import elementary as el
-    from . import polynomial as pl
     ns = {name: _unsupported(name) for name in ("tan", "atan", "atan2", "exp", "log", "abs", "sqrt", "min", "max")}
     ns.update(sin=pl.sin, cos=pl.cos, sqr=pl.sqr, pown=pl.pown, pi=el.pi)
     return ns
 
 
 def _namespace(dual):
-    from . import elementary as el
-    from .interval import pown, sqr
     if dual == "poly":
         return _poly_namespace()
     src = autodiff if dual else el
@@ -196,7 +194,7 @@ class CompiledExprs:
         for o in out:
             if not isinstance(o, Interval):
                 o = Interval(o)
-            fixed.append(Interval._raw(np.broadcast_to(o.lo, shape), np.broadcast_to(o.hi, shape)))
+            fixed.append(Interval.from_bounds(np.broadcast_to(o.lo, shape), np.broadcast_to(o.hi, shape)))
         return fixed
 
     def __call__(self, box: Interval, params=None) -> Interval:
@@ -211,15 +209,14 @@ class CompiledExprs:
             parts.append(stack(out, axis=-1))
         if len(parts) == 1:
             return parts[0]
-        return Interval._raw(np.concatenate([p.lo for p in parts]), np.concatenate([p.hi for p in parts]))
+        return Interval.from_bounds(np.concatenate([p.lo for p in parts]), np.concatenate([p.hi for p in parts]))
 
     def evaluate(self, variables, params=None) -> list:
         """The m expressions at prebuilt variable values (``Interval``, ``autodiff.Dual`` or
         ``polynomial.Poly``, one per variable, any common shape); returns a list of m values
         (constants come back unbroadcast).  Polynomial variables support + − × and sin/cos of
         degree-1 arguments (NotImplementedError otherwise)."""
-        from .polynomial import Poly
-        if any(isinstance(v, Poly) for v in variables):
+        if any(isinstance(v, pl.Poly) for v in variables):
             return self._fns["poly"](list(variables), self._params(params))
         dual = any(isinstance(v, autodiff.Dual) for v in variables)
         return self._fns[dual](list(variables), self._params(params))
@@ -236,15 +233,15 @@ class CompiledExprs:
             vs, gs = [], []
             for o in out:
                 if not isinstance(o, autodiff.Dual):
-                    o = autodiff.Dual.variables(b)[0]._lift(o if isinstance(o, Interval) else Interval(o))
-                vs.append(Interval._raw(np.broadcast_to(o.value.lo, b.shape[:-1]), np.broadcast_to(o.value.hi, b.shape[:-1])))
-                gs.append(Interval._raw(np.broadcast_to(o.grad.lo, b.shape[:-1] + (d,)),
+                    o = autodiff.Dual.variables(b)[0].lift(o if isinstance(o, Interval) else Interval(o))
+                vs.append(Interval.from_bounds(np.broadcast_to(o.value.lo, b.shape[:-1]), np.broadcast_to(o.value.hi, b.shape[:-1])))
+                gs.append(Interval.from_bounds(np.broadcast_to(o.grad.lo, b.shape[:-1] + (d,)),
                                         np.broadcast_to(o.grad.hi, b.shape[:-1] + (d,))))
             vals.append(stack(vs, axis=-1))
             jacs.append(stack(gs, axis=-2))
         if len(vals) == 1:
             return vals[0], jacs[0]
-        cat = lambda xs: Interval._raw(np.concatenate([x.lo for x in xs]), np.concatenate([x.hi for x in xs]))
+        cat = lambda xs: Interval.from_bounds(np.concatenate([x.lo for x in xs]), np.concatenate([x.hi for x in xs]))
         return cat(vals), cat(jacs)
 
 

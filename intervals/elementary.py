@@ -63,7 +63,7 @@ import builtins
 import numpy as np
 from mpmath import libmp as _mp
 
-from .interval import Interval, _as_interval
+from .interval import Interval, as_interval
 from .rounding import INF, MAX
 
 __all__ = ["pi", "sqrt", "abs", "min", "max", "sin", "cos", "tan", "atan", "atan2", "exp", "log", "ULPS"]
@@ -77,7 +77,7 @@ _HP_LO = 0.5 * _PI_LO                          # exact halving: pi/2 in [_HP_LO,
 _HP_HI = 0.5 * _PI_HI
 _TWO_PI_LO = 2.0 * _PI_LO
 
-pi = Interval._raw(np.asarray(_PI_LO), np.asarray(_PI_HI))
+pi = Interval.from_bounds(np.asarray(_PI_LO), np.asarray(_PI_HI))
 """The two adjacent floats around pi."""
 
 #: widening, in ulps, applied to each numpy libm result (see module docstring)
@@ -113,7 +113,7 @@ def _keep_empty(lo, hi, empty):
 
 
 def _out(lo, hi):
-    return Interval._raw(_arr(lo), _arr(hi))
+    return Interval.from_bounds(_arr(lo), _arr(hi))
 
 
 # ---------------------------------------------------------------------------
@@ -121,21 +121,21 @@ def _out(lo, hi):
 # ---------------------------------------------------------------------------
 def abs(x):
     """``{|t| : t in X}`` (exact)."""
-    x = _as_interval(x)
+    x = as_interval(x)
     lo, hi = _keep_empty(x.mig(), x.mag(), x.lo > x.hi)
     return _out(lo, hi)
 
 
 def min(x, y):
     """Elementwise ``{min(s, t)}`` hull: ``[min(xlo, ylo), min(xhi, yhi)]`` (exact)."""
-    x, y = _as_interval(x), _as_interval(y)
+    x, y = as_interval(x), as_interval(y)
     lo, hi = _keep_empty(np.minimum(x.lo, y.lo), np.minimum(x.hi, y.hi), (x.lo > x.hi) | (y.lo > y.hi))
     return _out(lo, hi)
 
 
 def max(x, y):
     """Elementwise ``{max(s, t)}`` hull: ``[max(xlo, ylo), max(xhi, yhi)]`` (exact)."""
-    x, y = _as_interval(x), _as_interval(y)
+    x, y = as_interval(x), as_interval(y)
     lo, hi = _keep_empty(np.maximum(x.lo, y.lo), np.maximum(x.hi, y.hi), (x.lo > x.hi) | (y.lo > y.hi))
     return _out(lo, hi)
 
@@ -176,7 +176,7 @@ def _sqrt_side(x, upper):
 
 def sqrt(x):
     """Square root; the part below 0 is ignored, an interval entirely below 0 gives empty."""
-    x = _as_interval(x)
+    x = as_interval(x)
     with np.errstate(invalid="ignore"):
         lo = _sqrt_side(np.maximum(x.lo, 0.0), False)
         hi = _sqrt_side(np.maximum(x.hi, 0.0), True)
@@ -189,7 +189,7 @@ def sqrt(x):
 # ---------------------------------------------------------------------------
 def exp(x):
     """Exponential; overflow gives ``hi = inf``, the lower bound is never negative."""
-    x = _as_interval(x)
+    x = as_interval(x)
     k = ULPS["exp"]
     a, b = x.lo, x.hi
     with np.errstate(over="ignore", invalid="ignore"):
@@ -203,7 +203,7 @@ def exp(x):
 
 def log(x):
     """Natural logarithm; ``lo = -inf`` when the interval reaches 0, empty if it lies below 0."""
-    x = _as_interval(x)
+    x = as_interval(x)
     k = ULPS["log"]
     a, b = x.lo, x.hi
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -219,7 +219,7 @@ def log(x):
 
 def atan(x):
     """Arctangent, within ``[-pi/2, pi/2]`` (enclosed outward)."""
-    x = _as_interval(x)
+    x = as_interval(x)
     k = ULPS["atan"]
     a, b = x.lo, x.hi
     lo = np.maximum(_wdown(np.arctan(a), k), -_HP_HI)
@@ -342,7 +342,7 @@ def _trig_big(kind, a, b):
 
 
 def _sincos(x, kind):
-    x = _as_interval(x)
+    x = as_interval(x)
     k = ULPS[kind]
     a, b = np.broadcast_arrays(_arr(x.lo), _arr(x.hi))
     shape = a.shape
@@ -388,7 +388,7 @@ def cos(x):
 
 def tan(x):
     """Tangent; an interval that may contain a pole gives the entire line."""
-    x = _as_interval(x)
+    x = as_interval(x)
     k = ULPS["tan"]
     a, b = np.broadcast_arrays(_arr(x.lo), _arr(x.hi))
     with np.errstate(invalid="ignore", over="ignore"):
@@ -426,7 +426,7 @@ def atan2(y, x):
     extremes are at corners.  Signed zeros are read as 0: ``atan2([0, 1], -1)``
     contains pi, never -pi.
     """
-    y, x = _as_interval(y), _as_interval(x)
+    y, x = as_interval(y), as_interval(x)
     k = ULPS["atan2"]
     ylo, yhi, xlo, xhi = np.broadcast_arrays(_arr(y.lo) + 0.0, _arr(y.hi) + 0.0, _arr(x.lo) + 0.0, _arr(x.hi) + 0.0)
     with np.errstate(invalid="ignore"):

@@ -21,7 +21,8 @@ import numbers
 
 import numpy as np
 
-from .rounding import _ABS, _REL, INF, MAX, down, down_sum, enclose, up, up_sum
+from .rounding import (ABS, INF, MAX, REL, down, down_product, down_square, down_sum, enclose, up, up_product,
+                       up_square, up_sum)
 
 _EXACT_SCALARS = (str, Decimal, Fraction, numbers.Integral)
 
@@ -85,8 +86,16 @@ class Interval:
         self.hi = np.array(b, dtype=np.float64)
 
     @classmethod
-    def _raw(cls, lo, hi):
-        """Build without checks (internal: endpoints already outward-rounded)."""
+    def from_bounds(cls, lo, hi):
+        """The interval (or array of intervals) with endpoint arrays ``lo`` and ``hi``, trusted as
+        they are: no check, no copy, no rounding.
+
+        For code that has computed its bounds itself, already outward rounded (``rounding.down``,
+        ``up``, ...) or exact floats, and wants them held without cost.  The caller vouches that
+        ``[lo, hi]`` encloses what it stands for; ``lo > hi`` marks an empty set and a NaN bound
+        means "nothing known", as everywhere in this package.  ``Interval(lo, hi)`` is the checked
+        constructor (it encloses decimals, rejects NaN and ``lo > hi``).
+        """
         obj = object.__new__(cls)
         obj.lo = lo
         obj.hi = hi
@@ -94,11 +103,11 @@ class Interval:
 
     @classmethod
     def entire(cls, shape=()):
-        return cls._raw(np.full(shape, -INF), np.full(shape, INF))
+        return cls.from_bounds(np.full(shape, -INF), np.full(shape, INF))
 
     @classmethod
     def empty(cls, shape=()):
-        return cls._raw(np.full(shape, INF), np.full(shape, -INF))
+        return cls.from_bounds(np.full(shape, INF), np.full(shape, -INF))
 
     # ----- array protocol ------------------------------------------------
     @property
@@ -117,7 +126,7 @@ class Interval:
         return len(self.lo)
 
     def __getitem__(self, index):
-        return Interval._raw(self.lo[index], self.hi[index])
+        return Interval.from_bounds(self.lo[index], self.hi[index])
 
     def __setitem__(self, index, value):
         lo, hi = _endpoints(value)
@@ -125,10 +134,10 @@ class Interval:
         self.hi[index] = hi
 
     def reshape(self, *shape):
-        return Interval._raw(self.lo.reshape(*shape), self.hi.reshape(*shape))
+        return Interval.from_bounds(self.lo.reshape(*shape), self.hi.reshape(*shape))
 
     def copy(self):
-        return Interval._raw(self.lo.copy(), self.hi.copy())
+        return Interval.from_bounds(self.lo.copy(), self.hi.copy())
 
     def __iter__(self):
         for i in range(len(self)):
@@ -165,35 +174,35 @@ class Interval:
         return np.where((self.lo <= 0) & (self.hi >= 0), 0.0, np.minimum(np.abs(self.lo), np.abs(self.hi)))
 
     def hull(self, other):
-        o = _as_interval(other)
-        return Interval._raw(np.minimum(self.lo, o.lo), np.maximum(self.hi, o.hi))
+        o = as_interval(other)
+        return Interval.from_bounds(np.minimum(self.lo, o.lo), np.maximum(self.hi, o.hi))
 
     def intersect(self, other):
         """Intersection; empty where ``lo > hi``. A NaN (unknown) side is ignored."""
-        o = _as_interval(other)
-        return Interval._raw(np.fmax(self.lo, o.lo), np.fmin(self.hi, o.hi))
+        o = as_interval(other)
+        return Interval.from_bounds(np.fmax(self.lo, o.lo), np.fmin(self.hi, o.hi))
 
     def is_empty(self):
         return self.lo > self.hi
 
     def contains(self, x):
         """True where the number or interval ``x`` lies in ``self`` (NaN -> True: cannot exclude)."""
-        o = _as_interval(x)
+        o = as_interval(x)
         return ~((o.lo < self.lo) | (o.hi > self.hi))
 
     def subset(self, other):
         """True where ``self`` is proved inside ``other`` (NaN -> False)."""
-        o = _as_interval(other)
+        o = as_interval(other)
         return (self.lo >= o.lo) & (self.hi <= o.hi)
 
     def interior(self, other):
         """True where ``self`` is proved inside the interior of ``other`` (NaN -> False)."""
-        o = _as_interval(other)
+        o = as_interval(other)
         return (self.lo > o.lo) & (self.hi < o.hi)
 
     def disjoint(self, other):
         """True where ``self`` and ``other`` are proved to share no point (NaN -> False)."""
-        o = _as_interval(other)
+        o = as_interval(other)
         return (self.hi < o.lo) | (o.hi < self.lo)
 
     def contains_zero(self):
@@ -205,11 +214,11 @@ class Interval:
         m = self.lo + ratio * (self.hi - self.lo)
         m = np.where(np.isfinite(m), m, self.mid())
         m = np.minimum(np.maximum(m, self.lo), self.hi)
-        return Interval._raw(self.lo.copy(), m), Interval._raw(m.copy(), self.hi.copy())
+        return Interval.from_bounds(self.lo.copy(), m), Interval.from_bounds(m.copy(), self.hi.copy())
 
     # ----- arithmetic ------------------------------------------------------
     def __neg__(self):
-        return Interval._raw(-self.hi, -self.lo)
+        return Interval.from_bounds(-self.hi, -self.lo)
 
     def __pos__(self):
         return self
@@ -217,34 +226,34 @@ class Interval:
     def __add__(self, other):
         if _defers(other):
             return NotImplemented
-        o = _as_interval(other)
-        return Interval._raw(down_sum(self.lo + o.lo), up_sum(self.hi + o.hi))
+        o = as_interval(other)
+        return Interval.from_bounds(down_sum(self.lo + o.lo), up_sum(self.hi + o.hi))
 
     __radd__ = __add__
 
     def __sub__(self, other):
         if _defers(other):
             return NotImplemented
-        o = _as_interval(other)
-        return Interval._raw(down_sum(self.lo - o.hi), up_sum(self.hi - o.lo))
+        o = as_interval(other)
+        return Interval.from_bounds(down_sum(self.lo - o.hi), up_sum(self.hi - o.lo))
 
     def __rsub__(self, other):
-        return _as_interval(other) - self
+        return as_interval(other) - self
 
     def __mul__(self, other):
         if _defers(other):
             return NotImplemented
-        return mul(self, _as_interval(other))
+        return mul(self, as_interval(other))
 
     __rmul__ = __mul__
 
     def __truediv__(self, other):
         if _defers(other):
             return NotImplemented
-        return div(self, _as_interval(other))
+        return div(self, as_interval(other))
 
     def __rtruediv__(self, other):
-        return div(_as_interval(other), self)
+        return div(as_interval(other), self)
 
     def __pow__(self, n):
         return pown(self, n)
@@ -256,12 +265,12 @@ def _defers(other) -> bool:
     return getattr(other, "takes_interval_operands", False)
 
 
-def _as_interval(x) -> Interval:
+def as_interval(x) -> Interval:
     if isinstance(x, Interval):
         return x
     if isinstance(x, (float, np.floating)) or (isinstance(x, np.ndarray) and x.dtype.kind == "f"):
         a = np.asarray(x, dtype=np.float64)  # a float is its own exact binary value
-        return Interval._raw(a, a)
+        return Interval.from_bounds(a, a)
     return Interval(x)
 
 
@@ -295,22 +304,22 @@ def mul(x: Interval, y: Interval) -> Interval:
     # down(lo) and up(hi) (intervals.rounding), in place: the same operations
     np.minimum(lo, MAX, out=lo)
     t = np.abs(lo, out=b)
-    t *= -_REL
-    t -= _ABS
+    t *= -REL
+    t -= ABS
     t += lo
     np.maximum(hi, -MAX, out=hi)
     u = np.abs(hi, out=d)
-    u *= _REL
-    u += _ABS
+    u *= REL
+    u += ABS
     u += hi
-    return Interval._raw(t, u)
+    return Interval.from_bounds(t, u)
 
 
 def _mul_corners(p1, p2, p3, p4) -> Interval:
     lo = np.fmin(np.fmin(p1, p2), np.fmin(p3, p4))
     hi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
     # only [0,0] * [-inf, inf] leaves NaN here: it then means "unknown", which is sound
-    return Interval._raw(down(lo), up(hi))
+    return Interval.from_bounds(down(lo), up(hi))
 
 
 def _mul_reference(x: Interval, y: Interval) -> Interval:
@@ -348,7 +357,7 @@ def div(x: Interval, y: Interval) -> Interval:
     y_has_zero = (ylo <= 0) & (yhi >= 0)
     if np.any(y_has_zero):
         lo, hi = _div_zero(xlo, xhi, ylo, yhi, lo, hi, y_has_zero)
-    return Interval._raw(lo, hi)
+    return Interval.from_bounds(lo, hi)
 
 
 def _div_zero(xlo, xhi, ylo, yhi, lo, hi, mask):
@@ -390,22 +399,28 @@ def _div_zero(xlo, xhi, ylo, yhi, lo, hi, mask):
 
 
 def sqr(x: Interval) -> Interval:
-    """Tight square: ``sqr([-1, 2]) = [0, 4]`` (not ``x*x = [-2, 4]``)."""
+    """Tight square: ``sqr([-1, 2]) = [0, 4]`` (not ``x*x = [-2, 4]``), exactly: a bound whose float
+    square is exact (Dekker's error-free check, ``rounding.up_square``) is not widened."""
     a = x.mig()
     b = x.mag()
-    return Interval._raw(np.maximum(down(a * a), 0.0), up(b * b))
+    with np.errstate(invalid="ignore", over="ignore"):
+        lo, hi = a * a, b * b
+        return Interval.from_bounds(np.maximum(down_square(a, lo), 0.0), up_square(b, hi))
 
 
 def _pow_nonneg(base, n, direction):
-    """base**n for base >= 0 by binary powering, each product rounded ``direction``."""
+    """base**n for base >= 0 by binary powering, each product rounded ``direction`` (``up`` or
+    ``down``) unless Dekker's error-free check proves it exact (``rounding.up_product``)."""
+    product, square = (up_product, up_square) if direction is up else (down_product, down_square)
     result = np.ones_like(base)
     b = np.array(base, dtype=np.float64, copy=True)
-    while n:
-        if n & 1:
-            result = direction(result * b)
-        n >>= 1
-        if n:
-            b = direction(b * b)
+    with np.errstate(invalid="ignore", over="ignore"):
+        while n:
+            if n & 1:
+                result = product(result, b, result * b)
+            n >>= 1
+            if n:
+                b = square(b, b * b)
     if direction is down:
         result = np.maximum(result, 0.0)
     return result
@@ -417,27 +432,27 @@ def pown(x: Interval, n: int) -> Interval:
         raise TypeError("interval powers take integer exponents; use exp/log otherwise")
     n = int(n)
     if n == 0:
-        return Interval._raw(np.ones(x.shape), np.ones(x.shape))
+        return Interval.from_bounds(np.ones(x.shape), np.ones(x.shape))
     if n < 0:
-        return div(Interval._raw(np.ones(x.shape), np.ones(x.shape)), pown(x, -n))
+        return div(Interval.from_bounds(np.ones(x.shape), np.ones(x.shape)), pown(x, -n))
     if n == 1:
         return x
     if n % 2 == 0:
-        return Interval._raw(_pow_nonneg(x.mig(), n, down), _pow_nonneg(x.mag(), n, up))
+        return Interval.from_bounds(_pow_nonneg(x.mig(), n, down), _pow_nonneg(x.mag(), n, up))
     lo_abs = np.abs(x.lo)
     hi_abs = np.abs(x.hi)
     lo = np.where(x.lo >= 0, _pow_nonneg(lo_abs, n, down), -_pow_nonneg(lo_abs, n, up))
     hi = np.where(x.hi >= 0, _pow_nonneg(hi_abs, n, up), -_pow_nonneg(hi_abs, n, down))
-    return Interval._raw(lo, hi)
+    return Interval.from_bounds(lo, hi)
 
 
 def stack(items, axis=-1) -> Interval:
     """Stack intervals (or numbers) along a new axis."""
-    ivs = [_as_interval(i) for i in items]
-    return Interval._raw(np.stack([np.broadcast_to(i.lo, np.broadcast_shapes(*[j.shape for j in ivs])) for i in ivs], axis=axis),
+    ivs = [as_interval(i) for i in items]
+    return Interval.from_bounds(np.stack([np.broadcast_to(i.lo, np.broadcast_shapes(*[j.shape for j in ivs])) for i in ivs], axis=axis),
                          np.stack([np.broadcast_to(i.hi, np.broadcast_shapes(*[j.shape for j in ivs])) for i in ivs], axis=axis))
 
 
 def concatenate(items, axis=0) -> Interval:
-    ivs = [_as_interval(i) for i in items]
-    return Interval._raw(np.concatenate([i.lo for i in ivs], axis=axis), np.concatenate([i.hi for i in ivs], axis=axis))
+    ivs = [as_interval(i) for i in items]
+    return Interval.from_bounds(np.concatenate([i.lo for i in ivs], axis=axis), np.concatenate([i.hi for i in ivs], axis=axis))

@@ -65,16 +65,45 @@ def down_sum(c):
 
 @njit(cache=True)
 def upper(x, k):
-    """``linalg._upper``: a bound of a non-negative exact value whose float evaluation with at most
+    """``midrad.upper``: a bound of a non-negative exact value whose float evaluation with at most
     ``k`` roundings gave ``x``."""
     return (x + k * _ETA) * (1.0 + (2 * k + 6) * _U)
 
 
 @njit(cache=True)
 def midrad(lo, hi):
-    """``linalg.midrad``: (m, r) with [lo, hi] ⊆ [m − r, m + r]."""
+    """``midrad.midrad``: (m, r) with [lo, hi] ⊆ [m − r, m + r]."""
     m = 0.5 * lo + 0.5 * hi
     return m, up(max(hi - m, m - lo))
+
+
+SPLIT = 134217729.0          # rounding.SPLIT, EXACT_LOW, EXACT_HIGH
+EXACT_LOW = 2.0 ** -800
+EXACT_HIGH = 2.0 ** 800
+
+
+@njit(cache=True)
+def square_exact(a, p):
+    """``rounding.square_exact``: a = 0, or a has at most 26 significant bits (Veltkamp's split leaves
+    no low part: the same verdict as the fraction-bit test for such p) and EXACT_LOW ≤ p ≤ MAX."""
+    if a == 0.0:
+        return True
+    if not (p >= EXACT_LOW and p <= MAX):
+        return False
+    t = SPLIT * a
+    return a - (t - (t - a)) == 0.0
+
+
+@njit(cache=True)
+def up_square(a, p):
+    """``rounding.up_square``: p where a² = p exactly, else ``up(p)``."""
+    return p if square_exact(a, p) else up(p)
+
+
+@njit(cache=True)
+def down_square(a, p):
+    """``rounding.down_square``."""
+    return p if square_exact(a, p) else down(p)
 
 
 # ----------------------------------------------------------------- interval operations on (lo, hi)
@@ -127,6 +156,72 @@ def gs_update(nlo, nhi, dlo, dhi, xlo, xhi):
     return lo, hi
 
 
+# ----------------------------------------------------------------- float linear algebra (preconditioners)
+@njit(cache=True)
+def gauss_jordan(A, n):
+    """Reduce the augmented matrix A (n, n + k) in place, with partial pivoting, so that its first n
+    columns become the identity and its last k the solution of the system; False where a pivot is 0
+    or not finite (A is then meaningless).  Plain floats: for preconditioners only."""
+    width = A.shape[1]
+    for col in range(n):
+        piv = col
+        best = abs(A[col, col])
+        for r in range(col + 1, n):
+            if abs(A[r, col]) > best:
+                best = abs(A[r, col])
+                piv = r
+        if not (best > 0.0) or not np.isfinite(best):
+            return False
+        if piv != col:
+            for j in range(width):
+                A[col, j], A[piv, j] = A[piv, j], A[col, j]
+        inv = 1.0 / A[col, col]
+        for j in range(width):
+            A[col, j] *= inv
+        for r in range(n):
+            if r != col:
+                f = A[r, col]
+                if f != 0.0:
+                    for j in range(width):
+                        A[r, j] -= f * A[col, j]
+    return True
+
+
+@njit(cache=True)
+def float_inverse(Mlo, Mhi, compact):
+    """(C, failed): the float inverse of each midpoint matrix 0.5 lo + 0.5 hi (N, n, n) by Gauss-Jordan
+    elimination with partial pivoting, rounded to float32 values where ``compact``; the identity where
+    a pivot vanishes or the result is not finite (``failed``).  A preconditioner: any C keeps the
+    Krawczyk and Hansen-Sengupta steps sound."""
+    N, n, _ = Mlo.shape
+    C = np.empty((N, n, n))
+    failed = np.zeros(N, dtype=np.bool_)
+    A = np.empty((n, 2 * n))
+    for b in range(N):
+        for i in range(n):
+            for j in range(n):
+                A[i, j] = 0.5 * Mlo[b, i, j] + 0.5 * Mhi[b, i, j]
+                A[i, n + j] = 1.0 if i == j else 0.0
+        ok = gauss_jordan(A, n)
+        for i in range(n):
+            for j in range(n):
+                v = A[i, n + j] if ok else (1.0 if i == j else 0.0)
+                if not np.isfinite(v):
+                    ok = False
+                C[b, i, j] = v
+        if not ok:
+            failed[b] = True
+            for i in range(n):
+                for j in range(n):
+                    C[b, i, j] = 1.0 if i == j else 0.0
+        if compact:
+            for i in range(n):
+                for j in range(n):
+                    v = C[b, i, j]
+                    C[b, i, j] = np.float64(np.float32(v)) if abs(v) < 2.0 ** 127 else 0.0
+    return C, failed
+
+
 # ----------------------------------------------------------------- Hansen-Sengupta (linalg.hansen_sengupta)
 @njit(cache=True)
 def hansen_sengupta(flo, fhi, Jlo, Jhi, xlo, xhi, c, C):
@@ -169,7 +264,7 @@ def hansen_sengupta(flo, fhi, Jlo, Jhi, xlo, xhi, c, C):
                 m, r = midrad(Jlo[b, i, j], Jhi[b, i, j])
                 Jm[i, j] = m
                 Jw[i, j] = g * abs(m) + r
-        # G = C J in [Gm ± Gr], −C f(c) in [rlo, rhi] (``_product_midrad``)
+        # G = C J in [Gm ± Gr], −C f(c) in [rlo, rhi] (``midrad.product_midrad``)
         for i in range(n):
             sm = 0.0
             sr = 0.0

@@ -39,7 +39,7 @@ from math import comb, factorial
 import numpy as np
 
 from . import elementary as _el
-from .interval import Interval, _as_interval, mul
+from .interval import Interval, as_interval, mul
 from .rounding import down, down_sum, enclose_fraction, sum_bounds, up, up_sum
 
 
@@ -47,7 +47,7 @@ def _operand(x):
     """(lo, hi) coefficient arrays of a Poly, or of a constant as a degree-0 polynomial."""
     if isinstance(x, Poly):
         return x.lo, x.hi
-    iv = _as_interval(x)
+    iv = as_interval(x)
     return np.asarray(iv.lo)[..., None], np.asarray(iv.hi)[..., None]
 
 
@@ -117,7 +117,7 @@ class Poly:
     @classmethod
     def from_coefficients(cls, coefficients) -> "Poly":
         """Σ_k coefficients[k] t^k (a list of Intervals or numbers of one batch shape)."""
-        ivs = [_as_interval(c) for c in coefficients]
+        ivs = [as_interval(c) for c in coefficients]
         shape = np.broadcast_shapes(*(np.shape(c.lo) for c in ivs))
         return cls(np.stack([np.broadcast_to(c.lo, shape) for c in ivs], -1),
                    np.stack([np.broadcast_to(c.hi, shape) for c in ivs], -1))
@@ -142,7 +142,7 @@ class Poly:
         return Poly(self.lo[index], self.hi[index])
 
     def coefficient(self, k) -> Interval:
-        return Interval._raw(self.lo[..., k], self.hi[..., k])
+        return Interval.from_bounds(self.lo[..., k], self.hi[..., k])
 
     def __repr__(self):
         return f"Poly(degree={self.degree}, shape={self.shape})"
@@ -173,10 +173,10 @@ class Poly:
         blo, bhi = _operand(other)
         p, q = self.lo.shape[-1], blo.shape[-1]
         if p == 1 or q == 1:                     # a constant factor: coefficient-wise
-            r = mul(Interval._raw(self.lo, self.hi), Interval._raw(blo, bhi))
+            r = mul(Interval.from_bounds(self.lo, self.hi), Interval.from_bounds(blo, bhi))
             return Poly(r.lo, r.hi)
-        P = mul(Interval._raw(self.lo[..., :, None], self.hi[..., :, None]),
-                Interval._raw(blo[..., None, :], bhi[..., None, :]))          # (S, p, q): c_i d_j
+        P = mul(Interval.from_bounds(self.lo[..., :, None], self.hi[..., :, None]),
+                Interval.from_bounds(blo[..., None, :], bhi[..., None, :]))          # (S, p, q): c_i d_j
         shape = P.lo.shape[:-2] + (p + q - 1,)
         lo = np.zeros(shape)
         hi = np.zeros(shape)
@@ -200,7 +200,7 @@ class Poly:
     def range(self, tlo, thi) -> Interval:
         """Enclosure of {p(t) : t ∈ [tlo, thi]} (``tlo``, ``thi`` broadcast against the batch)."""
         b = self.bernstein(tlo, thi)
-        return Interval._raw(b.lo.min(axis=-1), b.hi.max(axis=-1))
+        return Interval.from_bounds(b.lo.min(axis=-1), b.hi.max(axis=-1))
 
     def bernstein(self, tlo, thi, weights=None) -> Interval:
         """Enclosures (…, n + 1) of the Bernstein coefficients of p on [tlo, thi].
@@ -212,7 +212,7 @@ class Poly:
         lo = np.broadcast_to(self.lo, shape + (n + 1,))
         hi = np.broadcast_to(self.hi, shape + (n + 1,))
         if n == 0:
-            return Interval._raw(lo.copy(), hi.copy())
+            return Interval.from_bounds(lo.copy(), hi.copy())
         if weights is not None or np.all(a >= 0):
             return _bernstein_nonnegative(lo, hi, a, b, n, weights)
         return _bernstein_taylor(lo, hi, np.broadcast_to(a, shape), np.broadcast_to(b, shape), n)
@@ -241,7 +241,7 @@ def _trig(x: Poly, kind: str, order: int) -> Poly:
     if x.degree > 1:
         raise NotImplementedError("cos/sin of a polynomial of degree above 1")
     c0 = x.coefficient(0)
-    c1 = x.coefficient(1) if x.degree == 1 else Interval._raw(np.zeros_like(x.lo[..., 0]), np.zeros_like(x.lo[..., 0]))
+    c1 = x.coefficient(1) if x.degree == 1 else Interval.from_bounds(np.zeros_like(x.lo[..., 0]), np.zeros_like(x.lo[..., 0]))
     m = c0 + mul(c1, _HALF)
     mag = np.maximum(np.abs(c1.lo), np.abs(c1.hi))
     r = float(np.max(mag, initial=0.0)) / 2
@@ -255,13 +255,13 @@ def _trig(x: Poly, kind: str, order: int) -> Poly:
     dlo = np.stack([np.broadcast_to(v.lo, shape) for v in cycle], -1)[..., order_k]
     dhi = np.stack([np.broadcast_to(v.hi, shape) for v in cycle], -1)[..., order_k]
     plo, phi = np.ones(shape + (order + 1,)), np.ones(shape + (order + 1,))
-    power = Interval._raw(plo[..., 0], phi[..., 0])
+    power = Interval.from_bounds(plo[..., 0], phi[..., 0])
     for k in range(1, order + 1):
         power = mul(power, c1)
         plo[..., k], phi[..., k] = power.lo, power.hi
-    a = mul(Interval._raw(dlo, dhi), Interval._raw(plo, phi))
+    a = mul(Interval.from_bounds(dlo, dhi), Interval.from_bounds(plo, phi))
     Mlo, Mhi = _taylor_to_powers(order)
-    terms = mul(Interval._raw(a.lo[..., :, None], a.hi[..., :, None]), Interval._raw(Mlo, Mhi))   # (..., k, j)
+    terms = mul(Interval.from_bounds(a.lo[..., :, None], a.hi[..., :, None]), Interval.from_bounds(Mlo, Mhi))   # (..., k, j)
     lo, hi = sum_bounds(terms.lo, terms.hi, axis=-2)
     rem = up(mag * 0.5)                                    # (|c_1|/2)^(order+1)/(order+1)!, rounded up
     bound = rem
@@ -305,10 +305,10 @@ def ratio_range(p: Interval, q: Interval) -> Interval:
     quotient of the two ranges."""
     r = p / q
     positive = np.all(q.lo > 0, axis=-1)
-    ranged = Interval._raw(p.lo.min(axis=-1), p.hi.max(axis=-1)) / Interval._raw(q.lo.min(axis=-1), q.hi.max(axis=-1))
+    ranged = Interval.from_bounds(p.lo.min(axis=-1), p.hi.max(axis=-1)) / Interval.from_bounds(q.lo.min(axis=-1), q.hi.max(axis=-1))
     lo = np.where(positive, r.lo.min(axis=-1), ranged.lo)
     hi = np.where(positive, r.hi.max(axis=-1), ranged.hi)
-    return Interval._raw(lo, hi)
+    return Interval.from_bounds(lo, hi)
 
 
 _U = 2.0 ** -53          # unit roundoff
@@ -363,7 +363,7 @@ def _bernstein_nonnegative(lo, hi, a, b, n, weights=None):
     d = 4.0 * (n + 1) * _U          # sums of n + 1 products of one sign: |fl − exact| ≤ γ_{n+1} |exact|
     blo = down_sum(down(_vecmat(cl_p, Wl) * (1.0 - d)) + down(_vecmat(cl_n, Wh) * (1.0 + d)))
     bhi = up_sum(up(_vecmat(ch_p, Wh) * (1.0 + d)) + up(_vecmat(ch_n, Wl) * (1.0 - d)))
-    return Interval._raw(blo, bhi)
+    return Interval.from_bounds(blo, bhi)
 
 
 def _vecmat(c, W):
@@ -376,13 +376,13 @@ def _vecmat(c, W):
 def _bernstein_taylor(lo, hi, a, b, n):
     """Bernstein range on any [a, b], in interval arithmetic: Taylor shift by a (Horner's
     synthetic division), scaling by h^k, then the Bernstein map."""
-    c = [Interval._raw(lo[..., k], hi[..., k]) for k in range(n + 1)]
-    A = Interval._raw(a, a)
+    c = [Interval.from_bounds(lo[..., k], hi[..., k]) for k in range(n + 1)]
+    A = Interval.from_bounds(a, a)
     for i in range(n):
         for j in range(n - 1, i - 1, -1):
             c[j] = c[j] + A * c[j + 1]
     d = b - a
-    h = Interval._raw(np.maximum(down_sum(d), 0.0), up_sum(d))
+    h = Interval.from_bounds(np.maximum(down_sum(d), 0.0), up_sum(d))
     hk = h
     for k in range(1, n + 1):
         c[k] = c[k] * hk
@@ -392,7 +392,7 @@ def _bernstein_taylor(lo, hi, a, b, n):
     blo = np.repeat(c[0].lo[..., None], n + 1, axis=-1)
     bhi = np.repeat(c[0].hi[..., None], n + 1, axis=-1)
     for k in range(1, n + 1):
-        t = mul(Interval._raw(Tlo[k:, k], Thi[k:, k]), Interval._raw(c[k].lo[..., None], c[k].hi[..., None]))
+        t = mul(Interval.from_bounds(Tlo[k:, k], Thi[k:, k]), Interval.from_bounds(c[k].lo[..., None], c[k].hi[..., None]))
         blo[..., k:] = down_sum(blo[..., k:] + t.lo)
         bhi[..., k:] = up_sum(bhi[..., k:] + t.hi)
-    return Interval._raw(blo, bhi)
+    return Interval.from_bounds(blo, bhi)

@@ -34,16 +34,16 @@ import numpy as np
 
 INF = np.inf
 MAX = float(np.finfo(np.float64).max)
-_REL = 2.0 ** -52
-_ABS = 2.0 ** -1022
+REL = 2.0 ** -52         # the relative step of ``up``/``down``: one unit in the last place
+ABS = 2.0 ** -1022       # and their absolute step: the smallest normal float
 
 
 def up(c):
     """An upper bound of every real within half a spacing of ``c`` (elementwise, new array)."""
     c = np.maximum(c, -MAX)
     d = np.abs(c)
-    d *= _REL
-    d += _ABS
+    d *= REL
+    d += ABS
     d += c
     return d
 
@@ -52,8 +52,8 @@ def down(c):
     """A lower bound of every real within half a spacing of ``c`` (elementwise, new array)."""
     c = np.minimum(c, MAX)
     d = np.abs(c)
-    d *= -_REL
-    d -= _ABS
+    d *= -REL
+    d -= ABS
     d += c
     return d
 
@@ -67,7 +67,7 @@ def up_sum(c):
     """
     c = np.maximum(c, -MAX)
     d = np.abs(c)
-    d *= _REL
+    d *= REL
     d += c
     return d
 
@@ -76,9 +76,75 @@ def down_sum(c):
     """``down`` for a sum or difference (see ``up_sum``)."""
     c = np.minimum(c, MAX)
     d = np.abs(c)
-    d *= -_REL
+    d *= -REL
     d += c
     return d
+
+
+SPLIT = 134217729.0          # 2**27 + 1: Veltkamp's splitting constant (Dekker 1971)
+EXACT_LOW = 2.0 ** -800     # products in [EXACT_LOW, EXACT_HIGH] of factors at most EXACT_HIGH are tested
+EXACT_HIGH = 2.0 ** 800     # for exactness (no overflow, no underflow in Dekker's product)
+_LOW_FRACTION_BITS = (1 << 27) - 1      # the 27 lowest of the 52 fraction bits of a float64
+
+
+def product_error(a, b, p):
+    """e with a·b = p + e exactly, for p = fl(a·b), by Dekker's product without fused multiply-add
+    (Veltkamp's splitting, Dekker 1971; every operation exact where ``in_exact_range``)."""
+    t = SPLIT * a
+    ah = t - (t - a)
+    al = a - ah
+    t = SPLIT * b
+    bh = t - (t - b)
+    bl = b - bh
+    return ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+def in_exact_range(p, *factors):
+    """Where Dekker's product of ``factors`` is error-free: |p| in [EXACT_LOW, EXACT_HIGH] and every
+    |factor| at most EXACT_HIGH (the split cannot overflow; the exponents of the factors sum to at
+    least −801, so no partial product underflows: Boldo 2006, the Veltkamp/Dekker conditions)."""
+    m = np.abs(p)
+    ok = (m >= EXACT_LOW) & (m <= EXACT_HIGH)
+    for f in factors:
+        ok &= np.abs(f) <= EXACT_HIGH
+    return ok
+
+
+def square_exact(a, p):
+    """Where p = fl(a·a) is proved to be a² exactly: a = 0, or a has at most 26 significant bits (its
+    27 lowest fraction bits are 0, so a² has at most 52) and EXACT_LOW ≤ p ≤ MAX (no underflow, no
+    overflow).  A sufficient test (a 27-bit odd significand also squares exactly), in two integer
+    operations and two comparisons."""
+    bits = np.asarray(a, dtype=np.float64).view(np.int64)
+    return (((bits & _LOW_FRACTION_BITS) == 0) & (p >= EXACT_LOW) & (p <= MAX)) | (a == 0)
+
+
+def up_square(a, p):
+    """An upper bound of a² from p = fl(a·a): p itself where ``square_exact``, ``up(p)`` elsewhere."""
+    return np.where(square_exact(a, p), p, up(p))
+
+
+def down_square(a, p):
+    """A lower bound of a² from p = fl(a·a) (see ``up_square``)."""
+    return np.where(square_exact(a, p), p, down(p))
+
+
+def _product_exact(a, b, p):
+    with np.errstate(invalid="ignore", over="ignore"):
+        return ((product_error(a, b, p) == 0) & in_exact_range(p, a, b)) | \
+            ((a == 0) & np.isfinite(b)) | ((b == 0) & np.isfinite(a))
+
+
+def up_product(a, b, p):
+    """An upper bound of a·b from p = fl(a·b): p itself where the product is proved exact (Dekker's
+    error is 0 in the range where it is error-free, or a factor is 0 and the other finite),
+    ``up(p)`` elsewhere."""
+    return np.where(_product_exact(a, b, p), p, up(p))
+
+
+def down_product(a, b, p):
+    """A lower bound of a·b from p = fl(a·b) (see ``up_product``)."""
+    return np.where(_product_exact(a, b, p), p, down(p))
 
 
 def next_up(c):

@@ -31,7 +31,7 @@ def _cs(angle):
     return ad.cos(angle), ad.sin(angle)
 
 
-def _rot(axis: str, cs, v):
+def rot(axis: str, cs, v):
     """R_axis(angle) v, with cs = (cos, sin) of the angle: Rz = [[c,−s,0],[s,c,0],[0,0,1]],
     Ry = [[c,0,s],[0,1,0],[−s,0,c]], Rx = [[1,0,0],[0,c,−s],[0,s,c]]."""
     c, s = cs
@@ -61,7 +61,7 @@ def _spherical(p1, p2, p3, base, platform):
     rows = []
     c1, c2, c3 = _cs(p1), _cs(p2), _cs(p3)
     for a, b in zip(base, platform):
-        qb = _rot("z", c1, _rot("y", c2, _rot("z", c3, b)))
+        qb = rot("z", c1, rot("y", c2, rot("z", c3, b)))
         rows.append(list(_cross(a, qb)))
     return rows
 
@@ -81,7 +81,7 @@ def gough_rows(pose, base, platform):
     rows = []
     c1, c2, c3 = _cs(psi), _cs(theta), _cs(phi)
     for a, b in zip(base, platform):
-        rb = _rot("z", c1, _rot("x", c2, _rot("z", c3, b)))
+        rb = rot("z", c1, rot("x", c2, rot("z", c3, b)))
         l = (x + rb[0] - a[0], y + rb[1] - a[1], z + rb[2] - a[2])
         rows.append(list(l) + list(_cross(rb, l)))
     return rows
@@ -106,7 +106,7 @@ MODELS = {m.name: m for m in (
 )}
 
 
-def _points(robot: dict, key: str, count: int, dim: int):
+def points(robot: dict, key: str, count: int, dim: int):
     pts = robot.get(key)
     if not isinstance(pts, list) or len(pts) != count:
         raise Rejected(f"robot.{key}: expected {count} points")
@@ -126,8 +126,8 @@ class Robot:
 
     def __init__(self, model: Model, robot: dict):
         self.model = model
-        self.base = _points(robot, "base", model.legs, model.base_dim)
-        self.platform = _points(robot, "platform", model.legs, model.platform_dim)
+        self.base = points(robot, "base", model.legs, model.base_dim)
+        self.platform = points(robot, "platform", model.legs, model.platform_dim)
         lift = lambda pts: [tuple(ad.lift(c) for c in p) for p in pts]
         self._lifted = lift(self.base), lift(self.platform)  # constants for ``ad.Dual`` evaluation
 

@@ -69,7 +69,7 @@ from mpmath import iv
 
 from . import ad
 from .det import det, det_interval
-from .models import _points, _rot
+from .models import points, rot
 from .numbers import enclose, exact, real
 from .report import Rejected
 
@@ -161,8 +161,8 @@ class Geometry:
         self.n = n = model.legs
         self.position, self.angles, self.axes = _FRAMES[model.name]
         self.angle_names = _ANGLES[model.name]
-        self.base2 = _points(robot, "base", n, model.base_dim)
-        self.platform = _points(robot, "platform", n, model.platform_dim)
+        self.base2 = points(robot, "base", n, model.base_dim)
+        self.platform = points(robot, "platform", n, model.platform_dim)
         self.base = [tuple(p) + (0,) * (3 - len(p)) for p in self.base2]       # A_i in space
         self.base2_l = [tuple(ad.lift(c) for c in p) for p in self.base2]
         self.platform_l = [tuple(ad.lift(c) for c in p) for p in self.platform]
@@ -292,7 +292,7 @@ class Segment:
 
 def _rotate(axes, cs, v):
     for axis, c in zip(reversed(axes), reversed(cs)):
-        v = _rot(axis, c, v)
+        v = rot(axis, c, v)
     return v
 
 

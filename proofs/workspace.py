@@ -40,18 +40,12 @@ from mpmath import iv
 
 from . import tree
 from .numbers import enclose, exact, real
-from .report import Rejected, Report
+from .report import Rejected
 from .singularity import read_box
 
 MODELS = {"gough-stewart-workspace/1": ("gough-stewart", ("psi", "theta", "phi"), 6, 3),
           "planar-3rpr-workspace/1": ("planar-3rpr", ("phi",), 3, 2)}
 PROBLEMS = ("workspace-section", "workspace-volume")
-
-
-def check(cert, prec: int = 80) -> Report:
-    """Re-verify a workspace certificate: ``proofs.check`` (header, then these claims)."""
-    from .checker import check as check_certificate
-    return check_certificate(cert, prec)
 
 
 def check_claims(cert, counts: dict) -> None:

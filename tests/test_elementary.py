@@ -468,7 +468,7 @@ def test_empty_and_nan():
         assert np.all(r.lo > r.hi), fn.__name__
     assert np.all(el.atan2(e, Interval(1.0)).is_empty())
     assert np.all(el.min(e, Interval(1.0)).is_empty())
-    nan = Interval._raw(np.array([np.nan, 0.0]), np.array([1.0, np.nan]))
+    nan = Interval.from_bounds(np.array([np.nan, 0.0]), np.array([1.0, np.nan]))
     for fn in (el.sqrt, el.abs, el.exp, el.log, el.atan, el.sin, el.cos, el.tan):
         r = fn(nan)  # must not raise; NaN means "unknown", and any bound given must be sound
         assert r.shape == (2,)

@@ -418,8 +418,8 @@ def test_slope_matrices_enclose_exact_differences():
     computed exactly (Fractions): the solver's FKSystem.slope and the checker's System.slope; the stacked
     twin gives the same enclosures; the slope is about half as wide as the Jacobian over X."""
     from certkin import load_robot
-    from certkin.robots.fk_stacked import StackedFKSystem
-    from certkin.robots.fk_systems import FKSystem
+    from certkin.fk.stacked import StackedFKSystem
+    from certkin.fk.system import FKSystem
     from intervals import Interval
     from proofs.fk import System
     robots = [(planar(*SIX_MODES[0][:2]), ["14.98", "15.38", "12"]),
@@ -433,7 +433,7 @@ def test_slope_matrices_enclose_exact_differences():
         N = 12
         c = rng.uniform(-1, 1, (N, s.n))
         w = rng.uniform(0.01, 0.2, (N, s.n))
-        X = Interval._raw(c - w, c + w)
+        X = Interval.from_bounds(c - w, c + w)
         m = X.mid()
         S = s.slope(X, m)
         T = StackedFKSystem.of(s).slope(X, m)
@@ -458,7 +458,7 @@ def test_rotated_derivatives_enclose_sympy_derivatives():
     """∂(R b_i)/∂q_r over random quaternion boxes (the midpoint-radius enclosure of FKSystem) holds the
     derivatives of R(q) b_i differentiated by sympy, evaluated exactly at random points of the boxes."""
     from certkin import load_robot
-    from certkin.robots.fk_systems import FKSystem
+    from certkin.fk.system import FKSystem
     from intervals import Interval
     robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
     s = FKSystem(robot)
@@ -472,7 +472,7 @@ def test_rotated_derivatives_enclose_sympy_derivatives():
     N = 6
     c = rng.uniform(-1, 1, (N, 7))
     w = rng.uniform(0.001, 0.3, (N, 7))
-    X = Interval._raw(c - w, c + w)
+    X = Interval.from_bounds(c - w, c + w)
     D = s._rotated_derivatives(X)
     for n in range(N):
         for _ in range(2):
@@ -491,7 +491,8 @@ def test_rotated_midrad_encloses_exact_products():
     of R, is at most a few ulps wider than the interval products, and its per-column terms bound the
     sums that leave one column out (HC4 step 6)."""
     from certkin import load_robot
-    from certkin.robots.fk_systems import FKSystem, _from_midrad
+    from certkin.fk.rotation import from_midrad as _from_midrad
+    from certkin.fk.system import FKSystem
     from intervals import Interval
     robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
     s = FKSystem(robot)
@@ -500,7 +501,7 @@ def test_rotated_midrad_encloses_exact_products():
     N = 12
     c = rng.uniform(-1, 1, (N, 3, 3))
     w = rng.uniform(0, 0.1, (N, 3, 3)) * (rng.random((N, 1, 1)) < 0.8)
-    R = Interval._raw(c - w, c + w)
+    R = Interval.from_bounds(c - w, c + w)
     U = s.rotated(R)
     m, r, P, Q = s.rotated_midrad(R, columns=True)
     natural = sum((R[:, None, :, j] * s.b[None, :, j, None] for j in range(1, 3)), R[:, None, :, 0] * s.b[None, :, 0, None])
@@ -533,9 +534,9 @@ def test_native_slope_step_gives_the_numpy_slope():
     slope matrices and f(c) of ``FKSystem.slope`` / ``FKSystem.equations`` bit for bit, a C close to
     the inverse of mid S, and a Hansen-Sengupta box that keeps the root of every box around one."""
     from certkin import load_robot
-    from certkin.fk import slope_boxes
-    from certkin.fk_native import slope_quaternion
-    from certkin.robots.fk_systems import FKSystem
+    from certkin.fk.step import slope_boxes
+    from certkin.fk.kernels import slope_quaternion
+    from certkin.fk.system import FKSystem
     from intervals import Interval, sqr
     for robot, lengths in [(robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]),
                            (load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml"),
@@ -545,16 +546,16 @@ def test_native_slope_step_gives_the_numpy_slope():
         N = 400
         rlo, rhi = root_boxes(robot, lengths, N, rng)
         w = rng.uniform(0, 1, (N, s.n)) * 10.0 ** rng.uniform(-6, -1.5, (N, 1))
-        X = Interval._raw(rlo - w * rng.uniform(0.1, 1, (N, s.n)), rhi + w * rng.uniform(0.1, 1, (N, s.n)))
+        X = Interval.from_bounds(rlo - w * rng.uniform(0.1, 1, (N, s.n)), rhi + w * rng.uniform(0.1, 1, (N, s.n)))
         rho = [Interval(v) for v in lengths]
-        L = sqr(Interval._raw(np.tile([float(r.lo) for r in rho], (N, 1)), np.tile([float(r.hi) for r in rho], (N, 1))))
+        L = sqr(Interval.from_bounds(np.tile([float(r.lo) for r in rho], (N, 1)), np.tile([float(r.hi) for r in rho], (N, 1))))
         c = X.mid()
         rb, rbc, drbs = s.rotated_centred(X, parts=True)
         H, C, S, empty = slope_boxes(s, X, L, rb=rb, rbc=rbc, drbs=drbs)
         ref = s.slope(X, c, rb=rb, rbc=rbc, drbs=drbs)
         assert np.array_equal(S.lo, ref.lo) and np.array_equal(S.hi, ref.hi)
         f = slope_quaternion(X.lo, X.hi, c, rb.lo, rb.hi, rbc.lo, rbc.hi, *drbs, s.a.lo, s.a.hi, L.lo, L.hi, s.n_pos)[2:]
-        fref = s.equations(Interval._raw(c, c.copy()), L, rb=rbc)
+        fref = s.equations(Interval.from_bounds(c, c.copy()), L, rb=rbc)
         assert np.array_equal(f[0], fref.lo) and np.array_equal(f[1], fref.hi)
         assert np.max(np.abs(C @ S.mid() - np.eye(s.n))) < 1e-6
         assert not empty.any()
@@ -569,7 +570,8 @@ def test_native_position_step_matches_numpy():
     the box;
     every root is kept, and most of the boxes around roots are contracted."""
     from certkin import load_robot
-    from certkin.fk import _position_gauss_seidel, contract_position, fk_system
+    from certkin.fk import fk_system
+    from certkin.fk.step import _position_gauss_seidel, contract_position
     from intervals import Interval, sqr
     robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
     lengths = "1.093,2.280,2.031,2.524,3.136,1.845".split(",")
@@ -580,13 +582,13 @@ def test_native_position_step_matches_numpy():
     w = rng.uniform(0, 1, (N, 7)) * 10.0 ** rng.uniform(-7, -2, (N, 1))
     w[:, :3] = rng.uniform(0.01, 0.5, (N, 3))
     rho = [Interval(v) for v in lengths]
-    Lrow = sqr(Interval._raw(np.array([[float(r.lo) for r in rho]]), np.array([[float(r.hi) for r in rho]])))
+    Lrow = sqr(Interval.from_bounds(np.array([[float(r.lo) for r in rho]]), np.array([[float(r.hi) for r in rho]])))
     dlo, dhi = (np.atleast_2d(v)[0] for v in s.domain(Lrow))
     far_c = rng.uniform(dlo, dhi, (N, 7))
     far_w = rng.uniform(0, 1, (N, 7)) ** 2 * (dhi - dlo) * 0.1
-    X = Interval._raw(np.concatenate([rlo - w * rng.uniform(0.1, 1, (N, 7)), far_c - far_w]),
+    X = Interval.from_bounds(np.concatenate([rlo - w * rng.uniform(0.1, 1, (N, 7)), far_c - far_w]),
                       np.concatenate([rhi + w * rng.uniform(0.1, 1, (N, 7)), far_c + far_w]))
-    L = Interval._raw(np.repeat(Lrow.lo, 2 * N, 0), np.repeat(Lrow.hi, 2 * N, 0))
+    L = Interval.from_bounds(np.repeat(Lrow.lo, 2 * N, 0), np.repeat(Lrow.hi, 2 * N, 0))
     rb = s.rotated_centred(X)
     lo, hi, empty, P = contract_position(s, X, L, rb=rb)
     new, ref_empty, ref_P = _position_gauss_seidel(s, X, L, rb)
@@ -608,7 +610,7 @@ def test_rotation_at_points_encloses_exact_values():
     holds the exact matrix (rational arithmetic), for ordinary, tiny (underflowing products) and
     non-unit points; the bound stays within a few ulps."""
     from certkin import load_robot
-    from certkin.robots.fk_systems import FKSystem
+    from certkin.fk.system import FKSystem
     s = FKSystem(load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml"))
     rng = np.random.default_rng(5)
     c = rng.uniform(-1.2, 1.2, (60, 7))
@@ -628,7 +630,7 @@ def test_centred_rotated_points_enclose_exact_values():
     System.rotated_box): holds the exact R(q) b_i (Fractions) at random points; it is narrower than the
     natural enclosure on small boxes."""
     from certkin import load_robot
-    from certkin.robots.fk_systems import FKSystem
+    from certkin.fk.system import FKSystem
     from intervals import Interval
     from proofs.fk import System
     robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
@@ -639,7 +641,7 @@ def test_centred_rotated_points_enclose_exact_values():
     N = 8
     c = rng.uniform(-1, 1, (N, 7))
     w = rng.uniform(0.001, 0.05, (N, 7))
-    X = Interval._raw(c - w, c + w)
+    X = Interval.from_bounds(c - w, c + w)
     T = s.rotated_centred(X)
     natural = s.rotated(s.rotation(X))
     assert np.all(T.lo >= natural.lo) and np.all(T.hi <= natural.hi)
@@ -660,7 +662,7 @@ def test_centred_rotated_points_enclose_exact_values():
     S, S2 = s.slope(X, m, rb=T2), s.slope(X, m, rb=T2, rbc=rbc, drbs=drbs)
     assert np.array_equal(T2.lo, T.lo) and np.array_equal(S.lo, S2.lo) and np.array_equal(S.hi, S2.hi)
     # an empty batch (every box of a batch emptied by HC4) has empty enclosures
-    E = s.rotated_centred(Interval._raw(np.zeros((0, 7)), np.zeros((0, 7))))
+    E = s.rotated_centred(Interval.from_bounds(np.zeros((0, 7)), np.zeros((0, 7))))
     assert E.shape == (0, 6, 3)
 
 
@@ -756,7 +758,7 @@ def test_cli_fk_json_certificate_and_errors(tmp_path):
 
 # ----- tracking ----------------------------------------------------------------------------------
 def _unknowns(robot, pose):
-    from certkin.robots.fk_systems import FKSystem
+    from certkin.fk.system import FKSystem
     return FKSystem(robot).unknowns_of_pose(np.asarray(pose, dtype=float))
 
 
@@ -794,8 +796,8 @@ def test_stacked_fk_system_gives_the_same_enclosures():
     """StackedFKSystem performs FKSystem's interval operations stacked: bit-identical enclosures;
     the float evaluation (Newton guesses) agrees with the interval one at points."""
     from certkin import load_robot
-    from certkin.robots.fk_stacked import StackedFKSystem
-    from certkin.robots.fk_systems import FKSystem
+    from certkin.fk.stacked import StackedFKSystem
+    from certkin.fk.system import FKSystem
     from intervals import Interval
     robots = [planar(*SIX_MODES[0][:2]),
               robot_from_dict({"kind": "spherical-3dof", "base": [["1.6", "0", "-1.2"], ["-1.1", "1.2", "-1.2"],
@@ -808,9 +810,9 @@ def test_stacked_fk_system_gives_the_same_enclosures():
         t = StackedFKSystem.of(s)
         c = rng.uniform(-2, 2, (40, s.n))
         w = rng.uniform(0, 0.3, (40, s.n)) * (rng.random((40, 1)) < 0.8)
-        X = Interval._raw(c - w, c + w)
+        X = Interval.from_bounds(c - w, c + w)
         Llo = rng.uniform(1, 20, (40, s.legs))
-        L = Interval._raw(Llo, Llo + 0.01)
+        L = Interval.from_bounds(Llo, Llo + 0.01)
         for name, a, b in (("rotation", s.rotation(X), t.rotation(X)),
                            ("equations", s.equations(X, L), t.equations(X, L)),
                            ("jacobian", s.jacobian(X), t.jacobian(X)), ("points", s.points(X), t.points(X))):
@@ -820,12 +822,12 @@ def test_stacked_fk_system_gives_the_same_enclosures():
             for a, b in zip(s.position_system(X, L), t.position_system(X, L)):
                 assert np.array_equal(a.lo, b.lo) and np.array_equal(a.hi, b.hi), f"{robot.kind} position_system"
         f, J, mid = t.krawczyk_data(X, L)
-        f0 = s.equations(Interval._raw(X.mid(), X.mid()), L)
+        f0 = s.equations(Interval.from_bounds(X.mid(), X.mid()), L)
         assert np.array_equal(mid, X.mid()) and np.array_equal(f.lo, f0.lo) and np.array_equal(f.hi, f0.hi)
         assert np.array_equal(J.lo, s.jacobian(X).lo) and np.array_equal(J.hi, s.jacobian(X).hi)
         ff, Jf = s.float_system(c, Llo)
-        point = Interval._raw(c, c.copy())
-        fi, Ji = s.equations(point, Interval._raw(Llo, Llo.copy())), s.jacobian(point)
+        point = Interval.from_bounds(c, c.copy())
+        fi, Ji = s.equations(point, Interval.from_bounds(Llo, Llo.copy())), s.jacobian(point)
         assert np.all(fi.lo - 1e-9 <= ff) and np.all(ff <= fi.hi + 1e-9)
         assert np.all(Ji.lo - 1e-9 <= Jf) and np.all(Jf <= Ji.hi + 1e-9)
 
@@ -919,7 +921,7 @@ def test_tracking_step_that_cannot_be_proved_is_not_reported_tracked():
 def test_tracking_retries_keep_certificates_valid(monkeypatch):
     """The second-chance paths (a wider root box, other tracking boxes, the tracking box itself as
     the root box) give certificates that re-check."""
-    import certkin.tracking as tracking
+    import certkin.fk.tracking as tracking
     from certkin.certificates import fk_certificate
     from certkin.fk import track_sequence
     robot, plat, poses = _planar_motion(80)

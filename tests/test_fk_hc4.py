@@ -15,9 +15,9 @@ from mpmath import iv
 import proofs
 from certkin import load_robot, robot_from_dict
 from certkin.fk import forward_kinematics
-from certkin.fk_hc4 import hc4
-from certkin.robots.fk_stacked import StackedFKSystem
-from certkin.robots.fk_systems import FKSystem
+from certkin.fk.contract import hc4
+from certkin.fk.stacked import StackedFKSystem
+from certkin.fk.system import FKSystem
 from intervals import Interval, sqr
 from proofs.fk import System
 
@@ -46,7 +46,7 @@ def _L(lengths, N):
     rho = [Interval(v) for v in lengths]
     lo = np.array([float(r.lo) for r in rho])
     hi = np.array([float(r.hi) for r in rho])
-    return sqr(Interval._raw(np.tile(lo, (N, 1)), np.tile(hi, (N, 1))))
+    return sqr(Interval.from_bounds(np.tile(lo, (N, 1)), np.tile(hi, (N, 1))))
 
 
 def _boxes_around(R, n_boxes, rng, scale):
@@ -79,7 +79,7 @@ def test_checker_hc4_lands_inside_the_solver_result(case, request):
     system = FKSystem(robot)
     checker = System(system.model_name, robot.to_dict(), list(lengths))
     rng = np.random.default_rng(7)
-    dlo, dhi = result.domain if not result.tracked else system.domain(sqr(Interval._raw(
+    dlo, dhi = result.domain if not result.tracked else system.domain(sqr(Interval.from_bounds(
         np.array([[float(Interval(v).lo) for v in lengths]]), np.array([[float(Interval(v).hi) for v in lengths]]))))
     dlo, dhi = np.atleast_2d(dlo)[0], np.atleast_2d(dhi)[0]
     # boxes all over the domain, of many sizes: some are emptied, some contracted
@@ -145,7 +145,7 @@ def test_planar_stacked_pass_gives_the_generic_floats():
         robot = planar(base, plat)
         system = FKSystem(robot)
         result = forward_kinematics(robot, lengths)
-        dlo, dhi = system.domain(Interval._raw(*(np.array([[float(Interval(v).lo) for v in lengths]]),
+        dlo, dhi = system.domain(Interval.from_bounds(*(np.array([[float(Interval(v).lo) for v in lengths]]),
                                                 np.array([[float(Interval(v).hi) for v in lengths]]))))
         boxes = [_boxes_around(s["box"], 100, rng, np.r_[2.0, 2.0, 0.3, 0.3]) for s in result.solutions]
         c = rng.uniform(dlo, dhi, (300, 4))
@@ -172,7 +172,7 @@ def test_kept_centred_form_gives_the_same_floats(gough_case):
     lo, hi = _boxes_around(R, 50, rng, np.r_[np.full(3, 1.0), np.full(4, 0.2)])
     kept = {}
     hc4(system, lo, hi, _L(lengths, len(lo)), keep=kept)
-    X = Interval._raw(lo, hi)
+    X = Interval.from_bounds(lo, hi)
     fresh = system.rotated_centred(X, parts=True)
     reused = system.rotated_centred(X, parts=True, form=kept["form"])
     for a, b in [(fresh[0], reused[0]), (fresh[1], reused[1])]:

@@ -10,7 +10,7 @@ import numpy as np
 import proofs
 from certkin import robot_from_dict
 from certkin.fk import fk_system, forward_kinematics
-from certkin.robots.fk_stacked import StackedFKSystem
+from certkin.fk.stacked import StackedFKSystem
 
 SIX = {"kind": "planar-3rpr", "base": [["0", "0"], ["15.91", "0"], ["0", "10"]],
        "platform": [["0", "0"], ["17.04", "0"], ["13.236", "16.097"]]}
@@ -77,7 +77,7 @@ def test_float_lengths_are_their_repr_texts():
 
 def test_planar_newton_in_python_floats_matches_the_float_system():
     """Tracking's planar Newton iterations (Python floats) use FKSystem.float_system's equations."""
-    from certkin.tracking import _planar_float_system, _solve
+    from certkin.fk.tracking import _planar_float_system, _solve
     system = fk_system(robot_from_dict(SIX))
     a, b = system.float_geometry()
     g = np.concatenate([a, b], -1).tolist()
@@ -104,7 +104,7 @@ def test_tracked_platform_points_are_those_of_the_root_box():
         r = forward_kinematics(robot, [v + 2e-3 for v in (14.98, 15.38, 12.0)], track=pose)
         assert r.tracked
         box = r.solutions[0]["box"]
-        ref = system.points(Interval._raw(box.lo[None], box.hi[None]))
+        ref = system.points(Interval.from_bounds(box.lo[None], box.hi[None]))
         got = r.solutions[0]["platform_points"]
         for i in range(3):
             for c in range(2):
@@ -116,7 +116,7 @@ def test_direct_length_enclosures_equal_the_parser():
     and texts as the general parser; anything else goes through the parser (and its errors)."""
     import pytest
     from certkin.errors import InputError
-    from certkin.fk import _length_enclosures, _parse_lengths
+    from certkin.robots.poses import length_enclosures as _length_enclosures, parse_lengths as _parse_lengths
     robot = robot_from_dict(SIX)
     for lengths in (["14.98", "15.38", "12"], " 14.98, 15.38 ,12 ", [14.98, 15.38, 12.0],
                     [np.float64(14.98), 0.1, 1e-300], ["-0", "0.1", "1e5"], ["1_000", "2E-3", "7"],

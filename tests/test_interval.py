@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from intervals import Interval, div, mul, pown, sqr
-from intervals.rounding import down, down_sum, enclose, up, up_sum
+from intervals import Interval, div, mul, pown, sqr, sqrt
+from intervals.rounding import EXACT_HIGH, EXACT_LOW, down, down_sum, enclose, up, up_sum
 
 SETTINGS = settings(max_examples=300, deadline=None)
 
@@ -111,6 +111,64 @@ def test_tight_even_powers_and_sqr():
     assert -8 * (1 + 1e-15) <= float(y.lo) <= -8 and -1 <= float(y.hi) <= -1 * (1 - 1e-15)
 
 
+def test_exact_squares_and_powers_are_not_widened():
+    """Where the float operation is exact (Dekker's error-free check proves it), the bound is that
+    float: no one-step widening.  Inexact results are still widened."""
+    def pair(x):
+        return float(x.lo), float(x.hi)
+    assert pair(sqr(Interval(-1, 2))) == (0.0, 4.0)
+    assert pair(Interval(1, 2) ** 2) == (1.0, 4.0)
+    assert pair(sqrt(Interval(4))) == (2.0, 2.0)
+    assert pair(pown(Interval(-3, -2), 3)) == (-27.0, -8.0)
+    assert pair(pown(Interval(0.5, 3), 4)) == (0.0625, 81.0)
+    assert pair(sqr(Interval(0))) == (0.0, 0.0)
+    a = 1.0 + 2.0 ** -30                          # 31 significant bits: a² needs 61
+    lo, hi = pair(sqr(Interval(a)))
+    assert lo < a * a < hi and Fraction(lo) < Fraction(a) ** 2 < Fraction(hi)
+    tiny = 2.0 ** -450                             # exact, but outside the range where the check is error-free
+    lo, hi = pair(sqr(Interval(tiny)))
+    assert lo < tiny * tiny < hi
+
+
+@st.composite
+def short_floats(draw):
+    """Floats with few significant bits (so that powers are often exact), over a wide range."""
+    m = draw(st.integers(min_value=-2 ** 30, max_value=2 ** 30))
+    k = draw(st.integers(min_value=-140, max_value=140))
+    return float(m) * 2.0 ** k
+
+
+def significant_bits(a: float) -> int:
+    m = abs(Fraction(a).numerator)
+    while m and m % 2 == 0:
+        m //= 2
+    return m.bit_length()
+
+
+@SETTINGS
+@given(short_floats(), short_floats(), st.integers(min_value=2, max_value=7))
+def test_exact_powers_contain_the_mpmath_value_and_are_tight_when_proved_exact(a, b, n):
+    """``pown`` and ``sqr`` hold x^n (mpmath at 600 bits: exact for these floats) at the ends of the
+    interval and at 0 when inside; a point with few significant bits (the squares of binary
+    powering checked exact by their fraction bits, the other products by Dekker's error) whose
+    power is a float in the checked range gets that float as both bounds."""
+    a, b = sorted([a, b])
+    mpmath.mp.prec = 600
+    x = Interval(a, b)
+    for r, k in ((pown(x, n), n), (sqr(x), 2)):
+        for v in [a, b] + ([0.0] if a <= 0 <= b else []):
+            assert mpmath.mpf(float(r.lo)) <= mpmath.mpf(v) ** k <= mpmath.mpf(float(r.hi))
+    bits = significant_bits(a)
+    for r, k in ((pown(Interval(a), n), n), (sqr(Interval(a)), 2)):
+        p = Fraction(a) ** k
+        if not EXACT_LOW <= abs(p) <= EXACT_HIGH:
+            continue
+        if Fraction(float(p)) == p and bits <= (26 if k < 4 else 13):
+            assert float(r.lo) == float(r.hi) == float(p)
+        elif Fraction(float(p)) != p:
+            assert float(r.lo) < float(r.hi)
+
+
 def test_division_by_intervals_containing_zero():
     inf = np.inf
     cases = [((1, 2), (0, 1), (1, inf)), ((1, 2), (-1, 0), (-inf, -1)), ((-2, -1), (0, 1), (-inf, -1)),
@@ -169,7 +227,7 @@ def test_batched_shapes_match_scalar_results():
 
 
 def test_nan_means_unknown_in_predicates():
-    u = Interval._raw(np.array(np.nan), np.array(np.nan))
+    u = Interval.from_bounds(np.array(np.nan), np.array(np.nan))
     assert bool(u.contains_zero())          # cannot exclude
     assert not bool(u.subset(Interval(-1, 1)))
     assert not bool(u.disjoint(Interval(5, 6)))
@@ -216,10 +274,10 @@ def test_mul_in_place_is_bit_identical_to_reference():
 
     for shape_x, shape_y in [((5000,), (5000,)), ((40, 7, 3), (7, 3)), ((200, 1), (1, 30)), ((), ()), ((9,), ())]:
         a, b, c, d = sample(shape_x), sample(shape_x), sample(shape_y), sample(shape_y)
-        x = I._raw(np.asarray(np.minimum(a, b)), np.asarray(np.maximum(a, b)))
-        y = I._raw(np.asarray(np.minimum(c, d)), np.asarray(np.maximum(c, d)))
+        x = I.from_bounds(np.asarray(np.minimum(a, b)), np.asarray(np.maximum(a, b)))
+        y = I.from_bounds(np.asarray(np.minimum(c, d)), np.asarray(np.maximum(c, d)))
         # also unordered and NaN endpoints, as the arithmetic may meet them
-        for xx, yy in [(x, y), (I._raw(np.asarray(a), np.asarray(b)), I._raw(np.asarray(c), np.asarray(d)))]:
+        for xx, yy in [(x, y), (I.from_bounds(np.asarray(a), np.asarray(b)), I.from_bounds(np.asarray(c), np.asarray(d)))]:
             got, ref = mul(xx, yy), _mul_reference(xx, yy)
             for g, r in [(got.lo, ref.lo), (got.hi, ref.hi)]:
                 g, r = np.asarray(g), np.asarray(r)

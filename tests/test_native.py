@@ -15,7 +15,7 @@ from hypothesis import given, settings, strategies as st
 from intervals import Interval, native
 from intervals.interval import div, mul
 from intervals.linalg import _gs_update, _hansen_sengupta_numpy, hansen_sengupta
-from intervals.rounding import down, down_sum, up, up_sum
+from intervals.rounding import down, down_square, down_sum, up, up_square, up_sum
 
 from test_linalg import inside, zero_problem
 
@@ -119,16 +119,30 @@ def test_kernels_are_compiled_without_fused_multiply_add():
 
     import numba
 
-    from certkin import fk_native
     rng = np.random.default_rng(6)
     N, n = 3, 4
     M = rng.normal(size=(N, n, n)) + 3 * np.eye(n)
     x = rng.normal(size=(N, n))
     fresh = numba.njit(cache=False)(native.hansen_sengupta.py_func)          # cached code cannot be inspected
     fresh(x, x + 1e-9, M, M + 0.1, x - 1, x + 1, x, M)
-    inverse = numba.njit(cache=False)(fk_native.float_inverse.py_func)
+    inverse = numba.njit(cache=False)(native.float_inverse.py_func)
     inverse(M, M + 0.1, True)
     fused = re.compile(r"\b(v?f(n)?m(add|sub)[a-z0-9]*|fml[as])\b", re.IGNORECASE)
     for kernel in (fresh, inverse):
         asm = "\n".join(kernel.inspect_asm().values())
         assert "mul" in asm and not fused.search(asm)
+
+
+def test_exact_square_kernels_give_the_numpy_floats():
+    """``native.up_square``/``down_square`` (no widening where the square is exact) give the floats
+    of ``rounding.up_square``/``down_square``, on exact and inexact squares alike."""
+    rng = np.random.default_rng(8)
+    short = rng.integers(-2 ** 28, 2 ** 28, 400) * 2.0 ** rng.integers(-420, 420, 400)
+    a = np.abs(np.concatenate([_floats(rng, 400), short]))
+    with np.errstate(over="ignore", under="ignore"):
+        p = a * a
+    for kernel, ref in ((native.up_square, up_square), (native.down_square, down_square)):
+        got = np.array([kernel(x, y) for x, y in zip(a, p)])
+        assert np.array_equal(got, ref(a, p))
+    exact = np.array([native.square_exact(x, y) for x, y in zip(a, p)])
+    assert 100 < exact.sum() < len(a)

@@ -184,7 +184,7 @@ def test_compiled_model_on_polynomials_matches_mpmath():
     start = [-69.0, -50.0, 500.0, 85 * np.pi / 180, 10 * np.pi / 180, 0.0]
     step = [153.0, 142.0, 0.0, 10 * np.pi / 180, -5 * np.pi / 180, 0.3]
     var = [Poly.from_coefficients([Interval(a), Interval(b)]) for a, b in zip(start, step)]
-    out = robot._compiled("leg_vectors").evaluate(var, robot.parameters)
+    out = robot.compiled("leg_vectors").evaluate(var, robot.parameters)
     mpmath.mp.dps = 40
     for s in (0.0, 0.37, 1.0):
         x, y, z, psi, theta, phi = [mpmath.mpf(a) + mpmath.mpf(s) * mpmath.mpf(b) for a, b in zip(start, step)]

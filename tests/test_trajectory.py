@@ -384,7 +384,7 @@ def test_constant_orientation_uses_exact_zero_steps_and_polynomials(mel):
     """Equal angle texts give a step of exactly 0 (constant orientation), hence the polynomial
     path; the det(A) polynomial encloses the exact determinant along the path."""
     from certkin.trajectory import TrajectoryProblem
-    from certkin.trajectory_constraints import Constraints
+    from certkin.trajectory.constraints import Constraints
     path = parse_path(mel, START, GOAL)
     P0, D = path.start_and_step()
     assert D.lo[0, 3] == D.hi[0, 3] == 0.0 and D.lo[0, 4] == D.hi[0, 4] == 0.0
@@ -392,7 +392,7 @@ def test_constant_orientation_uses_exact_zero_steps_and_polynomials(mel):
     problem = TrajectoryProblem(cons, P0, D, np.zeros(1, dtype=int), np.zeros(1, dtype=int), 1)
     assert problem.polys is not None and problem.polys["det"][0].degree <= 6
     det_poly = problem.polys["det"][0]
-    sq = problem.polys["_legs_sq"][0]
+    sq = problem.polys["legs_sq"][0]
     P0m, P1m = _pose(START), _pose(GOAL)
     for t in ("0", "0.25", "0.548853", "0.9", "1"):
         tq = Fraction(t)
@@ -448,20 +448,20 @@ def test_engine_cuts_where_the_problem_asks():
 
 
 def test_constraints_are_reused_per_robot_and_rebuilt_when_the_limits_change(mel):
-    from certkin.trajectory_constraints import Constraints
+    from certkin.trajectory.constraints import Constraints
     robot = copy.deepcopy(mel)
     first = Constraints.of(robot)
     assert Constraints.of(robot) is first
     robot.limits["leg_radius"] = ["50"] * 6                # fat legs: the Fig. 1.8 start interferes
     second = Constraints.of(robot)
-    assert second is not first and float(second.r.lo[0]) == 100.0
+    assert second is not first and float(second.family("interference").r.lo[0]) == 100.0
     assert verify_trajectory(robot, START, GOAL, indices=False).status == "infeasible"
 
 
 def test_rigid_platform_leg_vectors_enclose_the_exact_ones(mel):
     """The leg vectors of a rigid platform (l_i = C + R b_i − a_i, checked on the symbolic model)
     at the path's start hold the mpmath values from the exact decimals."""
-    from certkin.trajectory_constraints import Constraints
+    from certkin.trajectory.constraints import Constraints
     assert type(mel).rigid_legs()
     assert not type(load_robot(ROOT / "examples" / "robots" / "seed003-planar-example-1.toml")).rigid_legs()
     cons = Constraints.of(mel)
@@ -475,7 +475,7 @@ def test_rigid_platform_leg_vectors_enclose_the_exact_ones(mel):
 
 def test_piece_plan_keeps_truncated_terms_negligible():
     from math import factorial
-    from certkin.trajectory_constraints import PIECE_TRUNCATION, piece_plan
+    from certkin.trajectory.constraints import PIECE_TRUNCATION, piece_plan
     for step in (0.0, 0.17, 1.0, 3.0, 6.0):
         pieces, d = piece_plan(step)
         assert pieces & (pieces - 1) == 0 and 4 <= pieces <= 64
@@ -484,7 +484,7 @@ def test_piece_plan_keeps_truncated_terms_negligible():
 
 def test_crossing_estimates_converge_near_an_end():
     """A root 1e-9 inside a wide bracket: Newton with regula falsi fallback lands on it."""
-    from certkin.trajectory_constraints import crossing_points
+    from certkin.trajectory.crossings import crossing_points
     root = 0.25 + 1e-9
     c = np.zeros((1, 16))
     c[0, :3] = [root * 3.0, -(root + 3.0), 1.0]           # (t − root)(t − 3)

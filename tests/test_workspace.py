@@ -19,10 +19,11 @@ import pytest
 import sympy as sp
 
 import certkin
-import proofs.workspace as checker
+import proofs as checker
 from certkin import InputError, robot_from_dict
 from certkin.engine import EXCLUDED, PROVED
-from certkin.workspace import add_arguments, describe, run, workspace_section, workspace_volume
+from certkin.cli.workspace import add_arguments, describe, run
+from certkin.workspace import workspace_section, workspace_volume
 
 MICRO = "examples/robots/seed004-micro-manipulator.toml"
 

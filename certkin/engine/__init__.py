@@ -1,6 +1,7 @@
-"""The one branch-and-bound engine used by every solver (see ``search``)."""
-from .search import (CONTRACTED, EXCLUDED, OPEN, PROVED, SPLIT, UNDECIDED, Budget, Decisions, SearchResult, Tree,
-                     search)
+"""The one branch-and-bound engine used by every solver (``search``), its budgets and its tree."""
+from .budgets import Budget
+from .search import Decisions, SearchResult, search
+from .tree import CONTRACTED, EXCLUDED, OPEN, PROVED, SPLIT, UNDECIDED, Tree
 
 __all__ = ["search", "Budget", "Decisions", "SearchResult", "Tree", "OPEN", "PROVED", "EXCLUDED", "UNDECIDED",
            "SPLIT", "CONTRACTED"]

@@ -8,85 +8,19 @@ parameter intervals.
 """
 from __future__ import annotations
 
-from decimal import Decimal
 from fractions import Fraction
 from functools import cached_property
-import math
 
 import numpy as np
 import sympy as sp
 
-from intervals import Interval
+from intervals import Interval, linalg, sqrt
+from intervals.autodiff import Dual
 from intervals.compiler import compile_exprs
-from intervals.rounding import enclose
-from intervals.elementary import pi as PI
 
+from .poses import parse_number
 
-from ..errors import RobotFileError
-
-_RADIANS_PER_DEGREE = PI / Interval(180)   # an enclosure of π/180 (outward division)
 _COMPILED: dict = {}  # (kind, n_legs, what) -> CompiledExprs, shared by robots of one kind
-
-
-def exact_text(value) -> str:
-    """The exact decimal text of a file value (Decimal, int or str)."""
-    if isinstance(value, Decimal):
-        return str(value)
-    return str(value)
-
-
-def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[Interval, str]:
-    """Enclose a number from a robot file or the command line.
-
-    Accepts ints, exact decimals, decimal strings and, when ``angle`` is set,
-    strings with a ``deg`` suffix (``"85deg"``, converted with a rigorous π).
-    Returns the enclosure and the exact text.  Raises ``RobotFileError``.
-    """
-    if isinstance(value, bool) or value is None:
-        raise RobotFileError(source, field, f"expected a number, got {value!r}")
-    text = value.strip() if isinstance(value, str) else value
-    if isinstance(text, str) and text.lower().endswith("deg"):
-        if not angle:
-            raise RobotFileError(source, field, f"'deg' is only allowed for angles, got {value!r}")
-        try:
-            lo, hi = enclose(text[:-3].strip())
-        except (ValueError, TypeError):
-            raise RobotFileError(source, field, f"not a number of degrees: {value!r}") from None
-        if not (math.isfinite(lo) and math.isfinite(hi)):
-            raise RobotFileError(source, field, f"not a number of degrees: {value!r}")
-        return Interval._raw(np.array(lo), np.array(hi)) * _RADIANS_PER_DEGREE, text
-    if isinstance(text, float):
-        # tomllib with parse_float=Decimal never gives floats; Python callers may
-        if not math.isfinite(text):
-            raise RobotFileError(source, field, f"not a finite number: {value!r}")
-        return Interval(text), repr(text)
-    try:
-        lo, hi = enclose(text)
-    except (ValueError, TypeError):
-        raise RobotFileError(source, field, f"not a finite number: {value!r}") from None
-    if not (math.isfinite(lo) and math.isfinite(hi)):
-        raise RobotFileError(source, field, f"not a finite number: {value!r}")
-    return Interval._raw(np.array(lo), np.array(hi)), exact_text(text)
-
-
-def parse_points(data, key: str, count: int, dim: int, source: str):
-    """A list of ``count`` points of ``dim`` exact coordinates."""
-    if key not in data:
-        raise RobotFileError(source, key, "missing field")
-    pts = data[key]
-    if not isinstance(pts, list) or len(pts) != count:
-        n = len(pts) if isinstance(pts, list) else "no list"
-        raise RobotFileError(source, key, f"expected {count} points, got {n}")
-    out = []
-    for i, p in enumerate(pts):
-        if not isinstance(p, list) or len(p) != dim:
-            raise RobotFileError(source, f"{key}[{i}]", f"expected {dim} coordinates, got {p!r}")
-        row = []
-        for j, c in enumerate(p):
-            iv, text = parse_number(c, source, f"{key}[{i}][{j}]")
-            row.append(text)
-        out.append(tuple(row))
-    return out
 
 
 def det3(M):
@@ -157,7 +91,7 @@ class Robot:
         return self.kind
 
     @classmethod
-    def _compiled(cls, what: str):
+    def compiled(cls, what: str):
         key = (cls.__name__, what)
         if key not in _COMPILED:
             pose, geom = cls.symbols()
@@ -187,7 +121,6 @@ class Robot:
         a_i, b_i the base and platform geometry), checked symbolically once per kind."""
         key = (cls.__name__, "rigid_legs")
         if key not in _COMPILED:
-            import sympy as sp
             pose, geom = cls.symbols()
             model = cls.symbolic_model()
             ok = "R" in model and cls.dim == 3
@@ -212,9 +145,8 @@ class Robot:
         """Enclosure of det(A) over each box of a batch (..., d) -> (...)."""
         b = self._box(boxes)
         if "det" in self.symbolic_model():
-            return self._compiled("det")(b, self.parameters)[..., 0]
-        from intervals import linalg
-        A = self._compiled("A")(b, self.parameters)
+            return self.compiled("det")(b, self.parameters)[..., 0]
+        A = self.compiled("A")(b, self.parameters)
         n = self.n_legs
         return linalg.det(A.reshape(*A.shape[:-1], n, n))
 
@@ -227,11 +159,9 @@ class Robot:
         """
         b = self._box(boxes)
         if "det" in self.symbolic_model():
-            v, j = self._compiled("det").jacobian(b, self.parameters)
+            v, j = self.compiled("det").jacobian(b, self.parameters)
             return v[..., 0], j[..., 0, :]
-        from intervals import linalg
-        from intervals.autodiff import Dual
-        vals, jac = self._compiled("A").jacobian(b, self.parameters)
+        vals, jac = self.compiled("A").jacobian(b, self.parameters)
         n, d = self.n_legs, len(self.pose_names)
         M = [[Dual(vals[..., i * d + j], jac[..., i * d + j, :]) for j in range(d)] for i in range(n)]
         D = linalg.laplace_det(M)
@@ -239,21 +169,20 @@ class Robot:
 
     def leg_lengths_squared(self, boxes) -> Interval:
         """Enclosures of rho_i^2 over each box (..., n_legs)."""
-        return self._compiled("legs_sq")(self._box(boxes), self.parameters)
+        return self.compiled("legs_sq")(self._box(boxes), self.parameters)
 
     def leg_lengths(self, boxes) -> Interval:
         """Enclosures of rho_i over each box (..., n_legs)."""
-        from intervals import sqrt
         return sqrt(self.leg_lengths_squared(boxes))
 
     def platform_points(self, boxes) -> Interval:
         """World coordinates of the B_i over each box (..., n_legs, dim)."""
-        p = self._compiled("points")(self._box(boxes), self.parameters)
+        p = self.compiled("points")(self._box(boxes), self.parameters)
         return p.reshape(*p.shape[:-1], self.n_legs, self.dim)
 
     def jacobian_A(self, boxes) -> Interval:
         """Enclosure of the matrix A over each box (..., n_legs, d)."""
-        a = self._compiled("A")(self._box(boxes), self.parameters)
+        a = self.compiled("A")(self._box(boxes), self.parameters)
         return a.reshape(*a.shape[:-1], self.n_legs, len(self.pose_names))
 
     # ----- float helpers (not rigorous: for sampling and display) ------------
@@ -298,7 +227,7 @@ class Robot:
                 items.append(v)
             else:
                 items.append(parse_number(v, "pose", name, angle=name in self.angle_names)[0])
-        return Interval._raw(np.array([float(i.lo) for i in items]), np.array([float(i.hi) for i in items]))
+        return Interval.from_bounds(np.array([float(i.lo) for i in items]), np.array([float(i.hi) for i in items]))
 
     def home_box(self) -> Interval | None:
         return None if self.home is None else self.pose_box(self.home)

@@ -1,0 +1,113 @@
+"""What every command shares: the parser, option names for library errors, budgets, outputs.
+
+The command line is the only place that parses argv, names options or prints.  The library names
+the *parameter* that took a bad value (``InputError("lengths", "leg 2", ...)``); ``options`` turns
+that into the option the user typed (``--lengths: leg 2: ...``), so every error is one line that
+names the option and the field.
+"""
+from __future__ import annotations
+
+import argparse
+from contextlib import contextmanager
+import json
+import sys
+
+from tqdm import tqdm
+
+from ..certificates import write_json
+from ..engine import Budget
+from ..errors import InputError
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, exit 2 (argparse prints usage otherwise)
+        sys.stderr.write(f"certkin: error: {message}\n")
+        raise SystemExit(2)
+
+
+@contextmanager
+def options(names: dict):
+    """Rename the library's parameter in an ``InputError`` to the command's option: ``names`` maps
+    parameters to options (``{"lengths": "--lengths"}``; an index suffix ``[k]`` is kept:
+    ``waypoints[0]`` → ``--via[0]``).  Other errors (a robot file's, an option's) pass unchanged."""
+    try:
+        yield
+    except InputError as exc:
+        base, bracket, rest = exc.source.partition("[")
+        if base not in names:
+            raise
+        raise InputError(names[base] + bracket + rest, exc.field, exc.problem) from None
+
+
+def progress(enabled):
+    """A progress callback for the engine (a bar on stderr), or None."""
+    if not enabled:
+        return None
+    bar = tqdm(desc="boxes", unit="box", file=sys.stderr, leave=False)
+
+    def update(processed, frontier):
+        bar.n = processed
+        bar.set_postfix(frontier=frontier, refresh=False)
+        bar.refresh()
+    return update
+
+
+def budget(args):
+    return Budget(max_boxes=args.max_boxes, max_seconds=args.max_seconds, min_width=args.min_width)
+
+
+def add_budget(p, default):
+    boxes, seconds, width = default["max_boxes"], default["max_seconds"], default["min_width"]
+    p.add_argument("--max-boxes", type=int, default=boxes, help=f"box budget (default {boxes})")
+    p.add_argument("--max-seconds", type=float, default=seconds, help=f"time budget (default {seconds})")
+    p.add_argument("--min-width", type=float, default=width,
+                   help=f"smallest scaled box width that is still split (default {width})")
+
+
+def add_outputs(p):
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.add_argument("--certificate", metavar="FILE", help="write the certificate to FILE")
+    p.add_argument("--report", metavar="FILE.html", help="write a self-contained HTML report")
+    p.add_argument("--progress", action="store_true", help="show progress on stderr")
+
+
+def with_angles(robot, angles):
+    """A spherical robot with the pose angles of ``--angles``."""
+    if angles is None:
+        return robot
+    if robot.kind != "spherical-3dof":
+        raise InputError("--angles", "", f"only spherical-3dof robots take --angles (this one is {robot.kind})")
+    return robot.with_angles(angles)
+
+
+def answer(args, robot, result, certificate, report, describe):
+    """Write ``--certificate`` and ``--report`` of one result, then print its JSON document
+    (``--json``) or its description."""
+    if args.certificate:
+        write_json(args.certificate, certificate(result))
+    if args.report:
+        report(robot, result, args.report)
+    print(json.dumps(result.to_json()) if args.json else describe(robot, result))
+
+
+def constraint_list(text):
+    if not text:
+        return None
+    return [c.strip() for c in text.split(",") if c.strip()]
+
+
+POSE_OPTIONS = ("--from", "--to", "--via", "--track", "--around", "--lengths")
+
+
+def join_pose_values(argv):
+    """``--from -69,-50,...``: a pose that starts with '-' is a value, not an option."""
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a in POSE_OPTIONS and i + 1 < len(argv) and argv[i + 1].startswith("-") and argv[i + 1][1:2].isdigit() | (argv[i + 1][1:2] == "."):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out

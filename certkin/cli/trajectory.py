@@ -1,0 +1,50 @@
+"""``certkin trajectory``: certify a straight (or polyline) motion, or find where it fails."""
+from __future__ import annotations
+
+from ..certificates import trajectory_certificate
+from ..engine import budgets
+from ..report import trajectory_report
+from ..robots import load_robot
+from ..trajectory import verify_trajectory
+from .common import add_budget, add_outputs, answer, budget, constraint_list, options, progress
+
+OPTIONS = {"start": "--from", "goal": "--to", "waypoints": "--via", "constraints": "--constraints"}
+
+
+def add_arguments(t):
+    t.add_argument("robot", help="robot file (TOML)")
+    t.add_argument("--from", dest="start", required=True, metavar="POSE", help="start pose, e.g. -69,-50,500,85deg,10deg,0")
+    t.add_argument("--to", dest="goal", required=True, metavar="POSE", help="goal pose")
+    t.add_argument("--via", action="append", metavar="POSE", help="intermediate pose (repeatable): a polyline")
+    t.add_argument("--constraints", metavar="LIST",
+                   help="comma-separated subset of leg-length,joints,interference,singularity (default: all)")
+    add_outputs(t)
+    add_budget(t, budgets.TRAJECTORY)
+
+
+def run(args):
+    with options(OPTIONS):
+        robot = load_robot(args.robot)
+        result = verify_trajectory(robot, args.start, args.goal, waypoints=list(args.via or []),
+                                   constraints=constraint_list(args.constraints), budget=budget(args),
+                                   progress=progress(args.progress))
+        answer(args, robot, result, trajectory_certificate, trajectory_report, describe)
+    return 0
+
+
+def describe(robot, r):
+    j = r.to_json()
+    lines = [f"{robot.name}: {r.status.upper()} [{j['stats']['boxes']} boxes, {j['stats']['seconds']:.3f} s]"]
+    for k, why in j["skipped"].items():
+        lines.append(f"  not checked: {k} ({why})")
+    for m in j["margins"]:
+        extra = f", det sign {m['sign']:+d}" if "sign" in m else ""
+        lines.append(f"  {m['constraint']} {'-'.join(map(str, m['legs']))}{' ' + m['detail'] if 'detail' in m else ''}: "
+                     f"min margin in [{m['margin'][0]:.9g}, {m['margin'][1]:.9g}]{extra}")
+    for v in j["violations"]:
+        where = f"t in [{v['t'][0]:.12g}, {v['t'][1]:.12g}]" if "t" in v else f"s in [{v['s'][0]:.12g}, {v['s'][1]:.12g}]"
+        lines.append(f"  {'VIOLATED' if v['certain'] else 'may fail'}: {v['constraint']} "
+                     f"{'-'.join(map(str, v['legs']))} for {where}")
+    for u in j["undecided"]:
+        lines.append(f"  undecided for s in [{u['s'][0]:.12g}, {u['s'][1]:.12g}]")
+    return "\n".join(lines)

@@ -1,0 +1,317 @@
+"""``forward_kinematics``: every real assembly mode for given leg lengths, each in a box proved to
+hold exactly one; ``track_sequence``: the posture followed through a sequence of leg lengths.
+
+With a previous pose (``track=``), tracking (``fk.tracking``) proves the posture near it first;
+what it could not prove goes to the branch-and-bound search (``fk.search``), never to a guess.
+The proved leaves of the search are then turned into distinct roots (``_merge``: boxes proved
+unique whose root boxes lie in one another's uniqueness box share their root; for a quaternion,
+q and −q are one posture, a *twin*); undecided boxes are grouped into ``unresolved`` clusters,
+never reported as two roots nor as none.  ``complete`` is true only when every box of the domain
+was excluded or proved and every root's box lies inside the domain.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from intervals import Interval, sqr
+
+from ..engine import PROVED, UNDECIDED, Budget, budgets
+from ..robots.poses import length_enclosures, parse_box
+from .result import FKResult, robot_pose
+from .search import search_instances
+from .step import root_boxes
+from .system import fk_system
+from .tracking import track_one, track_rows
+
+
+def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None, track=None):
+    """All real FK postures for the leg lengths ``lengths``.
+
+    ``lengths``: one set (sequence or "l1,l2,..." text), or a 2-D array with
+    one row per instance (then a list of results is returned; the instances
+    are searched together, as one batch).  ``domain``: optional box of pose
+    variables (``"x=a:b,..."``); position ranges narrow the search, angle
+    ranges filter the solutions.  ``track``: a previous pose; the unique
+    posture near it is proved directly when possible (``result.tracked``),
+    else the full search runs; with a 2-D ``lengths`` the rows are a
+    sequence, tracked one after another from ``track`` (``track_sequence``).
+    Each solution is proved unique in its box; ``complete`` means the rest of
+    the domain is proved empty.
+    """
+    if track is not None and not isinstance(lengths, str) and np.asarray(lengths, dtype=object).ndim == 2:
+        return track_sequence(robot, lengths, track, budget=budget)
+    system = fk_system(robot)
+    rho, texts, batch_input = length_enclosures(robot, lengths)
+    M = len(texts)
+    L = sqr(rho)
+    if track is not None and not batch_input:
+        result = track_one(robot, system, texts[0], L, track)     # seed 002 §4: the posture near the previous one
+        if result is not None:
+            return result
+    lo, hi = system.domain(rho)
+    angle_filter = None
+    if domain is not None:
+        lo, hi, angle_filter = _apply_domain(robot, system, domain, lo, hi)
+    feasible = np.all(lo <= hi, axis=1)
+    if budget is None:
+        budget = Budget(**{**budgets.FORWARD_KINEMATICS, "max_boxes": max(budgets.FORWARD_KINEMATICS["max_boxes"],
+                                                                          budgets.FK_BOXES_PER_INSTANCE * M)})
+    t0 = time.perf_counter()
+    idx = np.nonzero(feasible)[0]
+    res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], budget,
+                           progress) if len(idx) else None
+    out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter)
+    for r in out:
+        r.user_domain = domain is not None
+    seconds = time.perf_counter() - t0
+    for r in out:
+        r.seconds = seconds / M
+    if not batch_input:
+        out[0].boxes = res.boxes if res else 0
+        return out[0]
+    return out
+
+
+def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budget: Budget | None = None):
+    """Track the posture through a sequence of leg-length sets from ``start_pose``: one result per
+    row, each step proved unique near the previous step's posture (``result.tracked``), all proofs
+    in one batched evaluation (``fk.tracking.track_rows``).  Steps that are not proved get the full
+    search (``fallback``: all postures, ``tracked`` false; the steps needing it are searched
+    together as one batch, with ``budget``), or are reported not proved (no solution, ``complete``
+    false)."""
+    t0 = time.perf_counter()
+    results, missing = track_rows(robot, lengths_rows, start_pose)
+    if missing and fallback:
+        searched = forward_kinematics(robot, [list(results[k].lengths) for k in missing], budget=budget)
+        for k, r in zip(missing, searched):
+            results[k] = r
+    seconds = (time.perf_counter() - t0) / len(results)
+    for r in results:
+        if r.tracked or not fallback:
+            r.seconds = seconds
+    return results
+
+
+def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
+    """Results per instance from the search tree (solutions merged, undecided boxes clustered)."""
+    M = len(texts)
+    results = [FKResult(robot, system, texts[i], (lo[i], hi[i])) for i in range(M)]
+    for i in np.nonzero(~feasible)[0]:
+        results[i].complete = True          # the leg-length balls do not meet: no posture at all
+    if res is None:
+        return results
+    tree = res.tree
+    proved = tree.leaves(kind=PROVED)
+    slo, shi = tree.lo[proved].copy(), tree.hi[proved].copy()
+    rows = tree.evidence_rows.get("star")
+    if rows is not None:
+        has = rows[proved] >= 0
+        st = tree.evidence["star"][rows[proved[has]]]
+        slo[has], shi[has] = st[..., 0], st[..., 1]
+    inst = idx[tree.root[proved]]
+    Lp = Interval.from_bounds(L.lo[inst], L.hi[inst])
+    if len(proved):
+        rlo, rhi, rC = root_boxes(system, slo, shi, Lp)
+    else:
+        rlo, rhi, rC = slo, shi, np.zeros((0, system.n, system.n))
+    undecided = tree.leaves(kind=UNDECIDED)
+    nodes = np.bincount(tree.root, minlength=len(idx))
+    by_root = np.argsort(tree.root[proved], kind="stable")
+    starts = np.searchsorted(tree.root[proved][by_root], np.arange(len(idx) + 1))
+    und_sorted = undecided[np.argsort(tree.root[undecided], kind="stable")]
+    und_starts = np.searchsorted(tree.root[und_sorted], np.arange(len(idx) + 1))
+    pendings = []
+    for k, i in enumerate(idx):
+        r = results[i]
+        r.tree, r.node, r.boxes = tree, k, int(nodes[k])
+        sel = by_root[starts[k]:starts[k + 1]]
+        pending = [(tree.lo[j], tree.hi[j]) for j in und_sorted[und_starts[k]:und_starts[k + 1]]]
+        _merge(r, system, proved[sel], slo[sel], shi[sel], rlo[sel], rhi[sel], rC[sel], lo[i], hi[i], pending)
+        pendings.append(pending)
+    # poses and platform points of every solution of every instance in one evaluation
+    counts = [len(results[i].solutions) for i in idx]
+    computed = [None] * len(idx)
+    if sum(counts):
+        boxes = [s["box"] for i in idx for s in results[i].solutions]
+        B = Interval.from_bounds(np.stack([b.lo for b in boxes]), np.stack([b.hi for b in boxes]))
+        poses, pts = system.pose(B), system.points(B)
+        first = np.concatenate([[0], np.cumsum(counts)])
+        computed = [({name: v[first[k]:first[k + 1]] for name, v in poses.items()}, pts[first[k]:first[k + 1]])
+                    for k in range(len(idx))]
+    for k, i in enumerate(idx):
+        _finish(results[i], system, pendings[k], angle_filter, computed[k])
+    return results
+
+
+def _meets(alo, ahi, blo, bhi):
+    return bool(np.all(alo <= bhi) and np.all(blo <= ahi))
+
+
+def _merge(result, system, leaves, slo, shi, rlo, rhi, rC, dlo, dhi, pending):
+    """Distinct roots (postures) from the proved leaves of one instance.
+
+    A leaf joins the root of an earlier group when that group's root box lies
+    in the leaf's uniqueness box X* (or, for a quaternion, the root box with q
+    negated: the same posture, a ``twin``); otherwise it starts a group with
+    its own root box.  Groups whose boxes lie in the domain and are disjoint
+    from every other group's box (and its negation) are the solutions.
+    """
+    spatial = system.kind != "planar-3rpr"
+    p = system.n_pos
+    groups = []                              # (lo, hi, C) of each group's root box
+    member = []                              # per leaf: (group, twin)
+    n_leaves = len(leaves)
+    glo_all, ghi_all = np.empty((n_leaves, system.n)), np.empty((n_leaves, system.n))  # rows of the groups so far
+    for a in range(n_leaves):
+        found = None
+        g_n = len(groups)
+        if g_n:
+            Glo, Ghi = glo_all[:g_n], ghi_all[:g_n]
+            direct = np.all((Glo >= slo[a]) & (Ghi <= shi[a]), axis=1)
+            hit = direct
+            if spatial:
+                Nlo = np.concatenate([Glo[:, :p], -Ghi[:, p:]], axis=1)
+                Nhi = np.concatenate([Ghi[:, :p], -Glo[:, p:]], axis=1)
+                hit = direct | np.all((Nlo >= slo[a]) & (Nhi <= shi[a]), axis=1)
+            if hit.any():                    # the first group holding the leaf's root (direct before twin)
+                g = int(np.argmax(hit))
+                found = (g, not bool(direct[g]))
+        if found is None:
+            groups.append((rlo[a], rhi[a], rC[a]))
+            glo_all[g_n], ghi_all[g_n] = rlo[a], rhi[a]
+            found = (g_n, False)
+        member.append(found)
+    status = []                              # per group: "solution", "outside" or "ambiguous"
+    G = len(groups)
+    Glo, Ghi = glo_all[:G], ghi_all[:G]
+    meets = np.all((Glo[:, None, :] <= Ghi[None, :, :]) & (Glo[None, :, :] <= Ghi[:, None, :]), axis=-1)
+    if spatial:
+        Nlo = np.concatenate([Glo[:, :p], -Ghi[:, p:]], axis=1)
+        Nhi = np.concatenate([Ghi[:, :p], -Glo[:, p:]], axis=1)
+        meets |= np.all((Glo[:, None, :] <= Nhi[None, :, :]) & (Nlo[None, :, :] <= Ghi[:, None, :]), axis=-1)
+    np.fill_diagonal(meets, False)
+    outside = np.any(Ghi < dlo, axis=1) | np.any(Glo > dhi, axis=1)
+    inside = np.all(Glo >= dlo, axis=1) & np.all(Ghi <= dhi, axis=1)
+    for g in range(G):
+        if outside[g]:
+            status.append("outside")
+        else:
+            status.append("ambiguous" if (not inside[g] or meets[g].any()) else "solution")
+    index = {}
+    for g, st in enumerate(status):
+        glo, ghi, gC = groups[g]
+        if st == "solution":
+            index[g] = len(result.solutions)
+            result.solutions.append({"status": "unique", "box": Interval.from_bounds(glo.copy(), ghi.copy()), "C": gC})
+        elif st == "ambiguous":
+            pending.append((glo, ghi))
+    for a, leaf in enumerate(leaves):
+        g, twin = member[a]
+        entry = {"star": (slo[a], shi[a])}
+        if status[g] == "solution":
+            entry.update(solution=index[g], twin=twin)
+        elif status[g] == "outside" and not twin and not _meets(groups[g][0], groups[g][1], *leaf_box(result, leaf)):
+            entry.update(outside=groups[g])  # the root of X* is outside the domain, so not in this leaf
+        else:
+            entry.update(undecided=True)
+            if status[g] == "outside":
+                pending.append(leaf_box(result, leaf))
+        result.leaf_proofs[int(leaf)] = entry
+    result.complete = not pending
+
+
+def leaf_box(result, leaf):
+    return result.tree.lo[leaf], result.tree.hi[leaf]
+
+
+def _finish(result, system, pending, angle_filter, computed=None):
+    """Poses and platform points of the solutions; undecided boxes clustered; the angle filter.
+
+    ``computed``: (poses, points) of the solution boxes, if already evaluated (batched)."""
+    result.all_solutions = list(result.solutions)
+    if result.solutions:
+        if computed is None:
+            R = Interval.from_bounds(np.stack([s["box"].lo for s in result.solutions]),
+                              np.stack([s["box"].hi for s in result.solutions]))
+            computed = system.pose(R), system.points(R)
+        poses, pts = computed
+        kept = []
+        for j, s in enumerate(result.solutions):
+            s["pose"] = robot_pose(result.robot, {k: v[j] for k, v in poses.items()})
+            s["platform_points"] = [[pts[j, i, c] for c in range(pts.shape[2])] for i in range(pts.shape[1])]
+            verdict = _in_filter(s["pose"], angle_filter)
+            if verdict is True:
+                kept.append(s)
+            elif verdict is False:
+                result.filtered.append(s)
+            else:
+                pending.append((s["box"].lo, s["box"].hi))
+        result.solutions = kept
+    if pending:
+        hull = _clusters(np.array([p[0] for p in pending]), np.array([p[1] for p in pending]))
+        B = Interval.from_bounds(np.stack([h[0] for h in hull]), np.stack([h[1] for h in hull]))
+        poses = system.pose(B)
+        pts = system.points(B)
+        for j in range(len(hull)):
+            result.unresolved.append({"box": B[j], "pose": robot_pose(result.robot, {k: v[j] for k, v in poses.items()}),
+                                      "platform_points": [[pts[j, i, c] for c in range(pts.shape[2])]
+                                                          for i in range(pts.shape[1])]})
+        result.complete = False
+    result.solutions.sort(key=lambda s: [float(v.lo) for v in s["pose"].values()])
+
+
+def _in_filter(pose, angle_filter):
+    """True (inside every angle range), False (outside one), None (cannot tell)."""
+    if not angle_filter:
+        return True
+    verdict = True
+    for name, (a, b) in angle_filter.items():
+        v = pose[name]
+        if float(v.hi) < a or float(v.lo) > b:
+            return False
+        if not (float(v.lo) >= a and float(v.hi) <= b):
+            verdict = None
+    return verdict
+
+
+def _apply_domain(robot, system, spec, lo, hi):
+    """Narrow the position unknowns to a user box; angle ranges become a solution filter."""
+    box, _ = parse_box(spec, robot, "domain")
+    lo, hi = lo.copy(), hi.copy()
+    angles = {}
+    for k, name in enumerate(robot.pose_names):
+        if name in robot.angle_names:
+            angles[name] = (float(box.lo[k]), float(box.hi[k]))
+        else:
+            j = system.unknowns.index(name)
+            lo[:, j] = np.maximum(lo[:, j], box.lo[k])
+            hi[:, j] = np.minimum(hi[:, j], box.hi[k])
+    return lo, hi, angles
+
+
+def _clusters(lo, hi, limit: int = 2000):
+    """Group boxes that touch or overlap (union-find); returns the hull of each group.
+
+    Beyond ``limit`` boxes (a search stopped by its budget) the boxes are
+    merged greedily along the first coordinate: fewer, larger clusters, still
+    covering every box.
+    """
+    n = len(lo)
+    if n > limit:
+        order = np.argsort(lo[:, 0], kind="stable")
+        chunks = np.array_split(order, limit)
+        return [(lo[c].min(axis=0), hi[c].max(axis=0)) for c in chunks if len(c)]
+    parent = np.arange(n)
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+    touch = np.all((lo[:, None, :] <= hi[None, :, :]) & (lo[None, :, :] <= hi[:, None, :]), axis=-1)
+    for i, j in zip(*np.nonzero(np.triu(touch, 1))):
+        parent[find(i)] = find(j)
+    roots = np.array([find(i) for i in range(n)])
+    return [(lo[roots == r].min(axis=0), hi[roots == r].max(axis=0)) for r in np.unique(roots)]

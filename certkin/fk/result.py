@@ -1,0 +1,61 @@
+"""The answer of a forward-kinematics query: every proved assembly mode, the unresolved regions,
+and the tree and proofs its certificate is written from."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..certificates import fk_certificate
+
+
+@dataclass
+class FKResult:
+    """All real assembly modes for one set of leg lengths."""
+
+    robot: object
+    system: object
+    lengths: list                       # exact texts
+    domain: tuple                       # (lo, hi) of the unknowns searched
+    solutions: list = field(default_factory=list)    # dicts: box (Interval of unknowns), pose, platform_points
+    unresolved: list = field(default_factory=list)
+    complete: bool = False
+    tree: object = None
+    node: int = 0
+    leaf_proofs: dict = field(default_factory=dict)     # proved leaf -> {star, solution/twin | outside | undecided}
+    boxes: int = 0
+    seconds: float = 0.0
+    tracked: bool = False
+    user_domain: bool = False                           # a user domain narrowed the search
+    track_C: np.ndarray | None = None                   # the Krawczyk matrix of a tracking proof
+    all_solutions: list = field(default_factory=list)   # every proved root of the searched box (certificate order)
+    filtered: list = field(default_factory=list)        # solutions outside a user domain (pose filter)
+
+    @property
+    def status(self) -> str:
+        return "complete" if self.complete else "incomplete"
+
+    def to_json(self) -> dict:
+        def entry(s, with_status):
+            e = {"pose": {k: [float(v.lo), float(v.hi)] for k, v in s["pose"].items()},
+                 "platform_points": [[[float(c.lo), float(c.hi)] for c in p] for p in s["platform_points"]]}
+            return {"status": "unique", **e} if with_status else e
+        out = {"problem": "forward-kinematics", "robot": self.robot.name, "kind": self.robot.kind,
+               "lengths": self.lengths, "complete": self.complete,
+               "solutions": [entry(s, True) for s in self.solutions],
+               "unresolved": [entry(s, False) for s in self.unresolved],
+               "stats": {"boxes": self.boxes, "seconds": round(self.seconds, 6)}}
+        if self.tracked:
+            out["tracked"] = True
+        return out
+
+    def certificate(self) -> dict:
+        return fk_certificate(self)
+
+
+def robot_pose(robot, pose):
+    """The pose in the robot's own variables, from the enclosures of ``FKSystem.pose`` (spherical
+    robots with tilt-and-torsion angles: sigma = phi1 + phi3)."""
+    if "sigma" in robot.pose_names:
+        return {"phi1": pose["phi1"], "phi2": pose["phi2"], "sigma": pose["phi1"] + pose["phi3"]}
+    return pose

@@ -1,0 +1,358 @@
+"""The branch-and-bound search of forward kinematics: every box of the domain decided or split.
+
+The equations (``fk.system``: platform origin and frame axes as
+unknowns, quadratic, covering every real posture) are solved by the shared
+engine; each box is decided by
+
+0. ``hc4``: one forward-backward pass over every equation (``fk.contract``), then
+   ``position``: a Gauss-Seidel sweep on the position, which is linear given
+   the rotation; either may empty the box (``hc4-empty``, ``position-empty``)
+   or shrink it (a contraction, recorded in the tree);
+1. ``equation``: the enclosure of one equation over the box misses 0 — no
+   solution in the box;
+2. ``krawczyk-empty``: K(X) ∩ X = ∅ — no solution (Krawczyk 1969; Moore 1977);
+3. ``krawczyk-unique``: K(X*) ⊂ int X* for a box X* ⊇ X — exactly one
+   solution in X*, hence at most one in X (X* is X itself, or for small
+   boxes X inflated around a Newton iterate: ε-inflation, Rump 1983);
+4. ``krawczyk`` contraction: the solutions in X lie in K(X) ∩ X, which
+   replaces X (widened by a relative 2⁻²⁰ so that an independent
+   re-computation still fits inside) when it is substantially smaller;
+5. otherwise X is bisected, along the rotation unknown where the equations
+   vary most (planar) or the widest scaled side (spatial: in practice a
+   quaternion unknown); the position follows from the rotation by steps 0
+   and 4.
+
+K(X) = c − C f(c) + (I − C J(X))(X − c) with c the midpoint and C the
+float inverse of the midpoint Jacobian (Neumaier 1990, ch. 5).  For the
+spatial robots steps 2 and 4 use a slope matrix S, about half as wide as
+J(X), and the Hansen-Sengupta operator (one preconditioned Gauss-Seidel
+sweep on C S (x − c) = −C f(c): ``slope_boxes``; ``slope-gs-empty`` and
+``slope-gs``), and a box whose image lies inside it goes to the test of
+step 3 with J(X).
+
+The steps themselves are in ``fk.step``; the proved leaves become distinct
+roots in ``fk.api``.
+
+For a quaternion, the HC4 pass, the position step, the slope step and the
+Hansen-Sengupta sweep run box by box in machine code (``fk.kernels``,
+``intervals.native``): the same operations as the numpy versions they are
+tested against.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from intervals import Interval, linalg
+
+from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, search
+from .contract import hc4
+from .step import SMALL_BATCH, WIDEN, contract_position, for_batch, krawczyk_boxes, shrink, slope_boxes, unique_in
+
+SHRINK = 0.05            # a contraction is kept when some side shrinks by this fraction
+INFLATE_BELOW = 2.0 ** -12  # scaled width under which ε-inflation around a Newton iterate is tried
+POSITION_SCALE = 8.0     # position sides count this much less than rotation sides when bisecting
+KRAWCZYK_BELOW = 0.1     # the Krawczyk step is tried on boxes whose rotation sides are below this (scaled)
+AGAIN = 0.2              # a Krawczyk contraction this strong is followed by a second Krawczyk step,
+AGAIN_MIN = 64           # when at least this many boxes of the batch had one,
+AGAIN_SHARE = 2          # or at least half of the boxes still open did,
+AGAIN_STEPS = 3          # at most this many times
+INITIAL_SPLITS = 6       # every domain is halved this often before the first batch (it is never decided whole)
+ROTATION_FIRST = 16.0    # only rotation unknowns are bisected while the position is at most this much wider (scaled)
+
+
+def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None):
+    """One engine search over the domains [lo, hi] (M, n) of M instances, squared leg lengths L
+    (M, legs): the engine's ``SearchResult`` (its tree holds one root per instance).
+
+    Sides are scaled by the domain's extent; position sides count ``POSITION_SCALE`` times less, so
+    the rotation is bisected first (the position follows from it); a quaternion's components are
+    scaled alike, by the extent of the unit sphere (seed 002 full domain: −22 % boxes)."""
+    scale = np.max(hi - lo, axis=0)
+    scale = np.where(scale > 0, scale, 1.0)
+    scale[:system.n_pos] *= POSITION_SCALE
+    if system.kind != "planar-3rpr":
+        scale[system.n_pos:] = 2.0
+    problem = FKProblem(system, L, scale, slopes=system.kind != "planar-3rpr")
+    return search(problem, lo, hi, scale=scale, budget=budget, batch=max(8192, 256 * len(lo)), progress=progress,
+                  initial_splits=INITIAL_SPLITS)
+
+
+class _Batch:
+    """The working state of one ``FKProblem.decide``: the boxes (contracted in place, one row per
+    box), the verdicts and evidence so far, and the contraction stages recorded in the tree."""
+
+    def __init__(self, lo, hi, L: Interval):
+        N, n = lo.shape
+        self.lo, self.hi, self.L = lo.copy(), hi.copy(), L
+        self.status = np.full(N, OPEN, dtype=np.int8)
+        self.reason = np.zeros(N, dtype=np.int64)
+        self.creason = np.zeros(N, dtype=np.int64)      # the first stage's reason: "hc4" or "position"
+        self.cev = {}                                   # and its evidence
+        self.evidence = {}
+        self.C_rows = np.zeros((N, n, n))               # the Krawczyk matrix of each decided box
+        self.C_mask = np.zeros(N, dtype=bool)
+        self.star_mask = np.zeros(N, dtype=bool)        # boxes proved in an inflated box X* ⊇ X
+        self.stars = np.zeros((N, n, 2))
+        self.split = np.full(N, -1)
+        self.hc4_box = None                             # the boxes after HC4 alone (slope systems)
+        self.stages = []                                # ((lo, hi), evidence) of each Krawczyk contraction
+
+    def decisions(self, slopes: bool) -> Decisions:
+        N = len(self.lo)
+        self.evidence["C"] = (self.C_mask, self.C_rows[self.C_mask].astype(np.float32))
+        if self.star_mask.any():
+            self.evidence["star"] = (self.star_mask, self.stars[self.star_mask])
+        kcode = 11 if slopes else 3
+        stages = [(self.lo, self.hi)] + [box for box, _ in self.stages]
+        reasons = [self.creason] + [np.full(N, kcode)] * len(self.stages)
+        stage_evidence = [self.cev] + [ev for _, ev in self.stages]
+        if slopes:      # "hc4" (no evidence), then "position" (P), then the slope steps
+            stages.insert(0, self.hc4_box)
+            reasons.insert(0, np.full(N, 7))
+            stage_evidence.insert(0, {})
+        return Decisions(self.status, self.reason, self.evidence, contracted=stages, contraction_reason=reasons,
+                         contraction_evidence=stage_evidence, split=self.split)
+
+
+class FKProblem:
+    """Decides boxes of FK unknowns for a batch of instances (one root box per instance)."""
+
+    reasons = ("equation", "krawczyk-empty", "krawczyk-unique", "krawczyk", "position-empty", "position",
+               "hc4-empty", "hc4", "slope-empty", "slope", "slope-gs-empty", "slope-gs")
+
+    def __init__(self, system, L: Interval, scale, slopes: bool = False):
+        self.system = system
+        self.slopes = slopes                # exclusion and contraction by the slope form (slope_boxes)
+        self.L = L                          # (M, legs) squared leg lengths, one row per instance
+        self.scale = scale
+        self._stacked = None
+
+    def _system(self, n_box):
+        if n_box > SMALL_BATCH:
+            return self.system
+        if self._stacked is None:
+            self._stacked = for_batch(self.system, 0)
+        return self._stacked
+
+    def _L(self, roots):
+        return Interval.from_bounds(self.L.lo[roots], self.L.hi[roots])
+
+    def decide(self, lo, hi, roots) -> Decisions:
+        """Steps 0-4 of the module docstring on a batch of boxes, each on the boxes the steps before
+        left open; every contraction is a stage of the tree with its reason and evidence."""
+        system = self._system(len(lo))
+        b = _Batch(lo, hi, self._L(roots))
+        form, hc4_moved = self._hc4(system, b)
+        # steps 1 and 2 evaluate only the boxes HC4 left (``live``): the others are decided
+        live = np.nonzero(b.status == OPEN)[0]
+        Xl, Ll = Interval.from_bounds(b.lo[live], b.hi[live]), Interval.from_bounds(b.L.lo[live], b.L.hi[live])
+        rb, rbl, parts = self._rotated(system, b, live, Xl, form, hc4_moved)
+        pempty = P = None
+        if system.n_pos:
+            pempty, P = self._position(system, b, live, Xl, Ll, rbl, hc4_moved)
+        self._equations(system, b, live, Ll, rbl, pempty, P)
+        self._krawczyk(system, b, live, rb, parts, roots)
+        return b.decisions(self.slopes)
+
+    def _hc4(self, system, b: _Batch):
+        """Step 0: one forward-backward (HC4) pass over every equation (``fk.contract``): boxes it
+        empties are excluded, boxes it shrinks enough are replaced by the contraction, widened
+        so that an independent re-computation still fits.  Returns (the centred form of R b_i it
+        computed, quaternion, or None; the mask of the boxes it moved)."""
+        lo, hi = b.lo, b.hi
+        kept = {}
+        hlo, hhi, hempty = hc4(system, lo, hi, b.L, keep=kept)
+        b.status[hempty], b.reason[hempty] = EXCLUDED, 6
+        w = (hi - lo) * WIDEN  # room for an independent re-computation
+        hlo, hhi = np.maximum(lo, hlo - w), np.minimum(hi, hhi + w)
+        moved = ~hempty & (shrink(lo, hi, hlo, hhi) >= SHRINK)
+        lo[moved], hi[moved] = hlo[moved], hhi[moved]
+        b.creason[moved] = 7
+        return kept.get("form"), moved
+
+    def _rotated(self, system, b: _Batch, live, Xl, form, hc4_moved):
+        """R b_i over the boxes HC4 left, final for this batch (the rotation moves no more): for a
+        quaternion the natural enclosure ∩ the centred one (HC4's centred form over the given boxes
+        is the same for those it left unmoved), with its parts at the midpoints for the slope step.
+        Returns (R b_i for every box (zero rows where decided), R b_i of ``live``, the parts or None)."""
+        N = len(b.lo)
+        parts = None
+        if self.slopes:
+            b.hc4_box = (b.lo.copy(), b.hi.copy())
+            if form is not None:
+                form = tuple(v[live] for v in form)
+                again = hc4_moved[live]
+                if again.any():
+                    for v, w in zip(form, system.centred_form(Interval.from_bounds(Xl.lo[again], Xl.hi[again]))):
+                        v[again] = w
+            rbl, rbcl, drbl = system.rotated_centred(Xl, parts=True, form=form)
+            parts = (rbcl, drbl)
+        else:
+            rbl = system.rotated(system.rotation(Xl))
+        rb = Interval.from_bounds(np.zeros((N,) + rbl.shape[1:]), np.zeros((N,) + rbl.shape[1:]))
+        rb.lo[live], rb.hi[live] = rbl.lo, rbl.hi
+        return rb, rbl, parts
+
+    def _position(self, system, b: _Batch, live, Xl, Ll, rbl, hc4_moved):
+        """Step 1: the position is linear given the rotation: a Gauss-Seidel contraction
+        (``step.contract_position``).  After HC4 it is one "hc4" contraction with the evidence P;
+        for spatial robots its own "position" contraction after the "hc4" one.  Returns (the boxes
+        it proved empty, P for every box)."""
+        lo, hi, status = b.lo, b.hi, b.status
+        N = len(lo)
+        pl, ph, pe, Pl = contract_position(system, Xl, Ll, rb=rbl)
+        plo, phi, pempty, P = lo.copy(), hi.copy(), np.zeros(N, dtype=bool), np.zeros((N,) + Pl.shape[1:])
+        plo[live], phi[live], pempty[live], P[live] = pl, ph, pe, Pl
+        pempty &= status == OPEN
+        status[pempty] = EXCLUDED
+        b.reason[pempty] = 4
+        moved = ~pempty & (shrink(lo, hi, plo, phi) >= SHRINK) & (status == OPEN)
+        lo[moved], hi[moved] = plo[moved], phi[moved]
+        b.creason[moved & ~hc4_moved] = 5
+        if self.slopes:
+            b.creason[moved] = 5
+        b.cev["P"] = (moved, P[moved].astype(np.float32))
+        return pempty, P
+
+    def _equations(self, system, b: _Batch, live, Ll, rbl, pempty, P):
+        """Step 2: a box where the enclosure of one equation misses 0 holds no solution."""
+        N, n = b.lo.shape
+        Fl = system.equations(Interval.from_bounds(b.lo[live], b.hi[live]), Ll, rb=rbl)
+        out = np.zeros((N, n), dtype=bool)
+        out[live] = (Fl.lo > 0) | (Fl.hi < 0)
+        excluded = out.any(axis=1) & (b.status == OPEN)
+        b.status[excluded] = EXCLUDED
+        b.reason[excluded] = 0
+        b.evidence["equation"] = (excluded, np.argmax(out[excluded], axis=1).astype(np.int8))
+        if system.n_pos and pempty.any():
+            b.evidence["P"] = (pempty, P[pempty].astype(np.float32))
+
+    def _krawczyk(self, system, b: _Batch, live, rb, parts, roots):
+        """Steps 3 and 4 on the open boxes narrow enough in the rotation (on boxes still wide there it
+        never succeeds: those are bisected): empty, unique, or a contraction; then more rounds on
+        the boxes it shrank a lot, and ε-inflation on small boxes still open."""
+        lo, hi = b.lo, b.hi
+        rest = np.nonzero(b.status == OPEN)[0]
+        pn = system.n_pos
+        wide = np.max((hi[rest, pn:] - lo[rest, pn:]) / self.scale[pn:], axis=1) > KRAWCZYK_BELOW
+        rest = rest[~wide]
+        lo2, hi2 = lo.copy(), hi.copy()
+        if not len(rest):
+            b.stages.append(((lo2, hi2), {}))
+            return
+        rlo, rhi = lo[rest], hi[rest]
+        X = Interval.from_bounds(rlo, rhi)
+        Lr = Interval.from_bounds(b.L.lo[rest], b.L.hi[rest])
+        if self.slopes:
+            rbcl, drbl = parts
+            at = np.searchsorted(live, rest)    # R b_i at the midpoints, derivatives: the rotation is unchanged
+            K, C, J, empty = slope_boxes(system, X, Lr, rb=rb[rest], compact=True, rbc=rbcl[at],
+                                         drbs=(drbl[0][at], drbl[1][at]))
+        else:
+            K, C, J = krawczyk_boxes(system, X, Lr, with_jacobian=True, rb=rb[rest], compact=True)
+            empty = None
+            b.split[rest] = self._planar_split(system, J, rlo, rhi)
+        done, keep, nlo, nhi = self._round(system, b, rest, X, Lr, K, C, empty)
+        k = rest[keep]
+        lo2[k], hi2[k] = nlo[keep], nhi[keep]
+        kmask = np.zeros(len(lo), dtype=bool)
+        kmask[k] = True
+        b.stages.append(((lo2, hi2), {"C": (kmask, C[keep].astype(np.float32))}))
+        self._again(system, b, k[shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN], lo2, hi2)
+        width = np.max((rhi - rlo) / self.scale, axis=1)
+        small = ~done & ~keep & (width < INFLATE_BELOW)
+        if small.any():      # small open boxes: ε-inflation around a Newton iterate
+            sm = rest[small]
+            proved, slo, shi, Cs = self._inflate(rlo[small], rhi[small], roots[sm])
+            b.status[sm[proved]], b.reason[sm[proved]] = PROVED, 2
+            b.star_mask[sm[proved]] = True
+            b.stars[sm[proved]] = np.stack([slo[proved], shi[proved]], axis=-1)
+            b.C_rows[sm[proved]] = Cs[proved]
+            b.C_mask[sm[proved]] = True
+
+    def _planar_split(self, system, J, rlo, rhi):
+        """Planar: bisect where the equations vary most, the largest sum_i |J_ij| w_j ("smear",
+        Kearfott 1996), among the rotation unknowns (HC4 and Gauss-Seidel then narrow the position)
+        unless the position is much wider (scaled) than the rotation.  (Spatial robots take the
+        widest scaled side, the engine's choice: fewer boxes than the smear there.)"""
+        smear = np.sum(J.mag(), axis=1) * (rhi - rlo)
+        smear = np.where(np.isfinite(smear), smear, np.inf)
+        pn = system.n_pos
+        if pn:
+            scaled = (rhi - rlo) / self.scale
+            rot_first = np.max(scaled[:, :pn], axis=1) <= ROTATION_FIRST * np.max(scaled[:, pn:], axis=1)
+            smear[:, :pn] = np.where(rot_first[:, None], -1.0, smear[:, :pn])
+        return np.argmax(smear, axis=1)
+
+    def _round(self, system, b: _Batch, rows, X: Interval, L: Interval, K: Interval, C, empty):
+        """The verdicts of one Krawczyk (or slope) image K on the boxes X, rows ``rows`` of the batch:
+        empty (``empty``, or K ∩ X = ∅ when None), unique (K(X) ⊂ int X; for a slope image the
+        Krawczyk test proper with the Jacobian decides), and the contraction K(X) ∩ X widened and
+        kept inside X.  Returns (decided, contraction kept, its lo, its hi), per row."""
+        if empty is None:
+            finite = np.all(np.isfinite(K.lo) & np.isfinite(K.hi), axis=1)
+            empty = np.any((K.hi < X.lo) | (K.lo > X.hi), axis=1) & finite
+        unique = unique_in(K, X.lo, X.hi) & ~empty
+        if self.slopes:     # a slope image inside X: the Krawczyk test proper (with the Jacobian) decides
+            unique = self._unique(system, X.lo, X.hi, L, C, unique)
+        b.status[rows[empty]], b.reason[rows[empty]] = EXCLUDED, 10 if self.slopes else 1
+        b.status[rows[unique]], b.reason[rows[unique]] = PROVED, 2
+        done = empty | unique
+        b.C_rows[rows[done]] = C[done]
+        b.C_mask[rows[done]] = True
+        w = (X.hi - X.lo) * WIDEN
+        nlo = np.maximum(X.lo, np.where(np.isfinite(K.lo), K.lo - w, -np.inf))
+        nhi = np.minimum(X.hi, np.where(np.isfinite(K.hi), K.hi + w, np.inf))
+        keep = ~done & np.all(nlo <= nhi, axis=1) & (shrink(X.lo, X.hi, nlo, nhi) >= SHRINK)
+        return done, keep, nlo, nhi
+
+    def _again(self, system, b: _Batch, strong, lo, hi):
+        """Boxes that Krawczyk shrank by ``AGAIN`` or more (near a root: quadratic convergence) get up
+        to ``AGAIN_STEPS`` more rounds, each on the box the round before contracted: empty, unique,
+        or a further contraction (when they are many, or most of the open boxes: an evaluation
+        costs about as much for a few boxes as for a hundred, a round of bisection much more)."""
+        for _ in range(AGAIN_STEPS):
+            if not len(strong) or (len(strong) < AGAIN_MIN
+                                   and AGAIN_SHARE * len(strong) < np.count_nonzero(b.status == OPEN)):
+                break
+            X = Interval.from_bounds(lo[strong], hi[strong])
+            L = Interval.from_bounds(b.L.lo[strong], b.L.hi[strong])
+            if self.slopes:     # ell(X) from the centred R b_i (its parts at c serve the slope too)
+                rb, rbc, drb = system.rotated_centred(X, parts=True)
+                K, C, _, empty = slope_boxes(system, X, L, rb=rb, compact=True, rbc=rbc, drbs=drb)
+            else:
+                K, C = krawczyk_boxes(system, X, L, compact=True)
+                empty = None
+            _, keep, nlo, nhi = self._round(system, b, strong, X, L, K, C, empty)
+            lo, hi = lo.copy(), hi.copy()
+            lo[strong[keep]], hi[strong[keep]] = nlo[keep], nhi[keep]
+            kmask = np.zeros(len(lo), dtype=bool)
+            kmask[strong[keep]] = True
+            b.stages.append(((lo, hi), {"C": (kmask, C[keep].astype(np.float32))}))
+            strong = strong[keep][shrink(X.lo[keep], X.hi[keep], nlo[keep], nhi[keep]) >= AGAIN]
+
+    def _unique(self, system, lo, hi, L: Interval, C, candidates):
+        """The candidates (slope image inside X) for which K(X) ⊂ int X with the Jacobian and the
+        same C: exactly one root in X (the test of ``krawczyk_boxes``)."""
+        out = np.zeros(len(lo), dtype=bool)
+        k = np.nonzero(candidates)[0]
+        if len(k):
+            K, _ = krawczyk_boxes(for_batch(system, len(k)), Interval.from_bounds(lo[k], hi[k]),
+                                  Interval.from_bounds(L.lo[k], L.hi[k]), C=C[k])
+            out[k] = unique_in(K, lo[k], hi[k])
+        return out
+
+    def _inflate(self, lo, hi, roots):
+        """Try X* = Newton iterate ± r (⊇ X); returns (proved mask, X* lo, X* hi, C)."""
+        system = self._system(len(lo))
+        L = self._L(roots)
+        x = 0.5 * (lo + hi)
+        J = system.jacobian(Interval.from_bounds(lo, hi))
+        C, _ = linalg.float_inverse(J.mid())
+        for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
+            f = system.equations(Interval.from_bounds(x, x.copy()), L)
+            x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
+        r = np.maximum(np.abs(x - 0.5 * (lo + hi)), hi - lo) + 1e-12 * self.scale
+        slo, shi = np.minimum(lo, x - r), np.maximum(hi, x + r)
+        K, Cs = krawczyk_boxes(system, Interval.from_bounds(slo, shi), L, compact=True)
+        return unique_in(K, slo, shi), slo, shi, Cs

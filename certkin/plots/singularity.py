@@ -1,0 +1,65 @@
+"""The cell classification of a singularity run (needs the ``plot`` extra: matplotlib).
+
+Cells are drawn with their certified status: singularity-free cells in
+blue (det > 0) or green (det < 0), singular cells in red, undecided ones in
+grey.  A 3-D cell grid is shown as 2-D slices along its last variable.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .figure import pyplot
+
+COLOURS = {"free+": "#4c72b0", "free-": "#55a868", "singular": "#c44e52", "undecided": "#bbbbbb"}
+
+
+def _key(r):
+    if r.status == "singularity-free":
+        return "free+" if r.sign > 0 else "free-"
+    return r.status
+
+
+def plot_cells(robot, results, path, max_slices: int = 6):
+    """Draw the cells of ``results`` (SingularityResult list) into ``path`` (PNG/SVG/PDF)."""
+    plt = pyplot()
+    from matplotlib.patches import Patch, Rectangle
+    names = robot.pose_names
+    lo = np.array([r.lo for r in results])
+    hi = np.array([r.hi for r in results])
+    free = [i for i in range(len(names)) if np.any(hi[:, i] > lo[:, i])]
+    if len(free) < 2:
+        free = list(range(min(2, len(names))))
+    ax_x, ax_y = free[0], free[1]
+    rest = free[2:]
+    if rest:
+        k = rest[0]
+        slabs = sorted(set(zip(lo[:, k], hi[:, k])))
+        if len(slabs) > max_slices:
+            pick = np.linspace(0, len(slabs) - 1, max_slices).round().astype(int)
+            slabs = [slabs[i] for i in pick]
+    else:
+        k, slabs = None, [None]
+    cols = min(3, len(slabs))
+    rows = int(np.ceil(len(slabs) / cols))
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 4 * rows), squeeze=False)
+    for a, slab in zip(axes.flat, slabs):
+        for r, l, h in zip(results, lo, hi):
+            if slab is not None and (l[k], h[k]) != slab:
+                continue
+            a.add_patch(Rectangle((l[ax_x], l[ax_y]), h[ax_x] - l[ax_x], h[ax_y] - l[ax_y],
+                                  facecolor=COLOURS[_key(r)], edgecolor="white", linewidth=0.3))
+        a.set_xlim(lo[:, ax_x].min(), hi[:, ax_x].max())
+        a.set_ylim(lo[:, ax_y].min(), hi[:, ax_y].max())
+        a.set_xlabel(names[ax_x])
+        a.set_ylabel(names[ax_y])
+        if slab is not None:
+            a.set_title(f"{names[k]} in [{slab[0]:.4g}, {slab[1]:.4g}]", fontsize=9)
+    for a in list(axes.flat)[len(slabs):]:
+        a.axis("off")
+    legend = [Patch(color=COLOURS[c], label=t) for c, t in
+              [("free+", "free, det > 0"), ("free-", "free, det < 0"), ("singular", "singular"), ("undecided", "undecided")]]
+    fig.legend(handles=legend, loc="lower center", ncol=4, fontsize=8)
+    fig.suptitle(f"{robot.name}: certified cell classification", fontsize=10)
+    fig.tight_layout(rect=(0, 0.05, 1, 0.96))
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

@@ -1,0 +1,76 @@
+"""Pictures of workspace results: the paving of a section with its exact arcs, and the section
+areas of a volume per slab (needs the ``plot`` extra: matplotlib)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..engine import EXCLUDED, PROVED, UNDECIDED
+from .figure import pyplot
+
+COLOURS = {"inside": "#55a868", "boundary": "#f2c14e", "outside": "#e6e6e6", "arc": "#1f3b73"}
+
+
+def _rects(ax, lo, hi, colour, edge):
+    from matplotlib.collections import PatchCollection
+    from matplotlib.patches import Rectangle
+    if not len(lo):
+        return
+    patches = [Rectangle((a[0], a[1]), b[0] - a[0], b[1] - a[1]) for a, b in zip(lo, hi)]
+    ax.add_collection(PatchCollection(patches, facecolor=colour, edgecolor=edge, linewidth=0.2))
+
+
+def plot_section(result, path):
+    """The paving (inside green, boundary yellow, outside grey) and the exact arcs (dark blue)."""
+    plt = pyplot()
+    from matplotlib.patches import Patch
+    fig, ax = plt.subplots(figsize=(6.4, 6.0))
+    if result.paving is not None:
+        for kind, name in ((EXCLUDED, "outside"), (UNDECIDED, "boundary"), (PROVED, "inside")):
+            lo, hi = result.paving.boxes(kind)
+            _rects(ax, lo, hi, COLOURS[name], "white" if name != "outside" else "#f7f7f7")
+        dlo, dhi = result.domain
+        ax.set_xlim(dlo[0], dhi[0])
+        ax.set_ylim(dlo[1], dhi[1])
+    for arc in result.boundary.arcs if result.boundary.decided else []:
+        cx, cy = arc["center"]
+        r = 0.5 * (arc["radius"][0] + arc["radius"][1])
+        a0 = math.atan2(arc["from"][1] - cy, arc["from"][0] - cx)
+        sweep = 0.5 * (arc["sweep"][0] + arc["sweep"][1])
+        t = a0 + np.linspace(0.0, sweep, 400)
+        ax.plot(cx + r * np.cos(t), cy + r * np.sin(t), color=COLOURS["arc"], linewidth=1.2)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    names = [n for n in result.robot.pose_names if n in result.robot.angle_names]
+    orient = ", ".join(f"{n}={v}" for n, v in zip(names, result.orientation))
+    zpart = "" if result.z is None else f"z = {result.z}, "
+    area = result.boundary.area
+    exact = f"exact area [{float(area.lo):.10g}, {float(area.hi):.10g}]" if area is not None else "exact area undecided"
+    ax.set_title(f"{result.robot.name}\n{zpart}{orient}: {exact}\npaving: area in "
+                 f"[{result.inner:.6g}, {result.outer:.6g}]", fontsize=9)
+    legend = [Patch(color=COLOURS["inside"], label="inside"), Patch(color=COLOURS["boundary"], label="boundary"),
+              Patch(color=COLOURS["outside"], label="outside"), Patch(color=COLOURS["arc"], label="exact arcs")]
+    ax.legend(handles=legend, loc="upper right", fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_volume(result, path):
+    """Inner and outer section areas per slab, against z."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    ar = np.array(result.areas()).reshape(-1, 2)
+    z = result.bounds
+    ax.stairs(ar[:, 1], z, color="#f2c14e", fill=True, label="outer (inside + boundary)")
+    ax.stairs(ar[:, 0], z, color="#55a868", fill=True, label="inner (inside)")
+    vin, vout = result.volume()
+    ax.set_xlabel("z")
+    ax.set_ylabel("section area")
+    ax.set_title(f"{result.robot.name}: volume in [{vin:.6g}, {vout:.6g}]", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

@@ -1,0 +1,209 @@
+"""Robot files: reading, validating and building a robot model.
+
+``load_robot(path)`` reads a TOML robot file with exact decimals
+(``tomllib.load(..., parse_float=Decimal)``), validates every field and
+returns a model of the right kind.  Any problem raises ``RobotFileError``
+whose message names the file and the field.
+"""
+from __future__ import annotations
+
+from decimal import Decimal
+from fractions import Fraction
+from pathlib import Path
+import itertools
+import tomllib
+
+import numpy as np
+
+from ..errors import RobotFileError
+from .base import Robot
+from .gough import GoughStewart
+from .planar import Planar3RPR
+from .poses import parse_number
+from .spherical import Spherical3DOF
+
+KINDS = {cls.kind: cls for cls in (Planar3RPR, Spherical3DOF, GoughStewart)}
+
+def load_robot(path) -> Robot:
+    """Load and validate a robot file (see the format in ``docs/index.md``)."""
+    path = Path(path)
+    source = str(path)
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh, parse_float=Decimal)
+    except FileNotFoundError:
+        raise RobotFileError(source, "", "no such file") from None
+    except IsADirectoryError:
+        raise RobotFileError(source, "", "is a directory, not a robot file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise RobotFileError(source, "", f"not valid TOML ({exc})") from None
+    except UnicodeDecodeError:
+        raise RobotFileError(source, "", "not a text file") from None
+    return robot_from_dict(data, source)
+
+
+def robot_from_dict(data: dict, source: str = "<robot>") -> Robot:
+    """Build a robot from the content of a robot file (exact values as Decimal, int or str)."""
+    if not isinstance(data, dict):
+        raise RobotFileError(source, "", "expected a table of fields")
+    kind = data.get("kind")
+    if kind is None:
+        raise RobotFileError(source, "kind", f"missing field (one of {', '.join(KINDS)})")
+    if kind not in KINDS:
+        raise RobotFileError(source, "kind", f"unknown kind {kind!r} (one of {', '.join(KINDS)})")
+    cls = KINDS[kind]
+    name = data.get("name", Path(source).stem)
+    if not isinstance(name, str):
+        raise RobotFileError(source, "name", "expected a string")
+    base = parse_points(data, "base", cls.n_legs, cls.dim, source)
+    platform = parse_points(data, "platform", cls.n_legs, cls.dim, source)
+    limits = _parse_limits(data.get("limits", {}), cls, source)
+    home = data.get("home")
+    if home is not None:
+        if not isinstance(home, list) or len(home) != len(cls.pose_names):
+            raise RobotFileError(source, "home", f"expected {len(cls.pose_names)} values {list(cls.pose_names)}")
+        home = [parse_number(v, source, f"home[{i}]", angle=cls.pose_names[i] in cls.angle_names)[1]
+                for i, v in enumerate(home)]
+    known = {"name", "kind", "base", "platform", "limits", "home"}
+    extra = sorted(set(data) - known)
+    if extra:
+        raise RobotFileError(source, extra[0], f"unknown field (known: {', '.join(sorted(known))})")
+    robot = cls(name, base, platform, limits, home, source)
+    _check_degenerate(robot, source)
+    return robot
+
+
+def parse_points(data, key: str, count: int, dim: int, source: str):
+    """A list of ``count`` points of ``dim`` exact coordinates."""
+    if key not in data:
+        raise RobotFileError(source, key, "missing field")
+    pts = data[key]
+    if not isinstance(pts, list) or len(pts) != count:
+        n = len(pts) if isinstance(pts, list) else "no list"
+        raise RobotFileError(source, key, f"expected {count} points, got {n}")
+    out = []
+    for i, p in enumerate(pts):
+        if not isinstance(p, list) or len(p) != dim:
+            raise RobotFileError(source, f"{key}[{i}]", f"expected {dim} coordinates, got {p!r}")
+        row = []
+        for j, c in enumerate(p):
+            iv, text = parse_number(c, source, f"{key}[{i}][{j}]")
+            row.append(text)
+        out.append(tuple(row))
+    return out
+
+
+def _pairs(value, count, source, field):
+    if not isinstance(value, list) or len(value) != count:
+        raise RobotFileError(source, field, f"expected {count} [min, max] pairs")
+    out = []
+    for i, pair in enumerate(value):
+        f = f"{field}[{i}]"
+        if not isinstance(pair, list) or len(pair) != 2:
+            raise RobotFileError(source, f, f"expected [min, max], got {pair!r}")
+        lo, lo_t = parse_number(pair[0], source, f)
+        hi, hi_t = parse_number(pair[1], source, f)
+        if Fraction(lo_t) > Fraction(hi_t):
+            raise RobotFileError(source, f, f"min {lo_t} exceeds max {hi_t}")
+        if Fraction(lo_t) < 0:
+            raise RobotFileError(source, f, f"a leg length cannot be negative ({lo_t})")
+        out.append([lo_t, hi_t])
+    return out
+
+
+def _parse_joints(value, cls, source, field):
+    if not isinstance(value, list) or len(value) != cls.n_legs:
+        raise RobotFileError(source, field, f"expected {cls.n_legs} joint tables, one per leg")
+    out = []
+    for i, table in enumerate(value):
+        f = f"{field}[{i}]"
+        if not isinstance(table, dict):
+            raise RobotFileError(source, f, "expected a table with 'normals' or 'axis' and 'half_angle'")
+        entry = {}
+        if "normals" in table:
+            normals = table["normals"]
+            if not isinstance(normals, list) or not normals:
+                raise RobotFileError(source, f + ".normals", "expected a non-empty list of vectors")
+            rows = []
+            for k, n in enumerate(normals):
+                if not isinstance(n, list) or len(n) != 3:
+                    raise RobotFileError(source, f"{f}.normals[{k}]", "expected 3 coordinates")
+                rows.append([parse_number(c, source, f"{f}.normals[{k}]")[1] for c in n])
+                if all(Fraction(c) == 0 for c in rows[-1]):
+                    raise RobotFileError(source, f"{f}.normals[{k}]", "a facet normal cannot be zero")
+            entry["normals"] = rows
+        if "axis" in table or "half_angle" in table:
+            if "axis" not in table or "half_angle" not in table:
+                raise RobotFileError(source, f, "a cone needs both 'axis' and 'half_angle'")
+            axis = table["axis"]
+            if not isinstance(axis, list) or len(axis) != 3:
+                raise RobotFileError(source, f + ".axis", "expected 3 coordinates")
+            entry["axis"] = [parse_number(c, source, f + ".axis")[1] for c in axis]
+            if all(Fraction(c) == 0 for c in entry["axis"]):
+                raise RobotFileError(source, f + ".axis", "the cone axis cannot be zero")
+            half, entry["half_angle"] = parse_number(table["half_angle"], source, f + ".half_angle", angle=True)
+            if not (half.lo >= 0 and half.hi < 1.5707963267948966):
+                raise RobotFileError(source, f + ".half_angle", "a cone half-angle must lie in [0, 90deg)")
+        if not entry:
+            raise RobotFileError(source, f, "expected 'normals' or 'axis' and 'half_angle'")
+        for key in table:
+            if key not in ("normals", "axis", "half_angle", "comment"):
+                raise RobotFileError(source, f"{f}.{key}", "unknown field")
+        out.append(entry)
+    return out
+
+
+def _parse_limits(limits, cls, source):
+    if not isinstance(limits, dict):
+        raise RobotFileError(source, "limits", "expected a table")
+    out = {}
+    for key, value in limits.items():
+        field = f"limits.{key}"
+        if key == "leg_length":
+            out[key] = _pairs(value, cls.n_legs, source, field)
+        elif key == "leg_radius":
+            values = value if isinstance(value, list) else [value] * cls.n_legs
+            if len(values) != cls.n_legs:
+                raise RobotFileError(source, field, f"expected one radius or {cls.n_legs}")
+            texts = [parse_number(v, source, field)[1] for v in values]
+            if any(Fraction(t) < 0 for t in texts):
+                raise RobotFileError(source, field, "a radius cannot be negative")
+            out[key] = texts
+        elif key in ("base_joints", "platform_joints"):
+            out[key] = _parse_joints(value, cls, source, field)
+        else:
+            raise RobotFileError(source, field, "unknown limit (known: leg_length, leg_radius, base_joints, platform_joints)")
+    return out
+
+
+def _check_degenerate(robot: Robot, source: str) -> None:
+    """Reject geometries for which det(A) vanishes at every pose."""
+    base = [tuple(Fraction(c) for c in p) for p in robot.base]
+    plat = [tuple(Fraction(c) for c in p) for p in robot.platform]
+    for i, j in itertools.combinations(range(robot.n_legs), 2):
+        if base[i] == base[j] and plat[i] == plat[j]:
+            raise RobotFileError(source, f"base[{j}]", f"legs {i + 1} and {j + 1} coincide (same base and platform joints)")
+    if all(p == base[0] for p in base):
+        raise RobotFileError(source, "base", "all base joints coincide: every pose is singular")
+    if all(p == plat[0] for p in plat):
+        raise RobotFileError(source, "platform", "all platform joints coincide: every pose is singular")
+    if robot.kind == "spherical-3dof":
+        for i in range(3):
+            if all(c == 0 for c in base[i]):
+                raise RobotFileError(source, f"base[{i}]", "a base joint at the centre O makes every pose singular")
+            if all(c == 0 for c in plat[i]):
+                raise RobotFileError(source, f"platform[{i}]", "a platform joint at the centre O makes every pose singular")
+    # generic check: det(A) at random poses (plain floats: an input check, not a proof)
+    rng = np.random.default_rng(0)
+    d = len(robot.pose_names)
+    scale = max(1.0, max(abs(float(c)) for p in base + plat for c in p))
+    poses = rng.uniform(-1, 1, size=(8, d))
+    for k, name in enumerate(robot.pose_names):
+        if name not in robot.angle_names:
+            poses[:, k] *= scale
+    if robot.kind == "gough-stewart":
+        poses[:, 2] = np.abs(poses[:, 2]) + scale
+    A = robot.jacobian_float(poses)
+    hadamard = np.prod(np.linalg.norm(A, axis=-2), axis=-1)  # |det A| <= product of the column norms
+    if np.all(np.abs(np.linalg.det(A)) <= 1e-9 * hadamard):
+        raise RobotFileError(source, "platform", "det(A) vanishes at every pose tried: degenerate geometry (collinear or coincident joints)")

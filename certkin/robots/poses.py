@@ -1,0 +1,306 @@
+"""Numbers, poses, boxes, leg lengths and orientations from user values, enclosed exactly.
+
+``parse_pose("-69,-50,500,85deg,10deg,0", robot)``, ``parse_box("x=-20:20,y=-20:20,
+phi=0:0.7853981634", robot)``, ``parse_lengths(robot, "7.0710678,5.0990195,5")``,
+``parse_orientation(robot, "0,5deg,0")``.  Values are exact decimals (an angle may carry
+``deg``); each becomes the outward float enclosure of its exact value, so a certified box always
+contains the box the user wrote.  A bound may be given once (``phi=0.5``) to fix a coordinate.
+
+Errors raise ``InputError`` naming the *parameter* of the API function that took the value
+(``lengths``, ``box``, ``start``, ...) and the field; the command line renames parameters to its
+options (``certkin.cli``).  Robot files use ``parse_number`` with the file name as the source.
+"""
+from __future__ import annotations
+
+from decimal import Decimal
+from fractions import Fraction
+import math
+
+import numpy as np
+
+from intervals import Interval
+from intervals.elementary import pi as PI
+from intervals.rounding import enclose, enclose_plain
+
+from ..errors import InputError, RobotFileError
+
+RADIANS_PER_DEGREE = PI / Interval(180)   # an enclosure of π/180 (outward division)
+
+
+# ----------------------------------------------------------------- numbers
+def exact_text(value) -> str:
+    """The exact decimal text of a file value (Decimal, int or str)."""
+    if isinstance(value, Decimal):
+        return str(value)
+    return str(value)
+
+
+def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[Interval, str]:
+    """Enclose a number from a robot file or a user value.
+
+    Accepts ints, exact decimals, decimal strings and, when ``angle`` is set,
+    strings with a ``deg`` suffix (``"85deg"``, converted with a rigorous π).
+    Returns the enclosure and the exact text.  Raises ``RobotFileError``.
+    """
+    if isinstance(value, bool) or value is None:
+        raise RobotFileError(source, field, f"expected a number, got {value!r}")
+    text = value.strip() if isinstance(value, str) else value
+    if isinstance(text, str) and text.lower().endswith("deg"):
+        if not angle:
+            raise RobotFileError(source, field, f"'deg' is only allowed for angles, got {value!r}")
+        try:
+            lo, hi = enclose(text[:-3].strip())
+        except (ValueError, TypeError):
+            raise RobotFileError(source, field, f"not a number of degrees: {value!r}") from None
+        if not (math.isfinite(lo) and math.isfinite(hi)):
+            raise RobotFileError(source, field, f"not a number of degrees: {value!r}")
+        return Interval.from_bounds(np.array(lo), np.array(hi)) * RADIANS_PER_DEGREE, text
+    if isinstance(text, float):
+        # tomllib with parse_float=Decimal never gives floats; Python callers may
+        if not math.isfinite(text):
+            raise RobotFileError(source, field, f"not a finite number: {value!r}")
+        return Interval(text), repr(text)
+    try:
+        lo, hi = enclose(text)
+    except (ValueError, TypeError):
+        raise RobotFileError(source, field, f"not a finite number: {value!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise RobotFileError(source, field, f"not a finite number: {value!r}")
+    return Interval.from_bounds(np.array(lo), np.array(hi)), exact_text(text)
+
+
+def _value(text, robot, name, parameter):
+    try:
+        return parse_number(text, parameter, name, angle=name in robot.angle_names)
+    except InputError as exc:
+        raise InputError(parameter, name, exc.problem) from None
+
+
+def _exact(text):
+    try:
+        return Fraction(str(text))
+    except (ValueError, ZeroDivisionError):
+        return None
+
+
+# ----------------------------------------------------------------- poses and boxes
+def parse_pose(text, robot, parameter="pose") -> tuple[Interval, list[str]]:
+    """(d,) enclosure of a pose and its exact texts."""
+    parts = [p.strip() for p in text.split(",")] if isinstance(text, str) else list(text)
+    names = robot.pose_names
+    if len(parts) != len(names):
+        raise InputError(parameter, "", f"expected {len(names)} comma-separated values ({','.join(names)}), "
+                                        f"got {len(parts)}")
+    ivs, texts = [], []
+    for name, p in zip(names, parts):
+        iv, t = _value(p, robot, name, parameter)
+        ivs.append(iv)
+        texts.append(str(t))
+    return Interval.from_bounds(np.array([float(i.lo) for i in ivs]), np.array([float(i.hi) for i in ivs])), texts
+
+
+def parse_box(spec, robot, parameter="box") -> tuple[Interval, dict]:
+    """(d,) box enclosing the user's box, and the exact texts {name: [lo, hi]}.
+
+    ``spec`` is a string ``"x=a:b,y=c:d,..."`` or a dict ``{name: (a, b)}``.
+    Every pose variable of the robot must be given.
+    """
+    if isinstance(spec, str):
+        items = {}
+        for part in [p.strip() for p in spec.split(",") if p.strip()]:
+            if "=" not in part:
+                raise InputError(parameter, part, "expected name=lo:hi")
+            name, rng = (s.strip() for s in part.split("=", 1))
+            if name in items:
+                raise InputError(parameter, name, "given twice")
+            bounds = rng.split(":")
+            if len(bounds) == 1:
+                bounds = [bounds[0], bounds[0]]
+            if len(bounds) != 2 or not all(b.strip() for b in bounds):
+                raise InputError(parameter, name, f"expected lo:hi, got {rng!r}")
+            items[name] = (bounds[0].strip(), bounds[1].strip())
+    elif isinstance(spec, dict):
+        items = {}
+        for k, v in spec.items():
+            if isinstance(v, (list, tuple)) and len(v) == 2:
+                items[k] = (v[0], v[1])
+            else:
+                items[k] = (v, v)
+    else:
+        raise InputError(parameter, "", "expected 'name=lo:hi,...' or a mapping")
+    for name in items:
+        if name not in robot.pose_names:
+            raise InputError(parameter, name, f"{robot.kind} robots have no variable {name!r} "
+                                              f"(their pose is {','.join(robot.pose_names)})")
+    missing = [n for n in robot.pose_names if n not in items]
+    if missing:
+        raise InputError(parameter, missing[0], "missing (every pose variable needs a range or a value)")
+    lo, hi, texts = [], [], {}
+    for name in robot.pose_names:
+        a, b = items[name]
+        ia, ta = _value(a, robot, name, parameter)
+        ib, tb = _value(b, robot, name, parameter)
+        if float(ia.lo) > float(ib.hi) or (_exact(ta) is not None and _exact(tb) is not None and _exact(ta) > _exact(tb)):
+            raise InputError(parameter, name, f"lower bound {ta} exceeds upper bound {tb}")
+        lo.append(float(ia.lo))
+        hi.append(float(ib.hi))
+        texts[name] = [str(ta), str(tb)]
+    return Interval.from_bounds(np.array(lo), np.array(hi)), texts
+
+
+# ----------------------------------------------------------------- leg lengths
+def parse_lengths(robot, lengths, parameter="lengths"):
+    """(rows of enclosures, rows of exact texts, whether the input was a batch) of one set of leg
+    lengths (sequence or "l1,l2,..." text) or a 2-D array with one row per instance."""
+    if isinstance(lengths, str):
+        lengths = [p.strip() for p in lengths.split(",")]
+    arr = np.asarray(lengths, dtype=object)
+    batch = arr.ndim == 2
+    if arr.ndim == 1:
+        arr = arr[None, :]
+    if arr.ndim != 2 or arr.shape[1] != robot.n_legs or arr.shape[0] == 0:
+        raise InputError(parameter, "", f"expected {robot.n_legs} leg lengths per instance")
+    rows, texts = [], []
+    for i, row in enumerate(arr):
+        ivs, ts = [], []
+        for j, v in enumerate(row):
+            if isinstance(v, (float, np.floating)):
+                v = repr(float(v))  # a float is its exact binary value; keep that text
+            field_name = f"[{i}][{j}]" if batch else f"leg {j + 1}"
+            try:
+                iv, t = parse_number(v, parameter, field_name)
+            except InputError as exc:
+                raise InputError(parameter, exc.field, exc.problem) from None
+            if float(iv.lo) < 0:
+                raise InputError(parameter, field_name, f"a leg length cannot be negative ({t})")
+            ivs.append(iv)
+            ts.append(str(t))
+        rows.append(ivs)
+        texts.append(ts)
+    return rows, texts, batch
+
+
+def length_enclosures(robot, lengths):
+    """(enclosures (M, legs), rows of exact texts, whether the input was a batch): ``parse_lengths``
+    as arrays, with a direct path for one set of floats or plain decimal texts (a float stands for
+    its text repr(v), as there; anything else, or any doubt, takes ``parse_lengths``)."""
+    items = lengths.split(",") if isinstance(lengths, str) else lengths
+    if isinstance(items, (list, tuple)) and len(items) == robot.n_legs:
+        lo, hi, texts = [], [], []
+        for v in items:
+            if isinstance(v, float):
+                t = repr(float(v))
+            elif isinstance(v, str):
+                t = v.strip()
+            else:
+                break
+            ab = enclose_plain(t)
+            if ab is None or not (ab[0] >= 0 and ab[1] < np.inf):
+                break
+            a, b = ab
+            lo.append(a)
+            hi.append(b)
+            texts.append(t)
+        else:
+            return Interval.from_bounds(np.array([lo]), np.array([hi])), [texts], False
+    rows, texts, batch = parse_lengths(robot, lengths)
+    return (Interval.from_bounds(np.array([[float(v.lo) for v in r] for r in rows]),
+                                 np.array([[float(v.hi) for v in r] for r in rows])), texts, batch)
+
+
+def float_length_rows(robot, lengths):
+    """(enclosures (M, legs), texts) of a 2-D float array of leg lengths, or None for other input
+    (``parse_lengths`` then parses it and reports bad values).
+
+    As in ``length_enclosures``, a float's text is its ``repr``: the shortest decimal that rounds
+    to it, so that decimal lies within half a spacing of the float, between the float's two
+    neighbours — the enclosure used here (no decimal-to-rational conversion per value).
+    """
+    if not isinstance(lengths, np.ndarray) or lengths.dtype.kind != "f" or lengths.ndim != 2 \
+            or lengths.shape[1] != robot.n_legs or not len(lengths):
+        return None
+    v = lengths.astype(np.float64)
+    if not (np.all(np.isfinite(v)) and np.all(v >= 0)):
+        return None
+    texts = [[repr(t) for t in row] for row in v.tolist()]
+    lo = np.where(v > 0, np.nextafter(v, -np.inf), 0.0)
+    return Interval.from_bounds(lo, np.nextafter(v, np.inf)), texts
+
+
+# ----------------------------------------------------------------- orientations and heights
+def decimal_text(value):
+    """A float becomes its exact decimal expansion (never the decimal it was printed from)."""
+    if isinstance(value, (float, np.floating)):
+        if not math.isfinite(value):
+            return repr(float(value))
+        return str(Decimal(float(value)))
+    return value
+
+
+def _number(value, parameter, name, angle):
+    try:
+        return parse_number(decimal_text(value), parameter, name, angle=angle)
+    except InputError as exc:
+        raise InputError(parameter, name, exc.problem) from None
+
+
+def orientation_names(robot) -> tuple[str, ...]:
+    """The robot's pose angles, in pose order (Gough-Stewart psi, theta, phi; planar phi)."""
+    return tuple(n for n in robot.pose_names if n in robot.angle_names)
+
+
+def parse_orientation(robot, orientation, parameter="orientation"):
+    """([Interval] per angle, [exact text]) from ``"psi,theta,phi"`` (``deg`` allowed), a sequence or a mapping.
+
+    ``None`` means every angle 0.  Planar robots take one angle, ``phi``.
+    """
+    names = orientation_names(robot)
+    if orientation is None:
+        parts = ["0"] * len(names)
+    elif isinstance(orientation, str):
+        parts = [p.strip() for p in orientation.split(",")]
+    elif isinstance(orientation, dict):
+        unknown = [k for k in orientation if k not in names]
+        if unknown:
+            raise InputError(parameter, str(unknown[0]), f"unknown angle (the angles are {','.join(names)})")
+        parts = [orientation.get(n, "0") for n in names]
+    else:
+        try:
+            parts = list(orientation)
+        except TypeError:
+            parts = [orientation]
+    if len(parts) != len(names):
+        raise InputError(parameter, "", f"expected {len(names)} comma-separated angles ({','.join(names)}), "
+                                        f"got {len(parts)}")
+    ivs, texts = [], []
+    for name, p in zip(names, parts):
+        if isinstance(p, str) and not p.strip():
+            raise InputError(parameter, name, "missing value")
+        iv, text = _number(p, parameter, name, True)
+        ivs.append(iv)
+        texts.append(str(text))
+    return ivs, texts
+
+
+def parse_height(value, parameter="z", name="z"):
+    """(enclosure, exact text) of a height ``z``."""
+    if value is None or (isinstance(value, str) and not value.strip()):
+        raise InputError(parameter, name, "missing value")
+    iv, text = _number(value.strip() if isinstance(value, str) else value, parameter, name, False)
+    return iv, str(text)
+
+
+def parse_height_range(value, parameter="z_range"):
+    """((enclosure, text), (enclosure, text)) of ``"lo:hi"`` or a pair, lo < hi exactly."""
+    if isinstance(value, str):
+        parts = value.split(":")
+        if len(parts) != 2:
+            raise InputError(parameter, "z", f"expected lo:hi, got {value!r}")
+    else:
+        parts = list(value)
+        if len(parts) != 2:
+            raise InputError(parameter, "z", "expected (lo, hi)")
+    (a, ta), (b, tb) = parse_height(parts[0], parameter, "z"), parse_height(parts[1], parameter, "z")
+    if not Fraction(ta) < Fraction(tb):
+        raise InputError(parameter, "z", f"lower bound {ta} must be below upper bound {tb}")
+    return (a, ta), (b, tb)

@@ -1,0 +1,282 @@
+"""Certified trajectory feasibility (seed 000 ch. 1, with the digest's corrections).
+
+A path (``trajectory.path``) is a polyline of poses; on segment k the pose is
+P_k + t (P_{k+1} − P_k), t ∈ [0, 1], and the global parameter is s = k + t.
+
+The shared engine bisects t; each t-interval is decided by
+``trajectory.constraints.Constraints`` (every constraint instance proved
+satisfied, proved violated over the whole interval, or unknown).  Boxes are
+split while some instance is unknown (down to ``min_width``) or while a
+satisfied instance could still lower its certified minimum margin by more
+than the tolerance.  Verdicts:
+
+- ``feasible``: every instance is proved satisfied on every leaf and det(A)
+  has one proved sign along the whole path; margins are certified enclosures
+  of the minimum over the path;
+- ``infeasible``: an instance is proved violated on some leaf, or det(A) has
+  proved opposite signs at two instants (so it vanishes between them);
+  ``violations`` lists, per instance, t-intervals whose union contains every
+  instant where it may fail;
+- ``undecided``: neither could be proved within the budget (the t-ranges left
+  are listed).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from intervals import Interval
+from intervals.rounding import down, sum_bounds, up
+
+from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, budgets, search
+from ..errors import InputError
+from .constraints import Constraints, piece_plan
+from .crossings import crossing_points
+from .families.base import SATISFIED, UNKNOWN, VIOLATED
+from .path import angle_step, parse_path
+from .result import TrajectoryResult, conclude
+
+FIRST_BATCH = 256    # constant orientation: about this many initial sub-intervals in all (2 to 16 per segment)
+MARGIN_RTOL = 1e-4   # relative tolerance of the certified minimum margins
+INDEX_STEPS = 64     # sub-intervals per segment for the mean indices
+
+
+class TrajectoryProblem:
+    """Decides t-intervals of many segments at once (roots = pieces of segments)."""
+
+    reasons = ("every constraint decided on the interval",)
+
+    def __init__(self, constraints: Constraints, P0, D, piece_segment, segment_path, n_paths, rtol=MARGIN_RTOL,
+                 min_width=1e-9, linear=False):
+        self.c = constraints
+        self.P0, self.D = P0, D
+        self.piece_segment = piece_segment
+        self.segment_path = segment_path
+        self.best = np.full((n_paths, constraints.K), np.inf)
+        self.refine_cols = constraints.refinable()
+        self.rtol = rtol
+        self.linear = constraints.linear_data(P0, D) if linear is False else linear
+        self.pieces = self.linear is None           # moving orientation: one expansion per piece
+        self.n_pieces, degree = piece_plan(angle_step(constraints.robot, D)) if self.pieces else (1, None)
+        if not self.pieces:
+            self.polys = constraints.polynomials(self.linear, P0)
+        else:
+            S, n = P0.shape[0], self.n_pieces
+            seg = np.repeat(np.arange(S), n)
+            k = np.tile(np.arange(n), S)
+            self.polys = constraints.piece_polynomials(P0[seg], D[seg], k / n, np.full(len(k), 1.0 / n), degree)
+        self.crossings = None if self.polys is None else constraints.crossing_polynomials(self.polys)
+        self.delta = 0.25 * min_width       # cuts at t* ± delta leave [t* − delta, t* + delta] as the last piece
+
+    def _local(self, tlo, thi, segment):
+        """Rows of the polynomials and the local parameter: (rows, τlo, τhi, a, h) with t = a + h τ
+        (per segment: τ = t; per piece k of width 1/n: τ = (t − k/n)·n, enclosed)."""
+        tlo, thi = np.asarray(tlo, dtype=np.float64), np.asarray(thi, dtype=np.float64)
+        if not self.pieces:
+            return segment, tlo, thi, np.zeros_like(tlo), np.ones_like(tlo)
+        n = self.n_pieces
+        k = np.clip(np.floor(0.5 * (tlo + thi) * n), 0, n - 1)
+        a = k / n
+        if np.any(tlo < a) or np.any(thi > a + 1.0 / n):
+            raise ValueError("a t-interval straddles two pieces")
+        taulo = np.maximum(down((tlo - a) * n), 0.0)
+        tauhi = np.minimum(up((thi - a) * n), 1.0)
+        return segment * n + k.astype(np.int64), taulo, tauhi, a, np.full_like(a, 1.0 / n)
+
+    def evaluate(self, tlo, thi, segment, upper=True):
+        P0, D = self.P0[segment], self.D[segment]
+        if self.polys is not None:
+            rows, taulo, tauhi, _, _ = self._local(tlo, thi, segment)
+            return self.c.evaluate(P0, D, taulo, tauhi, polys=self.polys, rows=rows, upper=upper)
+        return self.c.evaluate(P0, D, tlo, thi, self.c.rows_of(self.linear, segment), upper=upper)
+
+    def decide(self, lo, hi, roots):
+        seg = self.piece_segment[roots]
+        state, mlo, mhi = self.evaluate(lo[:, 0], hi[:, 0], seg, upper=self.rtol is not None)
+        path = self.segment_path[seg]
+        # every evaluated interval's upper bound (whatever its state) bounds the minimum over the path
+        np.fmin.at(self.best, path, mhi)
+        best = self.best[path]
+        if self.rtol is None:                  # feasibility only: no margin refinement
+            refine = np.zeros_like(state, dtype=bool)
+        else:
+            with np.errstate(invalid="ignore"):
+                refine = (state == SATISFIED) & self.refine_cols & (mlo < best - (self.rtol * np.abs(best) + 1e-12))
+        unknown = (state == UNKNOWN).any(axis=1) | refine.any(axis=1)
+        status = np.where(unknown, OPEN, np.where((state == VIOLATED).any(axis=1), EXCLUDED, PROVED)).astype(np.int8)
+        return Decisions(status=status, reason=np.zeros(len(lo), dtype=np.int64),
+                         evidence={"state": state, "mlo": mlo, "mhi": mhi}, split_at=self._cuts(lo, hi, seg, state, refine),
+                         keep_narrow_evidence=True)
+
+    def _estimates(self, lo, hi, seg, cols, cands, reach=0.0):
+        """Float crossing estimates t (segment's t) and half-widths d = max(δ, 2·error) of the
+        candidate polynomials ``cands`` of column ``cols[i]`` on box i (``crossing_points``),
+        looked for ``reach`` beyond each box; (items, len(cands)) arrays, NaN where none."""
+        coefficients, radii = self.crossings
+        rows, ta, tb, base, h = self._local(lo, hi, seg)
+        k, w = len(cands), coefficients.shape[-1]
+        pick = (rows[:, None], np.asarray(cols)[:, None], np.asarray(cands)[None, :])
+        r = reach / h
+        t, err = crossing_points(coefficients[pick].reshape(-1, w), np.repeat(ta - r, k), np.repeat(tb + r, k),
+                                 radii=radii[pick].reshape(-1, w))
+        t = base[:, None] + h[:, None] * t.reshape(-1, k)
+        d = np.maximum(self.delta, 2.0 * h[:, None] * np.nan_to_num(err.reshape(-1, k)))
+        return t, d
+
+    def presplit(self, lo, hi, seg):
+        """Initial pieces cut again at t* ± d around every estimated crossing of a column inside
+        them (as ``_cuts`` would after a first evaluation), so that most pieces are decided in
+        the first round.  Returns the new (lo, hi, segment of each piece); they tile the old ones."""
+        if self.crossings is None:
+            return lo, hi, seg
+        K = self.crossings[0].shape[1]
+        B = len(lo)
+        t, d = self._estimates(np.repeat(lo[:, 0], K), np.repeat(hi[:, 0], K), np.repeat(seg, K),
+                               np.tile(np.arange(K), B), [0, 1])
+        t, d = t.reshape(B, 2 * K), d.reshape(B, 2 * K)
+        a, b = lo[:, :1], hi[:, :1]
+        cuts = np.concatenate([t - d, t + d], axis=1)
+        cuts = np.where((cuts - a >= 1.5 * self.delta) & (b - cuts >= 1.5 * self.delta), cuts, np.nan)
+        if np.all(np.isnan(cuts)):
+            return lo, hi, seg
+        points = np.sort(np.concatenate([a, cuts, b], axis=1), axis=1)        # NaN last
+        pieces = np.isfinite(points[:, 1:]) & (points[:, 1:] > points[:, :-1])
+        box, k = np.nonzero(pieces)
+        return points[box, k][:, None], points[box, k + 1][:, None], seg[box]
+
+    def seed_best(self, lo, hi, seg):
+        """Start each path's refinement target ``best`` from point evaluations: at the ends of the
+        segments and at the estimated minima of the margins inside the pieces (``crossing_polynomials``:
+        stationary points of ρ² and E/Δ).  The upper bound of a margin at any instant bounds its
+        minimum over the path, so ``best`` stays an upper bound; the intervals far from the minimum
+        are then settled at once instead of after the minimum's interval has been narrowed."""
+        if self.rtol is None:
+            return
+        segments = np.unique(seg)
+        t, s = [np.zeros(len(segments)), np.ones(len(segments))], [segments, segments]
+        if self.crossings is not None:
+            K, B = self.c.K, len(lo)
+            est, _ = self._estimates(np.repeat(lo[:, 0], K), np.repeat(hi[:, 0], K), np.repeat(seg, K),
+                                     np.tile(np.arange(K), B), [2])
+            est, where = est.reshape(-1), np.repeat(seg, K)
+            found = np.isfinite(est)
+            t.append(est[found])
+            s.append(where[found])
+        points = np.unique(np.stack([np.concatenate(s).astype(np.float64), np.concatenate(t)], axis=1), axis=0)
+        S, T = points[:, 0].astype(np.int64), points[:, 1]
+        _, _, mhi = self.evaluate(T, T, S, upper=True)
+        np.fmin.at(self.best, self.segment_path[S], mhi)
+
+    def _cuts(self, lo, hi, seg, state, refine):
+        """Per box, a cut near an estimated crossing of an unknown column, or else around an
+        estimated extremum of a margin being refined (``Constraints.crossing_polynomials``).
+        A crossing is looked for slightly beyond the box too, and the piece kept around it is
+        wider than the estimate's error, so that the rest of the box is clear of it."""
+        if self.crossings is None:
+            return None
+        out = np.full(len(lo), np.inf)
+        for mask, cands, eps in ((refine & ~(state == UNKNOWN).any(axis=1)[:, None], [2], 2.0 ** -10),
+                                 (state == UNKNOWN, [0, 1], 0.0)):
+            box, col = np.nonzero(mask)
+            if not len(box):
+                continue
+            a, b = lo[box, 0], hi[box, 0]
+            t, d = self._estimates(a, b, seg[box], col, cands, reach=4.0 * self.delta)
+            first = np.argmin(np.where(np.isnan(t), np.inf, t), axis=1)
+            pick = np.arange(len(box))
+            t = t[pick, first]
+            d = np.maximum(d[pick, first], eps * (b - a))
+            cut = np.where(t - d > a + 1.5 * self.delta, t - d, t + d)
+            useful = (cut - a >= 1.5 * self.delta) & (b - cut >= 1.5 * self.delta)   # not a crossing at an end
+            np.minimum.at(out, box, np.where(np.isnan(t) | ~useful, np.inf, cut))
+        return np.where(np.isfinite(out), out, np.nan)
+
+
+def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = None, progress=None,
+                        indices: bool = True, rtol: float = MARGIN_RTOL) -> list[TrajectoryResult]:
+    """Verify many paths in one search (the batch path).  ``paths``: list of ``Path``."""
+    if not paths:
+        return []
+    budget = budget or Budget(**budgets.TRAJECTORY)
+    cons = constraints if isinstance(constraints, Constraints) else Constraints.of(robot, constraints)
+    if cons.K == 0:
+        raise InputError("constraints", "", "no constraint can be checked: " +
+                         "; ".join(f"{k}: {v}" for k, v in cons.skipped.items()))
+    t0 = time.perf_counter()
+    P0s, Ds, seg_path = [], [], []
+    for p_index, path in enumerate(paths):
+        P0, D = path.start_and_step()
+        P0s.append(P0)
+        Ds.append(D)
+        seg_path += [p_index] * path.segments
+    P0 = Interval.from_bounds(np.concatenate([p.lo for p in P0s]), np.concatenate([p.hi for p in P0s]))
+    D = Interval.from_bounds(np.concatenate([p.lo for p in Ds]), np.concatenate([p.hi for p in Ds]))
+    seg_path = np.asarray(seg_path, dtype=np.int64)
+    n_seg = len(seg_path)
+    linear = cons.linear_data(P0, D)
+    pieces = piece_plan(angle_step(robot, D))[0] if linear is None else \
+        int(2 ** np.clip(np.round(np.log2(FIRST_BATCH / n_seg)), 1, 4))
+    edges = np.linspace(0.0, 1.0, pieces + 1)          # exact binary fractions
+    piece_segment = np.repeat(np.arange(n_seg), pieces)
+    lo = np.tile(edges[:-1], n_seg)[:, None]
+    hi = np.tile(edges[1:], n_seg)[:, None]
+    problem = TrajectoryProblem(cons, P0, D, piece_segment, seg_path, len(paths), rtol, budget.min_width, linear)
+    lo, hi, piece_segment = problem.presplit(lo, hi, piece_segment)
+    problem.piece_segment = piece_segment
+    problem.seed_best(lo, hi, piece_segment)
+    found = search(problem, lo, hi, scale=np.ones(1), budget=budget, progress=progress, min_batch=64, max_rounds=5)
+    tree = found.tree
+    leaves = tree.leaves()
+    segment = piece_segment[tree.root[leaves]]
+    tlo, thi = tree.lo[leaves, 0], tree.hi[leaves, 0]
+    state = np.zeros((len(leaves), cons.K), dtype=np.int8)
+    mlo, mhi = np.empty((len(leaves), cons.K)), np.empty((len(leaves), cons.K))
+    known = tree.evidence_rows["state"][leaves] >= 0 if "state" in tree.evidence_rows else np.zeros(len(leaves), bool)
+    if known.any():
+        ids = leaves[known]
+        state[known] = tree.evidence_values("state", ids)
+        mlo[known], mhi[known] = tree.evidence_values("mlo", ids), tree.evidence_values("mhi", ids)
+    if (~known).any():                # leaves never evaluated (budget): evaluated now
+        state[~known], mlo[~known], mhi[~known] = problem.evaluate(tlo[~known], thi[~known], segment[~known],
+                                                                   upper=rtol is not None)
+    results = []
+    for p_index, path in enumerate(paths):
+        segs = np.nonzero(seg_path == p_index)[0]
+        mine = np.isin(segment, segs)
+        local = segs.searchsorted(segment[mine])
+        order = np.lexsort((tlo[mine], local))
+        r = TrajectoryResult(robot, path, cons)
+        r.leaves = {"segment": local[order], "tlo": tlo[mine][order], "thi": thi[mine][order],
+                    "state": state[mine][order], "mlo": mlo[mine][order], "mhi": mhi[mine][order]}
+        conclude(r, problem.best[p_index])
+        if indices:
+            r.indices = _mean_indices(problem, cons, segs)
+        r.stats = {"boxes": int(found.boxes), "leaves": int(mine.sum()), "seconds": round(time.perf_counter() - t0, 6),
+                   "budget_exhausted": bool(found.exhausted)}
+        results.append(r)
+    return results
+
+
+def verify_trajectory(robot, start, goal, waypoints=(), constraints=None, budget: Budget | None = None,
+                      progress=None, indices: bool = True) -> TrajectoryResult:
+    """Is the straight (or polyline) motion from ``start`` to ``goal`` feasible?  See the module docstring."""
+    path = parse_path(robot, start, goal, waypoints)
+    return verify_trajectories(robot, [path], constraints, budget, progress, indices)[0]
+
+
+def _mean_indices(problem, cons, segs) -> list:
+    """Certified enclosures of the mean margin over the path (∫ margin ds / segments),
+    from INDEX_STEPS sub-intervals per segment: each contributes width × [min, max]."""
+    edges = np.linspace(0.0, 1.0, INDEX_STEPS + 1)
+    seg = np.repeat(segs, INDEX_STEPS)
+    tlo = np.tile(edges[:-1], len(segs))
+    thi = np.tile(edges[1:], len(segs))
+    _, mlo, mhi = problem.evaluate(tlo, thi, seg)
+    mean = Interval.from_bounds(*sum_bounds(mlo, mhi, axis=0)) / Interval(INDEX_STEPS * len(segs))   # every column at once
+    out = []
+    for k, inst in enumerate(cons.instances):
+        if k == cons.det_column:
+            continue
+        out.append({**inst.to_json(), "mean_margin": [float(mean.lo[k]), float(mean.hi[k])]})
+    return out

@@ -1,0 +1,118 @@
+"""The paving of a section (or of z-slabs) by the shared engine, and its area bracket.
+
+A box is *inside* when for every leg the interval of ρ_i² over the box — the exact range up to
+rounding, every variable occurring once under ``sqr`` — lies in [ρmin², ρmax²]; *outside* when it
+is disjoint from it for one leg; otherwise it is bisected down to ``min_width`` (relative to the
+set) and left as a *boundary* box.  area(inside) ≤ area(section) ≤ area(inside ∪ boundary),
+whatever the budget.  Each root of one search is one section or one z-slab.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+import math
+import time
+
+import numpy as np
+
+from intervals import Interval, sqr
+from intervals.rounding import down, down_sum, up, up_sum
+
+from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
+from .annuli import Legs
+
+REASONS = ("inside: every leg length within its limits on the whole box",
+           "outside: one leg length outside its limits on the whole box")
+
+
+class PavingProblem:
+    """Decides batches of (X, Y) boxes; root k carries the z-interval Z[k]."""
+
+    reasons = REASONS
+
+    def __init__(self, legs: Legs, Z: Interval):
+        self.legs = legs
+        self.h2 = legs.h2(Z)                                   # (m, n)
+
+    def rho2(self, lo, hi, roots) -> Interval:
+        """Exact range (up to rounding) of ρ_i² over each box: (N, n)."""
+        L = self.legs
+        X = Interval.from_bounds(lo[:, 0:1], hi[:, 0:1])
+        Y = Interval.from_bounds(lo[:, 1:2], hi[:, 1:2])
+        return sqr(X - L.ux) + sqr(Y - L.uy) + self.h2[roots]
+
+    def decide(self, lo, hi, roots):
+        L = self.legs
+        d2 = self.rho2(lo, hi, roots)
+        inside = ((d2.lo >= L.rmin2.hi) & (d2.hi <= L.rmax2.lo)).all(axis=1)
+        out = (d2.hi < L.rmin2.lo) | (d2.lo > L.rmax2.hi)
+        excluded = out.any(axis=1) & ~inside
+        leg = np.argmax(out, axis=1)
+        status = np.where(inside, PROVED, np.where(excluded, EXCLUDED, OPEN)).astype(np.int8)
+        reason = np.where(inside, 0, 1)
+        return Decisions(status=status, reason=reason, evidence={"leg": (excluded, leg[excluded])})
+
+
+@dataclass
+class Paving:
+    """The leaves of one root of the search: boxes (lo, hi) and kind, with the excluding leg."""
+
+    tree: object
+    root: int
+
+    def leaves(self, kind):
+        return self.tree.leaves(self.root, kind)
+
+    def counts(self) -> dict:
+        return {"inner_boxes": int(len(self.leaves(PROVED))), "boundary_boxes": int(len(self.leaves(UNDECIDED))),
+                "outside_boxes": int(len(self.leaves(EXCLUDED)))}
+
+    def _areas(self, ids):
+        t = self.tree
+        w = t.hi[ids] - t.lo[ids]
+        wlo, whi = down_sum(w), up_sum(w)
+        lo = np.maximum(down(wlo[:, 0] * wlo[:, 1]), 0.0)
+        hi = up(whi[:, 0] * whi[:, 1])
+        return lo, hi
+
+    def inner_area(self) -> float:
+        """A lower bound of the area of the inside boxes (rounded down)."""
+        lo, _ = self._areas(self.leaves(PROVED))
+        return float(np.nextafter(math.fsum(lo), -np.inf)) if len(lo) else 0.0
+
+    def outer_area(self) -> float:
+        """An upper bound of the area of the inside and boundary boxes (rounded up)."""
+        ids = np.concatenate([self.leaves(PROVED), self.leaves(UNDECIDED)])
+        _, hi = self._areas(ids)
+        return float(np.nextafter(math.fsum(hi), np.inf)) if len(hi) else 0.0
+
+    def boxes(self, kind) -> tuple[np.ndarray, np.ndarray]:
+        ids = self.leaves(kind)
+        return self.tree.lo[ids], self.tree.hi[ids]
+
+
+def pave(legs, Z, lo, hi, budget, progress, floor=0.0):
+    """Pave the domains [lo, hi] (k, 2) with z-intervals Z (k,) in one search.
+
+    ``budget.min_width`` is relative to the extent of the set, not of the
+    domain (the outer disks' box can be far larger than a section bounded by
+    inner circles): a first search at resolution 1/64 gives the hull of the
+    boxes not proved outside, whose widths become the scale.  The scale only
+    decides when to stop splitting; the tree of the second search, rooted at
+    the domain, is the answer.  ``floor``: an absolute side below which
+    splitting is pointless (for z-slabs, how far the boundary moves across
+    the slab).
+    """
+    problem = PavingProblem(legs, Z)
+    width = np.max(hi - lo, axis=0)
+    scale = np.where(width > 0, width, 1.0)
+    t0 = time.perf_counter()
+    first = search(problem, lo, hi, scale=scale, budget=Budget(budget.max_boxes, budget.max_seconds, 1.0 / 64))
+    t = first.tree
+    live = t.leaf_mask() & (t.kind != EXCLUDED)
+    if live.any() and not first.exhausted:
+        hull = np.max(t.hi[live], axis=0) - np.min(t.lo[live], axis=0)
+        scale = np.where(hull > 0, np.minimum(hull, scale), scale)
+    left = budget.max_seconds - (time.perf_counter() - t0)
+    min_width = max(budget.min_width, min(float(np.max(floor / scale)), 1.0 / 64))
+    budget = Budget(budget.max_boxes, max(left, 1e-3), min_width)
+    return search(problem, lo, hi, scale=scale, budget=budget, progress=progress)

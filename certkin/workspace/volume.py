@@ -1,0 +1,136 @@
+"""A certified bracket of the workspace volume between two heights (Gough-Stewart), over z slabs.
+
+Each slab's (X, Y) domain is paved with z kept as the slab's interval: a box inside for every z of
+the slab adds h·area to the inner volume, a box not proved outside adds it to the outer volume.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+import math
+import time
+
+import numpy as np
+
+from intervals import Interval
+from intervals.rounding import down, down_sum, up, up_sum
+
+from ..certificates import volume_certificate
+from ..engine import Budget, budgets
+from ..errors import InputError
+from ..robots.poses import parse_height_range, parse_orientation
+from .annuli import ORIENTATION, check_robot, leg_data, section_domain
+from .paving import Paving, pave
+from .section import check_budget, ignored_limits
+
+DEFAULT_SLABS = 200
+
+
+@dataclass
+class VolumeResult:
+    """Certified volume bracket of the workspace part with z in the slabs [b_0, b_n]."""
+
+    robot: object
+    orientation: list
+    z_range: tuple                      # exact texts
+    bounds: np.ndarray                  # (n + 1,) floats b_0 < ... < b_n, b_0 <= z_lo, b_n >= z_hi
+    domains: list                       # per slab (lo, hi) or None
+    pavings: list                       # per slab Paving or None
+    stats: dict
+    status: str = "undecided"
+
+    def areas(self):
+        return [(p.inner_area(), p.outer_area()) if p else (0.0, 0.0) for p in self.pavings]
+
+    def volume(self) -> tuple[float, float]:
+        h = np.diff(self.bounds)
+        hlo, hhi = down_sum(h), up_sum(h)
+        ar = np.array(self.areas()).reshape(-1, 2)
+        lo = np.maximum(down(hlo * ar[:, 0]), 0.0)
+        hi = up(hhi * ar[:, 1])
+        return float(np.nextafter(math.fsum(lo), -np.inf)), float(np.nextafter(math.fsum(hi), np.inf))
+
+    def counts(self) -> dict:
+        out = {"inner_boxes": 0, "boundary_boxes": 0, "outside_boxes": 0}
+        for p in self.pavings:
+            if p:
+                for k, v in p.counts().items():
+                    out[k] += v
+        return out
+
+    def to_json(self) -> dict:
+        vin, vout = self.volume()
+        return {"problem": "workspace-volume", "robot": self.robot.name, "kind": self.robot.kind,
+                "status": self.status, "orientation": dict(zip(ORIENTATION[self.robot.kind], self.orientation)),
+                "z_range": list(self.z_range), "slabs": len(self.pavings),
+                "slab_bounds": [float(v) for v in self.bounds],
+                "constraints": ["leg_length"], "ignored_limits": ignored_limits(self.robot),
+                "volume": {"inner": vin, "outer": vout},
+                "sections": [{"z": [float(self.bounds[k]), float(self.bounds[k + 1])], "inner": a, "outer": b}
+                             for k, (a, b) in enumerate(self.areas())],
+                "paving": self.counts(), "stats": dict(self.stats, bracket_width=vout - vin)}
+
+    def certificate(self) -> dict:
+        return volume_certificate(self)
+
+
+def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS, *,
+                     max_boxes=budgets.WORKSPACE["max_boxes"], min_width=budgets.WORKSPACE["min_width"],
+                     max_seconds=budgets.WORKSPACE["max_seconds"], progress=None) -> VolumeResult:
+    """Certified bracket of the volume of {C in the workspace : z_lo <= z <= z_hi} (Gough-Stewart).
+
+    ``z_range``: ``"lo:hi"`` or a pair of exact decimals, cut into ``slabs``
+    equal slabs (float bounds; the outer ones round outward).  Each slab's
+    (X, Y) domain is paved with z kept as the slab's interval: a box inside
+    for every z of the slab adds h·area to the inner volume, a box not proved
+    outside adds it to the outer volume.  ``min_width`` is relative to the
+    largest section; boxes are not split below twice the distance a section
+    boundary moves across a slab (finer boxes would mostly stay boundary
+    boxes: more slabs is the better way to narrow the bracket).
+    """
+    check_robot(robot)
+    if robot.kind != "gough-stewart":
+        raise InputError("z_range", "z", "only spatial (gough-stewart) robots have a volume")
+    angles, texts = parse_orientation(robot, orientation)
+    if z_range is None:
+        raise InputError("z_range", "z", "missing: give lo:hi")
+    (zl, tl), (zh, th) = parse_height_range(z_range)
+    if isinstance(slabs, bool) or not isinstance(slabs, (int, np.integer)) or not 1 <= slabs <= 100_000:
+        raise InputError("slabs", "", f"expected an integer in [1, 100000], got {slabs!r}")
+    check_budget(max_boxes, min_width, max_seconds)
+    t0 = time.perf_counter()
+    ql, qh = Fraction(tl), Fraction(th)
+    inner = [float(ql + (qh - ql) * k / slabs) for k in range(1, slabs)]
+    bounds = np.array([float(zl.lo)] + inner + [float(zh.hi)])
+    if np.any(np.diff(bounds) <= 0):
+        raise InputError("slabs", "", "too many slabs for this z range (slab bounds collide in float64)")
+    legs = leg_data(robot, angles)
+    Z = Interval.from_bounds(bounds[:-1].copy(), bounds[1:].copy())
+    _, r2out = legs.radii2(Z)
+    lo, hi, empty = section_domain(legs.ux, legs.uy, r2out)
+    live = np.nonzero(~empty)[0]
+    domains = [None if empty[k] else (lo[k], hi[k]) for k in range(slabs)]
+    pavings = [None] * slabs
+    stats = {"boxes": 0, "seconds": 0.0, "exhausted": False, "min_width": min_width}
+    if len(live):
+        # how far a section boundary can move across a slab, |dR/dz| h = h |z - u_z| / R (a float
+        # estimate: it only sets the resolution, below which boundary boxes stay boundary anyway)
+        zmid = 0.5 * (bounds[:-1] + bounds[1:])[live]
+        r2mid = 0.5 * (r2out.lo + r2out.hi)[live]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            speed = np.abs(zmid[:, None] - legs.uz.mid()) / np.sqrt(np.maximum(r2mid, 0.0))
+        speed = np.where(np.isfinite(speed), speed, 0.0)
+        # one resolution for all slabs: the median (a few slabs near a tangency move fast)
+        floor = 2.0 * float(np.median(np.diff(bounds)[live] * np.max(speed, axis=1)))
+        res = pave(legs, Z[live], lo[live], hi[live], Budget(max_boxes, max_seconds, min_width), progress, floor)
+        for root, k in enumerate(live):
+            pavings[k] = Paving(res.tree, root)
+        stats.update(boxes=res.boxes, exhausted=res.exhausted)
+    stats["seconds"] = time.perf_counter() - t0
+    result = VolumeResult(robot, texts, (tl, th), bounds, domains, pavings, stats)
+    counts = result.counts()
+    if counts["inner_boxes"]:
+        result.status = "non-empty"
+    elif not counts["boundary_boxes"]:
+        result.status = "empty"
+    return result
