@@ -13,7 +13,8 @@ It is the trusted kernel, so it stays small:
     tree.py         search trees stored breadth-first as arrays; their boxes, level by level
     models.py       det(A) of each model, with forward-mode gradients
     singularity.py  singularity claims: tree rules, witnesses, requested boxes
-    fk.py           forward-kinematics claims: equations, HC4, Gauss-Seidel, Krawczyk, slopes, regions
+    fk_system.py    forward-kinematics equations and operators: HC4, Gauss-Seidel, Krawczyk, slopes
+    fk.py           forward-kinematics claims: regions, solutions, the rules of the tree
     trajectory.py   trajectory claims: tiling of [0, 1], leaf states re-proved, verdict, violations
     workspace.py    workspace claims: the paving of a section or of z slabs, area and volume bounds
     checker.py      header, geometry hash, dispatch; check / check_file

@@ -24,6 +24,7 @@ from fractions import Fraction
 from math import factorial
 
 import numpy as np
+from mpmath import iv, mp
 
 TINY = 2.0 ** -1022
 INF = np.inf
@@ -81,9 +82,6 @@ class Iv:
 
     def copy(self):
         return Iv(np.array(self.lo, copy=True), np.array(self.hi, copy=True))
-
-    def __repr__(self):
-        return f"Iv({self.lo!r}, {self.hi!r})"
 
     # ----- arithmetic -------------------------------------------------------------
     def __neg__(self):
@@ -146,9 +144,6 @@ class Iv:
         """Intersection (``empty()`` where it is empty)."""
         return Iv(np.maximum(self.lo, o.lo), np.minimum(self.hi, o.hi))
 
-    def hull(self, o):
-        return Iv(np.minimum(self.lo, o.lo), np.maximum(self.hi, o.hi))
-
     def empty(self):
         return self.lo > self.hi
 
@@ -161,10 +156,6 @@ class Iv:
     def sign(self):
         """1 where > 0, −1 where < 0, 0 where undecided."""
         return np.where(self.lo > 0, 1, np.where(self.hi < 0, -1, 0))
-
-    def within(self, lo, hi):
-        """lo ≤ self ≤ hi (both bounds; false on NaN)."""
-        return (self.lo >= lo) & (self.hi <= hi)
 
     def mag(self):
         return np.maximum(np.abs(self.lo), np.abs(self.hi))
@@ -219,13 +210,14 @@ def pmatvec(P, b: Iv) -> Iv:
 # π ∈ [PI_A, PI_B] (rationals 2⁻²⁰⁰ apart, from mpmath's rigorous interval π); π/2 = H + M + T with
 # H of 30 significant bits (k·H is exact for |k| < 2²³), M = fl(π/2 − H) and T ∈ [T̲, T̄] tiny
 def _pi_bounds():
-    from mpmath import iv
-    saved, iv.prec = iv.prec, 220
+    """π ∈ [A, B]: the ends of mpmath's rigorous interval π at 220 bits, as exact rationals."""
+    saved = iv.prec, mp.prec
+    iv.prec = mp.prec = 220
     try:
-        p = iv.pi
-        return [(-1) ** sg * Fraction(int(man)) * Fraction(2) ** int(ex) for sg, man, ex, _ in iv.pi._mpi_]
+        pi = iv.pi
+        return [Fraction(man) * Fraction(2) ** exp for man, exp in (mp.mpf(pi.a).man_exp, mp.mpf(pi.b).man_exp)]
     finally:
-        iv.prec = saved
+        iv.prec, mp.prec = saved
 
 
 _PI_A, _PI_B = _pi_bounds()
@@ -295,10 +287,3 @@ def sincos(x: Iv):
         out.append(Iv(np.where(has_min, -1.0, np.minimum(va.lo, vb.lo)), np.where(has_max, 1.0, np.maximum(va.hi, vb.hi))))
     return tuple(out)
 
-
-def sin(x: Iv) -> Iv:
-    return sincos(x)[0]
-
-
-def cos(x: Iv) -> Iv:
-    return sincos(x)[1]

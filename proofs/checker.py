@@ -26,7 +26,7 @@ def check(source, robot=None, progress=None) -> Report:
     certificate (the report names the failing step); an unreadable file raises ``Unreadable``.
     """
     cert = source if isinstance(source, container.Certificate) else \
-        container.Certificate(source) if isinstance(source, dict) else container.read(source)
+        container.read(source) if isinstance(source, (str, Path)) else container.Certificate(source)
     counts = {"claims": 0, "undecided": 0, "leaves": 0, "pieces": 0, "witnesses": 0}
     report = Report(False, "", counts)
     report.progress = progress

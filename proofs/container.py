@@ -26,7 +26,7 @@ from .report import Rejected, Unreadable
 MAX_HEADER = 64 << 20            # bytes of header.json
 MAX_JSON = 1 << 30               # bytes of a version-1 document
 MAX_ARRAY = 4 << 30              # bytes of one array
-DTYPES = ("<f8", "<f4", "<i4", "<i8", "|i1", "|u1")
+DTYPES = ("<f8", "<f4", "<i4", "<i8", "<u8", "|i1", "|u1")
 MAX_DEPTH = 10_000               # nesting of a JSON document
 
 
@@ -53,6 +53,10 @@ class Certificate:
         if shape_tail is not None and tuple(a.shape[1:]) != tuple(shape_tail):
             raise Rejected(f"body: array {name}: shape {list(a.shape)}, expected [*, {', '.join(map(str, shape_tail))}]")
         return a
+
+    def add(self, arrays: dict) -> None:
+        """Arrays read from a version-1 document (trusted as given: they are the document)."""
+        self._arrays.update(arrays)
 
     def has(self, name: str) -> bool:
         return name in self._arrays or name in self._entries()

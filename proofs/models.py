@@ -151,6 +151,18 @@ MODELS = {m.name: m for m in (
 )}
 
 
+def header_model(h, table, kind, names_key=None, names=None):
+    """The header's model, looked up in ``table`` and checked against robot.kind (and pose/unknown names)."""
+    name = h.get("model")
+    if not isinstance(name, str) or name not in table:
+        raise Rejected(f"model: unknown model {name!r:.60} (known: {', '.join(table)})")
+    if h["robot"].get("kind") != kind(table[name]):
+        raise Rejected(f"robot.kind: {h['robot'].get('kind')!r:.60} does not fit model {name}")
+    if names_key and h.get(names_key) != list(names(table[name])):
+        raise Rejected(f"{names_key}: expected {list(names(table[name]))} for model {name}")
+    return table[name]
+
+
 def points(robot: dict, key: str, count: int, dim: int):
     """The exact decimal points robot[key] as lists of scalar enclosures."""
     pts = robot.get(key)

@@ -26,29 +26,17 @@ import numpy as np
 
 from . import tree
 from .arith import Iv
-from .models import MODELS, Robot
-from .numbers import inside, real
+from .models import MODELS, Robot, header_model
+from .numbers import angle, enclose, inside, real
 from .report import Rejected
 
 RULES = {0: "natural", 1: "centred", 2: "monotone"}
 MAX_DEPTH = 6
 
 
-def read_box(value, dims: int, where: str):
-    """A box: ``dims`` pairs [lo, hi] of exact finite floats with lo <= hi; returns (lo, hi) arrays."""
-    box = tree._box(value, dims, where)
-    return np.array([b[0] for b in box]), np.array([b[1] for b in box])
-
-
 def check(cert, report) -> None:
     h = cert.header
-    model = MODELS.get(h.get("model")) if isinstance(h.get("model"), str) else None
-    if model is None:
-        raise Rejected(f"model: unknown model {h.get('model')!r} (known: {', '.join(MODELS)})")
-    if h["robot"].get("kind") != model.kind:
-        raise Rejected(f"robot.kind: {h['robot'].get('kind')!r} does not fit model {model.name}")
-    if h.get("pose") != list(model.pose):
-        raise Rejected(f"pose: expected {list(model.pose)} for model {model.name}")
+    model = header_model(h, MODELS, lambda m: m.kind, "pose", lambda m: m.pose)
     robot, d, counts = Robot(model, h["robot"]), len(model.pose), report.checked
     roots, signs, status_count, witnesses = [], [], {}, []
     for k, claim in enumerate(h["claims"]):
@@ -62,7 +50,7 @@ def check(cert, report) -> None:
         if status == "undecided":
             counts["undecided"] += 1
             continue
-        lo, hi = read_box(claim.get("box"), d, f"{where}.box")
+        lo, hi = tree.read_box(claim.get("box"), d, f"{where}.box")
         req = _requested(claim.get("requested"), model.pose, lo, hi, f"{where}.requested")
         if status == "singular":
             witnesses.append(_witnesses(model.pose, claim.get("witnesses"), req, lo, hi, f"{where}.witnesses"))
@@ -74,18 +62,19 @@ def check(cert, report) -> None:
         roots.append((k, lo, hi, claim.get("tree")))
         signs.append(s)
     if witnesses:                        # all witness poses in one batch: +, − per claim
-        x = np.concatenate([w[0] for w in witnesses])
-        got = robot.det(x, x).sign().reshape(-1, 2)
+        got = robot.det(np.concatenate([w[0] for w in witnesses]), np.concatenate([w[1] for w in witnesses]))
+        got = got.sign().reshape(-1, 2)
         bad = np.nonzero(np.any(got != [1, -1], axis=1))[0]
         if len(bad):
-            where, k = witnesses[bad[0]][1], int(got[bad[0], 0] == 1)
+            where, k = witnesses[bad[0]][2], int(got[bad[0], 0] == 1)
             raise Rejected(f"{where}.{('positive', 'negative')[k]}: det(A) not proved {('> 0', '< 0')[k]}")
     if cert.version == 1:
-        cert._arrays.update(_flatten(roots, signs, d))
+        cert.add(_flatten(roots, signs, d))
     elif any(t is not True for *_, t in roots):
         raise Rejected("claims: a singularity-free claim has \"tree\": true (its tree is in the body)")
-    forest = tree.Forest(cert, [r[1] for r in roots], [r[2] for r in roots], {c: (n, {"tree.flags": 2 == c})
-                         for c, n in RULES.items()}, {}, {"tree.flags": ((d,), ("<i1",))})
+    forest = tree.Forest(cert, d, [r[1] for r in roots], [r[2] for r in roots], {c: (n, {"tree.flags": 2 == c})
+                         for c, n in RULES.items()}, {}, {"tree.flags": ((d,), ("|i1",))},
+                         [f"claims[{r[0]}].tree" for r in roots])
     flags = forest.evidence["tree.flags"]
     if np.any((flags < -1) | (flags > 1)):
         raise Rejected("tree.flags: monotonicity flags must be -1, 0 or 1")
@@ -145,23 +134,37 @@ def _requested(req, pose, lo, hi, where):
 
 
 def _witnesses(pose, wit, req, lo, hi, where):
-    """The two witness poses (checked to lie in the box and the exact requested box), and ``where``."""
+    """The two witness poses as boxes (lo, hi) (2, d), checked to lie in the box and in the exact requested
+    box.  A coordinate is a float (its exact value) or an exact decimal string (``deg`` allowed),
+    enclosed: det(A) of one sign over the enclosure has that sign at the exact pose."""
     if not isinstance(wit, dict):
         raise Rejected(f"{where}: expected {{'positive': pose, 'negative': pose}}")
     out = []
     for key in ("positive", "negative"):
         p = wit.get(key)
         if not isinstance(p, list) or len(p) != len(pose):
-            raise Rejected(f"{where}.{key}: expected a pose of {len(pose)} numbers")
-        x = np.array([real(v, f"{where}.{key}[{i}]") for i, v in enumerate(p)])
-        if not np.all((lo <= x) & (x <= hi)):
+            raise Rejected(f"{where}.{key}: expected a pose of {len(pose)} values")
+        x = [enclose(v, f"{where}.{key}[{i}]", True) if isinstance(v, str) else Iv(real(v, f"{where}.{key}[{i}]"))
+             for i, v in enumerate(p)]
+        xl, xh = np.array([float(v.lo) for v in x]), np.array([float(v.hi) for v in x])
+        if not np.all((lo <= xl) & (xh <= hi)):
             raise Rejected(f"{where}.{key}: pose outside the box")
         for name, (a, b) in (req or {}).items():
-            v = x[pose.index(name)]
-            if not (inside(a, -np.inf, v, where) and inside(b, v, np.inf, where)):
-                raise Rejected(f"{where}.{key}: {name} = {v!r} is outside the requested [{a}, {b}]")
-        out.append(x)
-    return np.array(out), where
+            i = pose.index(name)
+            if not (_le(a, p[i], xl[i], where) and _le(p[i], b, xh[i], where, True)):
+                raise Rejected(f"{where}.{key}: {name} = {p[i]!r} is outside the requested [{a}, {b}]")
+        out.append((xl, xh))
+    return np.array([o[0] for o in out]), np.array([o[1] for o in out]), where
+
+
+def _le(a, b, x, where, flip=False):
+    """a ≤ b exactly, for decimal texts (``deg`` allowed) and floats (``x``: the float bound of the witness)."""
+    if isinstance(b if not flip else a, str):
+        (qa, da), (qb, db) = angle(a, where), angle(b, where)
+        if da == db:
+            return qa <= qb
+        return bool(enclose(a, where, True).hi <= enclose(b, where, True).lo)
+    return inside(a, -np.inf, x, where) if not flip else inside(b, x, np.inf, where)
 
 
 # ----- the rules, on batches ----------------------------------------------------------
@@ -200,10 +203,10 @@ def _prove(robot, code, ids, lo, hi, s, flags, scale, claim):
         bad = got == -s
         if bad.any() or (depth == MAX_DEPTH and np.any(got == 0)):
             i = int(np.nonzero(bad | (got == 0))[0][0])
-            box = ", ".join(f"{a!r}:{b!r}" for a, b in zip(lo[i], hi[i]))
+            box = ", ".join(f"{float(a)!r}:{float(b)!r}" for a, b in zip(lo[i], hi[i]))
             what = (f"det(A) has sign {got[i]} on [{box}], not {s[i]}" if got[i] else
                     f"sign {s[i]} not proved on [{box}] (also after bisecting {MAX_DEPTH} levels)")
-            raise Rejected(f"claims[{claim[owner[i]]}].tree: leaf (node {ids[owner[i]]}): {RULES[code]} rule: {what}")
+            raise Rejected(f"claims[{claim[owner[i]]}].tree: node {ids[owner[i]]} (leaf): {RULES[code]} rule: {what}")
         open_ = got == 0
         if not open_.any():
             break

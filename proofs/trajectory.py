@@ -44,7 +44,7 @@ from fractions import Fraction
 import numpy as np
 
 from .arith import PI, Iv
-from .models import MODELS, Dual, cross, det, det_interval, lift, points, rot, sincos
+from .models import MODELS, Dual, cross, det, det_interval, header_model, lift, points, rot, sincos
 from .numbers import angle, enclose, exact, real
 from .report import Rejected
 
@@ -315,13 +315,7 @@ class Instance:
 # ----- claims -------------------------------------------------------------------------------
 def check(cert, report) -> None:
     h = cert.header
-    model = MODELS.get(h.get("model")) if isinstance(h.get("model"), str) else None
-    if model is None:
-        raise Rejected(f"model: unknown model {h.get('model')!r:.60} (known: {', '.join(MODELS)})")
-    if h["robot"].get("kind") != model.kind:
-        raise Rejected(f"robot.kind: {h['robot'].get('kind')!r:.60} does not fit model {model.name}")
-    if h.get("pose") != list(model.pose):
-        raise Rejected(f"pose: expected {list(model.pose)} for model {model.name}")
+    model = header_model(h, MODELS, lambda m: m.kind, "pose", lambda m: m.pose)
     geo, counts, verdicts = Geometry(model, h["robot"]), report.checked, {}
     for c, claim in enumerate(h["claims"]):
         where = f"claims[{c}]"
@@ -407,8 +401,9 @@ def _leaves(cert, value, n_seg, K, where):
             raise Rejected(f"{where}: 'segment', 't' and 'state' must be non-empty lists of one length")
         if any(type(k) is not int for k in s) or any(not isinstance(x, list) or len(x) != 2 for x in t):
             raise Rejected(f"{where}: segments are integers, t are [lo, hi]")
-        if any(not isinstance(x, str) or len(x) != K or set(x) - set(CHARS) for x in st):
-            raise Rejected(f"{where}: state must have one of '+', '-', '?' per instance ({K})")
+        bad = [i for i, x in enumerate(st) if not isinstance(x, str) or len(x) != K or set(x) - set(CHARS)]
+        if bad:
+            raise Rejected(f"{where}[{bad[0]}]: state must have one of '+', '-', '?' per instance ({K})")
         seg = np.array(s, dtype=np.int64)
         t = np.array([[real(a, f"{where}.t"), real(b, f"{where}.t")] for a, b in t])
         states = np.array([[CHARS[c] for c in x] for x in st], dtype=np.uint8).reshape(len(st), K)
@@ -422,8 +417,8 @@ def _leaves(cert, value, n_seg, K, where):
     bad |= ~first & (lo != np.concatenate([[0.0], hi[:-1]]))
     if bad.any() or not np.array_equal(starts, np.arange(n_seg - 1)):
         i = int(np.nonzero(bad)[0][0]) if bad.any() else 0
-        raise Rejected(f"{where}[{i}]: the leaves do not tile [0, 1] on every one of the {n_seg - 1} segments in order "
-                       f"(segment {seg[i]}, t = [{lo[i]!r}, {hi[i]!r}])")
+        raise Rejected(f"{where}[{i}]: the leaves do not tile [0, 1] on every one of the {n_seg - 1} segments, in order, "
+                       f"up to t = 1 (segment {seg[i]}, t = [{float(lo[i])!r}, {float(hi[i])!r}])")
     return seg, lo, hi, states
 
 
@@ -489,7 +484,7 @@ def _violations(insts, seg, lo, hi, states, value, where):
         for i in np.nonzero(bad)[0]:
             a, b = seg[i] + Fraction(lo[i]), seg[i] + Fraction(hi[i])
             if not any(m0 <= a and b <= m1 for m0, m1 in merged):
-                raise Rejected(f"{where}: leaf {i} (segment {seg[i]}, t = [{lo[i]!r}, {hi[i]!r}]) is "
+                raise Rejected(f"{where}: leaf {i} (segment {seg[i]}, t = [{float(lo[i])!r}, {float(hi[i])!r}]) is "
                                f"'{'?+-'[states[i, k]]}' for {inst.label} but no violation interval covers it")
         for v, (a, b) in certain[k]:
             meets = {int(states[i, k]) for i in range(len(seg))
@@ -511,7 +506,7 @@ def _prove(geo, P, D, inst, spans, ch, where):
             i = np.nonzero(bad)[0][0]
             what = "refuted" if got[i] == -1 else "not proved (undecided after bisecting)"
             raise Rejected(f"{where}.leaves[{leaf[i]}]: '{'?+-'[ch[leaf[i]]]}' for {inst.label} {what} "
-                           f"on segment {s[i]}, t in [{a[i]!r}, {b[i]!r}]")
+                           f"on segment {s[i]}, t in [{float(a[i])!r}, {float(b[i])!r}]")
         open_ = got == 0
         leaf, s, a, b = leaf[open_], s[open_], a[open_], b[open_]
         m = 0.5 * a + 0.5 * b

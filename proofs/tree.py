@@ -11,8 +11,9 @@ the rule.  The default split point of [a, b] is the float a + 0.4921875 (b − a
 cut is the next row of ``tree.cut``.  Either must lie strictly inside the
 side, so the children tile their parent exactly, and by induction the
 leaves tile each root.  A contraction's child box is the next row of
-``tree.box`` and must lie inside its parent (its rule proves that it keeps
-every solution).  Rules consume rows of the evidence arrays in node order,
+``tree.box`` (version 2: uint64, the bits of the child's bounds XOR those of
+the parent's, which compresses well) and must lie inside its parent (its
+rule proves that it keeps every solution).  Rules consume rows of the evidence arrays in node order,
 a fixed number per rule (``Forest``'s tables); every row must be used.
 
 ``Forest.walk`` rebuilds each level's boxes with a few numpy operations and
@@ -22,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .numbers import real
 from .report import Rejected
 
 SPLIT, CUT, CONTRACT, LEAF = 0, 1, 2, 3
@@ -32,10 +34,11 @@ BATCH = 8192
 class Forest:
     """``leaves``/``contractions``: {code: (name, {evidence array: rows per node})}."""
 
-    def __init__(self, cert, roots_lo, roots_hi, leaves: dict, contractions: dict, evidence: dict):
-        self.cert, self.leaves, self.contractions = cert, leaves, contractions
-        self.lo0, self.hi0 = np.asarray(roots_lo, float), np.asarray(roots_hi, float)
-        self.d = self.lo0.shape[1]
+    def __init__(self, cert, d, roots_lo, roots_hi, leaves: dict, contractions: dict, evidence: dict, labels=None):
+        self.cert, self.leaves, self.contractions, self.d = cert, leaves, contractions, d
+        self.labels = labels or []
+        self.lo0 = np.asarray(roots_lo, float).reshape(-1, d)
+        self.hi0 = np.asarray(roots_hi, float).reshape(-1, d)
         self.kind = cert.array("tree.kind", ("<u1",))
         self.code = cert.array("tree.code", ("<u1",))
         if self.kind.ndim != 1 or self.code.shape != self.kind.shape:
@@ -57,7 +60,7 @@ class Forest:
                 for name, k in uses.items():
                     rows[name][mine & (self.code == c)] += k
         self.offset, self.evidence = {}, {}
-        shapes = {"tree.cut": ((), ("<f8",)), "tree.box": ((self.d, 2), ("<f8",)), **evidence}
+        shapes = {"tree.cut": ((), ("<f8",)), "tree.box": ((self.d, 2), ("<f8", "<u8")), **evidence}
         for name, per_node in rows.items():
             total = int(per_node.sum())
             tail, dtypes = shapes[name]
@@ -67,6 +70,13 @@ class Forest:
             self.evidence[name] = arr
             self.offset[name] = np.concatenate([[0], np.cumsum(per_node)])
         self.nodes = len(self.kind)
+        self.stated = cert.array("v1.leafbox") if cert.has("v1.leafbox") else None   # version 1: stated leaf boxes
+        self.leaf_row = np.cumsum(self.kind == LEAF) - 1 if self.stated is not None else None
+
+    def at(self, node, root):
+        """'claims[k].tree: node i' for messages."""
+        label = self.labels[root] if root < len(self.labels) else "tree"
+        return f"{label}: node {node}"
 
     def rows(self, name, ids, k=0):
         """Row k of evidence ``name`` of each node ``ids``."""
@@ -85,8 +95,8 @@ class Forest:
             kind, code = self.kind[ids], self.code[ids]
             split = kind <= CUT
             if np.any(split & (code >= self.d)):
-                i = ids[split & (code >= self.d)][0]
-                raise Rejected(f"tree: node {i}: split dimension {self.code[i]} (the boxes have {self.d})")
+                i = np.nonzero(split & (code >= self.d))[0][0]
+                raise Rejected(f"{self.at(ids[i], claim[i])}: split dimension {code[i]} (the boxes have {self.d})")
             nkids = np.where(split, 2, np.where(kind == CONTRACT, 1, 0))
             first = np.concatenate([[0], np.cumsum(nkids)])[:-1]
             new_lo = np.empty((int(nkids.sum()), self.d))
@@ -101,8 +111,8 @@ class Forest:
                 bad = ~((a < at) & (at < b))
                 if bad.any():
                     i = np.nonzero(bad)[0][0]
-                    raise Rejected(f"tree: node {ids[s][i]}: split point {at[i]!r} not strictly inside "
-                                   f"[{a[i]!r}, {b[i]!r}] on dimension {dim[i]}")
+                    raise Rejected(f"{self.at(ids[s][i], claim[s][i])}: split point {float(at[i])!r} not strictly "
+                                   f"inside [{float(a[i])!r}, {float(b[i])!r}] on dimension {dim[i]}")
                 new_lo[first[s]], new_hi[first[s]] = lo[s], hi[s]
                 new_hi[first[s], dim] = at
                 new_lo[first[s] + 1], new_hi[first[s] + 1] = lo[s], hi[s]
@@ -110,11 +120,21 @@ class Forest:
             c = np.nonzero(kind == CONTRACT)[0]
             if len(c):
                 box = self.rows("tree.box", ids[c])
+                if box.dtype == np.uint64:          # the child's bits XOR the parent's
+                    box = (np.ascontiguousarray(np.stack([lo[c], hi[c]], -1)).view(np.uint64) ^ box).view(np.float64)
                 clo, chi = box[..., 0], box[..., 1]
                 bad = ~np.all((lo[c] <= clo) & (clo <= chi) & (chi <= hi[c]), axis=1)
                 if bad.any():
-                    raise Rejected(f"tree: node {ids[c][np.nonzero(bad)[0][0]]}: contracted box not inside its parent")
+                    i = np.nonzero(bad)[0][0]
+                    raise Rejected(f"{self.at(ids[c][i], claim[c][i])}: contracted box not inside its parent")
                 new_lo[first[c]], new_hi[first[c]] = clo, chi
+            if self.stated is not None:
+                leaf = np.nonzero(kind == LEAF)[0]
+                st = self.stated[self.leaf_row[ids[leaf]]]
+                bad = ~np.all((st[..., 0] == lo[leaf]) & (st[..., 1] == hi[leaf]), axis=1)
+                if bad.any():
+                    i = np.nonzero(bad)[0][0]
+                    raise Rejected(f"{self.at(ids[leaf][i], claim[leaf][i])} (leaf): box does not match the derived box")
             for kd in (CONTRACT, LEAF):
                 mine = kind == kd
                 for cd in np.unique(code[mine]):
@@ -147,7 +167,6 @@ def flatten(roots, d, leaf, contraction=None, dtypes=None):
     root)`` and ``contraction(node, where)`` return (code, {evidence array: [rows]}); splits keep their stored
     point (kind 1); ``dtypes``: {evidence array: dtype} (default float64).  Stated leaf boxes are
     redundant in version 1: the checker derives every box."""
-    from .numbers import real
     kinds, codes, ev = [], [], {"tree.cut": [], "tree.box": []}
     queue, head = [(r, f"claims[{k}].tree", "root", j) for j, (k, r) in enumerate(roots)], 0
     while head < len(queue):
@@ -169,11 +188,12 @@ def flatten(roots, d, leaf, contraction=None, dtypes=None):
         if "contract" in node and contraction is not None:
             code, rows = contraction(node, at)
             kinds.append(CONTRACT)
-            ev["tree.box"].append(_box(node.get("box"), d, f"{at}: box"))
+            ev["tree.box"].append(np.stack(read_box(node.get("box"), d, f"{at}: box"), -1))
             queue.append((node.get("child"), where, f"{path}/c", root))
         elif "leaf" in node:
             code, rows = leaf(node, at, root)
             kinds.append(LEAF)
+            ev.setdefault("v1.leafbox", []).append(np.stack(read_box(node.get("box"), d, f"{at}: box"), -1))
         else:
             raise Rejected(f"{at}: neither a split, a contraction nor a leaf")
         codes.append(code)
@@ -183,14 +203,16 @@ def flatten(roots, d, leaf, contraction=None, dtypes=None):
     for name, rows in ev.items():
         out[name] = np.array(rows, dtype=(dtypes or {}).get(name, np.float64))
     out["tree.box"] = out["tree.box"].reshape(-1, d, 2)
+    out["v1.leafbox"] = out.get("v1.leafbox", np.zeros(0)).reshape(-1, d, 2)
     return out
 
 
-def _box(value, d, where):
-    from .numbers import real
+def read_box(value, d, where):
+    """A box of the header: ``d`` pairs [lo, hi] of exact finite floats, lo <= hi; returns (lo, hi) arrays."""
     if not isinstance(value, list) or len(value) != d or not all(isinstance(p, list) and len(p) == 2 for p in value):
         raise Rejected(f"{where}: expected {d} intervals [lo, hi]")
-    box = [[real(a, where), real(b, where)] for a, b in value]
-    if not all(a <= b for a, b in box):
+    lo = np.array([real(a, where) for a, _ in value])
+    hi = np.array([real(b, where) for _, b in value])
+    if not np.all(lo <= hi):
         raise Rejected(f"{where}: lo > hi")
-    return box
+    return lo, hi

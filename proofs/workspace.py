@@ -30,10 +30,9 @@ import numpy as np
 
 from . import tree
 from .arith import Iv, sincos
-from .models import points, rot
+from .models import header_model, points, rot
 from .numbers import enclose, exact, real
 from .report import Rejected
-from .singularity import read_box
 
 MODELS = {"gough-stewart-workspace/1": ("gough-stewart", ("psi", "theta", "phi"), 6, 3),
           "planar-3rpr-workspace/1": ("planar-3rpr", ("phi",), 3, 2)}
@@ -46,8 +45,6 @@ class Legs:
     def __init__(self, model, robot, orientation):
         kind, angles, n, dim = MODELS[model]
         self.planar, self.n = dim == 2, n
-        if robot.get("kind") != kind:
-            raise Rejected(f"robot.kind: {robot.get('kind')!r:.60} does not fit model {model}")
         a, b = points(robot, "base", n, dim), points(robot, "platform", n, dim)
         if not isinstance(orientation, dict) or sorted(orientation) != sorted(angles):
             raise Rejected(f"orientation: expected the angles {', '.join(angles)}")
@@ -78,10 +75,8 @@ class Legs:
 
 def check(cert, report) -> None:
     h = cert.header
-    model = h.get("model")
-    if not isinstance(model, str) or model not in MODELS:
-        raise Rejected(f"model: unknown model {model!r:.60} (known: {', '.join(MODELS)})")
-    legs = Legs(model, h["robot"], h.get("orientation"))
+    header_model(h, MODELS, lambda m: m[0])
+    legs = Legs(h["model"], h["robot"], h.get("orientation"))
     volume = h["problem"] == "workspace-volume"
     if volume and legs.planar:
         raise Rejected("problem: a planar model has no volume")
@@ -119,15 +114,15 @@ def check(cert, report) -> None:
             if code == 1 and (type(k) is not int or not 1 <= k <= legs.n):
                 raise Rejected(f"{at}: 'leg' must be 1..{legs.n}")
             return code, ({"tree.index": [k]} if code == 1 else {})
-        cert._arrays.update(tree.flatten([(k, claims[k].get("tree")) for k in roots], 2, leaf,
+        cert.add(tree.flatten([(k, claims[k].get("tree")) for k in roots], 2, leaf,
                                          dtypes={"tree.index": np.int32}))
     elif any(claims[k].get("tree") is not True for k in roots):
         raise Rejected("claims: a claim with a domain box has \"tree\": true (its tree is in the body)")
     for k, b in enumerate(boxes):
         if b is None and claims[k].get("tree") is not None:
             raise Rejected(f"claims[{k}].tree: an empty domain has no tree")
-    forest = tree.Forest(cert, [boxes[k][0] for k in roots], [boxes[k][1] for k in roots], LEAVES, {},
-                         {"tree.index": ((), ("<i4",))})
+    forest = tree.Forest(cert, 2, [boxes[k][0] for k in roots], [boxes[k][1] for k in roots], LEAVES, {},
+                         {"tree.index": ((), ("<i4",))}, [f"claims[{k}].tree" for k in roots])
     H2 = Iv(np.array([h2[k].lo for k in roots] or np.zeros((0, legs.n))),
             np.array([h2[k].hi for k in roots] or np.zeros((0, legs.n))))
     sums = [[0, 0] for _ in roots]                 # exact integers: inside, boundary areas (scaled)
@@ -206,7 +201,7 @@ def _bounds(value, inside, outer, where):
 def _domain(legs, h2, domain, where):
     """Re-prove that the section (every section of the slab) lies in ``domain``; None when "empty"."""
     r2 = legs.rmax2 - h2
-    box = None if domain == "empty" else read_box(domain, 2, f"{where}.domain")
+    box = None if domain == "empty" else tree.read_box(domain, 2, f"{where}.domain")
     if np.any(r2.hi < 0):               # a disk is empty for every z: so is the section
         return box
     cx, cy = legs.u[0], legs.u[1]
