@@ -272,6 +272,8 @@ class Instance:
             return [d * d - delta * r2, delta]
 
         E, delta = sp.enclose(line)
+        if np.all(E.pos()):                 # the line distance settles every leaf
+            return np.ones(N, bool), np.zeros(N, bool)
 
         def feet(fr):
             u, v = fr.legs[i], fr.legs[j]

@@ -80,42 +80,14 @@ def check(cert, report) -> None:
     volume = h["problem"] == "workspace-volume"
     if volume and legs.planar:
         raise Rejected("problem: a planar model has no volume")
-    claims, Z = h["claims"], []
-    for k, claim in enumerate(claims):
-        where = f"claims[{k}]"
-        if not isinstance(claim, dict):
-            raise Rejected(f"{where}: expected an object")
-        if volume:
-            slab = claim.get("slab")
-            if not isinstance(slab, list) or len(slab) != 2:
-                raise Rejected(f"{where}.slab: expected [lo, hi]")
-            lo, hi = real(slab[0], f"{where}.slab"), real(slab[1], f"{where}.slab")
-            if not lo < hi:
-                raise Rejected(f"{where}.slab: lo must be below hi")
-            if Z and lo != Z[-1].hi:
-                raise Rejected(f"{where}.slab: does not start where the previous slab ends ({float(Z[-1].hi)!r})")
-            Z.append(Iv(lo, hi))
-        elif legs.planar:
-            if "z" in claim:
-                raise Rejected(f"{where}.z: a planar model has no z")
-            Z.append(Iv(0.0))
-        else:
-            Z.append(enclose(claim.get("z"), f"{where}.z"))
+    claims = h["claims"]
+    Z = _heights(legs, claims, volume)
     h2 = [legs.h2(z) for z in Z]
     boxes = [_domain(legs, h2[k], c.get("domain"), f"claims[{k}]") for k, c in enumerate(claims)]
     roots = [k for k, b in enumerate(boxes) if b is not None]
     if cert.version == 1:
-        def leaf(node, at, root):
-            kind = node.get("leaf")
-            code = {"inside": 0, "outside": 1, "boundary": 2}.get(kind)
-            if code is None:
-                raise Rejected(f"{at}: unknown leaf {kind!r:.60} (inside, outside, boundary)")
-            k = node.get("leg")
-            if code == 1 and (type(k) is not int or not 1 <= k <= legs.n):
-                raise Rejected(f"{at}: 'leg' must be 1..{legs.n}")
-            return code, ({"tree.index": [k]} if code == 1 else {})
-        cert.add(tree.flatten([(k, claims[k].get("tree")) for k in roots], 2, leaf,
-                                         dtypes={"tree.index": np.int32}))
+        cert.add(tree.flatten([(k, claims[k].get("tree")) for k in roots], 2, _v1_leaf(legs.n),
+                              dtypes={"tree.index": np.int32}))
     elif any(claims[k].get("tree") is not True for k in roots):
         raise Rejected("claims: a claim with a domain box has \"tree\": true (its tree is in the body)")
     for k, b in enumerate(boxes):
@@ -142,7 +114,7 @@ def check(cert, report) -> None:
             bad = np.zeros(len(ids), bool)
         if bad.any():
             i = np.nonzero(bad)[0][0]
-            raise Rejected(f"claims[{roots[root[i]]}].tree: leaf (node {ids[i]}): {LEAVES[code][0]} not proved")
+            raise Rejected(f"{forest.at(ids[i], root[i])} ({LEAVES[code][0]}): {LEAVES[code][0]} not proved")
         if code != 1:
             for r, area in zip(*_areas(lo, hi, root)):
                 sums[r][code // 2] += area
@@ -172,6 +144,41 @@ def check(cert, report) -> None:
 
 
 _SHIFT = 2 * 1100       # areas are integers times 2^-_SHIFT (products of float differences)
+
+
+def _heights(legs, claims, volume):
+    """z of each claim as an interval: the exact decimal ``z``, or the float ``slab`` (contiguous slabs)."""
+    Z = []
+    for k, claim in enumerate(claims):
+        where = f"claims[{k}]"
+        if not isinstance(claim, dict):
+            raise Rejected(f"{where}: expected an object")
+        if volume:
+            slab = claim.get("slab")
+            if not isinstance(slab, list) or len(slab) != 2:
+                raise Rejected(f"{where}.slab: expected [lo, hi]")
+            lo, hi = real(slab[0], f"{where}.slab"), real(slab[1], f"{where}.slab")
+            if not lo < hi:
+                raise Rejected(f"{where}.slab: lo must be below hi")
+            if Z and lo != Z[-1].hi:
+                raise Rejected(f"{where}.slab: does not start where the previous slab ends ({float(Z[-1].hi)!r})")
+            Z.append(Iv(lo, hi))
+        elif legs.planar and "z" in claim:
+            raise Rejected(f"{where}.z: a planar model has no z")
+        else:
+            Z.append(Iv(0.0) if legs.planar else enclose(claim.get("z"), f"{where}.z"))
+    return Z
+
+
+def _v1_leaf(legs):
+    def leaf(node, at, root):
+        code = {"inside": 0, "outside": 1, "boundary": 2}.get(node.get("leaf"))
+        if code is None:
+            raise Rejected(f"{at}: unknown leaf {node.get('leaf')!r:.60} (inside, outside, boundary)")
+        if code == 1 and (type(node.get("leg")) is not int or not 1 <= node["leg"] <= legs):
+            raise Rejected(f"{at}: 'leg' must be 1..{legs}")
+        return code, ({"tree.index": [node["leg"]]} if code == 1 else {})
+    return leaf
 
 
 def _areas(lo, hi, root):
