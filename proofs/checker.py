@@ -36,8 +36,8 @@ def check(source, robot=None, progress=None) -> Report:
     except Rejected as exc:
         report.step = exc.step
         return report
-    except RecursionError:
-        report.step = "certificate: nested too deeply"
+    except (RecursionError, MemoryError) as exc:
+        report.step = f"certificate: {'nested too deeply' if isinstance(exc, RecursionError) else 'too large'}"
         return report
     report.ok = True
     return report

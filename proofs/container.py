@@ -25,7 +25,7 @@ from .report import Rejected, Unreadable
 
 MAX_HEADER = 64 << 20            # bytes of header.json
 MAX_JSON = 1 << 30               # bytes of a version-1 document
-MAX_ARRAY = 4 << 30              # bytes of one array
+MAX_ARRAY = 2 << 30              # bytes of one array
 DTYPES = ("<f8", "<f4", "<i4", "<i8", "<u8", "|i1", "|u1")
 MAX_DEPTH = 10_000               # nesting of a JSON document
 
