@@ -12,8 +12,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
-from mpmath import iv, mp
+from mpmath import mp
 
 import proofs
 
@@ -117,37 +118,32 @@ def test_planar_certificate_accepted(planar):
     assert str(report) == "OK: 1 claims, 2 leaves re-verified"
 
 
-def test_precision_is_restored_and_validated(planar):
-    before = iv.prec
-    assert proofs.check(planar, prec=120).ok
-    assert iv.prec == before
-    with pytest.raises(ValueError):
-        proofs.check(planar, prec=10)
-
-
 def test_models_match_seed_reference_values():
     """Seed 003 digest values (planar Example 2 spot values, spherical Example 1 vertices)."""
     from proofs.models import MODELS, Robot
     ex2 = {"kind": "planar-3rpr", "base": [["3.78", "4.34"], ["34.47", "-3.78"], ["16.233", "34.76"]],
            "platform": [["-4.83", "-3.19"], ["12.04", "-3.19"], ["8.23", "12.09"]]}
-    point = lambda p: [(v, v) for v in p]
-    saved, iv.prec = iv.prec, 80
-    try:
-        r = Robot(MODELS["planar-3rpr/1"], ex2)
-        assert r.det(point([0.0, 0.0, 0.0])).mid == pytest.approx(28891.66058, abs=1e-5)
-        assert r.det(point([10.0, 10.0, math.pi / 8])).mid == pytest.approx(8868.48667784, abs=1e-7)
-        tt = Robot(MODELS["spherical-3dof-tt/1"], SPHERICAL)
-        zyz = Robot(MODELS["spherical-3dof/1"], SPHERICAL)
-        assert tt.det(point([0.0, math.pi / 4, 0.0])).mid == pytest.approx(-0.025258874503, abs=1e-11)
-        h = math.pi / 2
-        got = [float(zyz.det(point([a, b, c])).mid) for a in (-h, h) for b in (0.0, h) for c in (-h, h)]
-        assert got == pytest.approx([-0.0864, 0.0864, 0.72, -0.72, 0.0864, -0.0864, 0.72, -0.72], abs=1e-12)
-        D, grad = r.det_gradient([(1.0, 1.0), (2.0, 2.0), (0.3, 0.3)])
-        eps = 1e-6
-        fd = (r.det(point([1.0 + eps, 2.0, 0.3])).mid - r.det(point([1.0 - eps, 2.0, 0.3])).mid) / (2 * eps)
-        assert float(grad[0].mid) == pytest.approx(float(fd.mid), rel=1e-6)
-    finally:
-        iv.prec = saved
+
+    def at(robot, p):
+        x = np.array([p], dtype=float)
+        d = robot.det(x, x)
+        assert d.hi[0] - d.lo[0] < 1e-9 * max(1.0, abs(d.lo[0]))
+        return 0.5 * (d.lo[0] + d.hi[0])
+
+    r = Robot(MODELS["planar-3rpr/1"], ex2)
+    assert at(r, [0.0, 0.0, 0.0]) == pytest.approx(28891.66058, abs=1e-5)
+    assert at(r, [10.0, 10.0, math.pi / 8]) == pytest.approx(8868.48667784, abs=1e-7)
+    tt = Robot(MODELS["spherical-3dof-tt/1"], SPHERICAL)
+    zyz = Robot(MODELS["spherical-3dof/1"], SPHERICAL)
+    assert at(tt, [0.0, math.pi / 4, 0.0]) == pytest.approx(-0.025258874503, abs=1e-11)
+    h = math.pi / 2
+    got = [at(zyz, [a, b, c]) for a in (-h, h) for b in (0.0, h) for c in (-h, h)]
+    assert got == pytest.approx([-0.0864, 0.0864, 0.72, -0.72, 0.0864, -0.0864, 0.72, -0.72], abs=1e-12)
+    x = np.array([[1.0, 2.0, 0.3]])
+    D, grad = r.det_gradient(x, x)
+    eps = 1e-6
+    fd = (at(r, [1.0 + eps, 2.0, 0.3]) - at(r, [1.0 - eps, 2.0, 0.3])) / (2 * eps)
+    assert 0.5 * (grad.lo[0, 0] + grad.hi[0, 0]) == pytest.approx(fd, rel=1e-6)
 
 
 def test_spherical_and_gough_certificates_accepted():
@@ -160,7 +156,7 @@ def test_spherical_and_gough_certificates_accepted():
                                                    "tree": leaf(box, s)}])
         assert proofs.check(c).ok, proofs.check(c).step
         c["claims"][0]["sign"] = c["claims"][0]["tree"]["sign"] = -s
-        rejected(c, "claims[0].tree: leaf at path root: natural rule: det(A) has sign")
+        rejected(c, "claims[0].tree: node 0 (leaf): natural rule: det(A) has sign")
 
     centre = [10.0, -5.0, 600.0, 0.1, 0.2, 0.3]
     s = 1 if reference_det("gough-stewart/1", GOUGH, centre) > 0 else -1
@@ -176,7 +172,7 @@ def test_spherical_and_gough_certificates_accepted():
 # ----- tampering ---------------------------------------------------------------
 def test_widened_leaf_box_rejected(planar):
     planar["claims"][0]["tree"]["children"][1]["box"][0][1] = 5.2
-    assert rejected(planar) == "claims[0].tree: leaf at path 1: box does not match the derived box"
+    assert rejected(planar) == "claims[0].tree: node 2 (leaf): box does not match the derived box"
 
 
 def test_widened_claim_box_rejected(planar):
@@ -187,33 +183,33 @@ def test_widened_claim_box_rejected(planar):
 def test_flipped_sign_rejected(planar):
     only_claim = copy.deepcopy(planar)
     only_claim["claims"][0]["sign"] = -1
-    rejected(only_claim, "leaf at path 0: sign 1 differs from the claim's sign -1")
+    rejected(only_claim, "claims[0].tree: node at path root/0: sign 1 differs from the claim's sign -1")
     everywhere = copy.deepcopy(planar)
     everywhere["claims"][0]["sign"] = -1
     for child in everywhere["claims"][0]["tree"]["children"]:
         child["sign"] = -1
-    rejected(everywhere, "claims[0].tree: leaf at path 0: natural rule: det(A) has sign 1")
+    rejected(everywhere, "claims[0].tree: node 1 (leaf): natural rule: det(A) has sign 1")
 
 
 def test_removed_leaf_rejected(planar):
     planar["claims"][0]["tree"] = planar["claims"][0]["tree"]["children"][0]
-    assert rejected(planar) == "claims[0].tree: leaf at path root: box does not match the derived box"
+    assert rejected(planar) == "claims[0].tree: node 0 (leaf): box does not match the derived box"
 
 
 def test_changed_geometry_rejected(planar):
     assert reference_det("planar-3rpr/1", {**PLANAR, "base": [["0", "7"], ["10", "0"], ["3", "10"]]},
                          [5.0, 5.0, 0.3]) < 0
     planar["robot"]["base"][0][1] = "7"
-    rejected(planar, "leaf at path 0: natural rule: det(A) has sign -1")
+    rejected(planar, "node 1 (leaf): natural rule: det(A) has sign -1")
 
 
 def test_split_outside_box_rejected(planar):
     planar["claims"][0]["tree"]["split"] = [0, 5.3]
-    rejected(planar, "node at path root: split point 5.3 not strictly inside")
+    rejected(planar, "claims[0].tree: node 0: split point 5.3 not strictly inside")
     planar["claims"][0]["tree"]["split"] = [0, 4.89]   # lo < at is strict
     rejected(planar, "not strictly inside")
     planar["claims"][0]["tree"]["split"] = [3, 5.0]
-    rejected(planar, "'split' must be [dim, at]")
+    rejected(planar, "a split is {'split': [dim, at]")
 
 
 def test_requested_must_lie_in_box(planar):
@@ -230,7 +226,7 @@ def test_requested_must_lie_in_box(planar):
 
 
 def test_unknown_header_fields_rejected(planar):
-    for key, value, step in (("format", "other", "format:"), ("version", 2, "version:"),
+    for key, value, step in (("format", "other", "format:"), ("version", 3, "version:"),
                              ("model", "planar-3rpr/2", "model:"), ("problem", "fk", "problem:"),
                              ("pose", ["x", "phi", "y"], "pose:")):
         c = copy.deepcopy(planar)
@@ -238,7 +234,7 @@ def test_unknown_header_fields_rejected(planar):
         assert rejected(c).startswith(step)
     c = copy.deepcopy(planar)
     c["claims"][0]["tree"]["children"][0]["leaf"] = "undecided"
-    rejected(c, "leaf at path 0: unknown rule 'undecided'")
+    rejected(c, "node at path root/0: unknown rule 'undecided'")
     c = copy.deepcopy(planar)
     c["claims"][0]["status"] = "free"
     rejected(c, "claims[0].status: unknown status")
@@ -289,17 +285,18 @@ def _single(box, node, sign=1):
 
 
 def test_monotone_leaf():
-    from proofs import rules
     from proofs.models import MODELS, Robot
+    from proofs.singularity import _rule
     assert reference_det("planar-3rpr/1", PLANAR, [2.0, 8.0, 0.3]) > 0
-    box = [tuple(b) for b in MONO_BOX]
+    lo, hi = np.array([[b[0] for b in MONO_BOX]]), np.array([[b[1] for b in MONO_BOX]])
     robot = Robot(MODELS["planar-3rpr/1"], PLANAR)
-    assert rules.natural(robot, box, 1, None) == 0   # the natural rule alone does not decide this box
-    assert rules.monotone(robot, box, 1, [1, 0, -1]) == 1
+    one = np.array([1])
+    assert _rule(robot, 0, lo, hi, one, None)[0] == 0     # the natural rule alone does not decide this box
+    assert _rule(robot, 2, lo, hi, one, np.array([[1, 0, -1]]))[0] == 1
     report = proofs.check(_single(MONO_BOX, leaf(MONO_BOX, 1, "monotone", monotone=[1, 0, -1])))
     assert report.ok and report.checked["pieces"] == 0, report
     wrong = _single(MONO_BOX, leaf(MONO_BOX, 1, "monotone", monotone=[-1, 0, -1]))
-    rejected(wrong, "leaf at path root: monotone rule: sign 1 not proved", "after bisecting 6 levels")
+    rejected(wrong, "claims[0].tree: node 0 (leaf): monotone rule: sign 1 not proved", "after bisecting 6 levels")
     bad = _single(MONO_BOX, leaf(MONO_BOX, 1, "monotone", monotone=[1, 0]))
     rejected(bad, "'monotone' must be 3 values")
 
@@ -315,7 +312,7 @@ def test_checker_bisects_a_leaf_its_enclosure_does_not_decide():
     report = proofs.check(_single(box, leaf(box, 1)))
     assert report.ok and report.checked["pieces"] > 0, report
     singular_box = [[0.0, 10.0], [0.0, 10.0], [0.9, 1.1]]
-    rejected(_single(singular_box, leaf(singular_box, 1)), "leaf at path root: natural rule:")
+    rejected(_single(singular_box, leaf(singular_box, 1)), "claims[0].tree: node 0 (leaf): natural rule:")
 
 
 # ----- files and the command line ----------------------------------------------
@@ -328,14 +325,15 @@ def test_cli_exit_codes(planar, tmp_path):
     good = tmp_path / "good.json"
     good.write_text(json.dumps(planar))
     assert proofs.check_file(good).ok
-    r = _run(good, "--prec", "64")
-    assert r.returncode == 0 and r.stdout == "OK: 1 claims, 2 leaves re-verified\n"
+    r = _run(good)
+    assert r.returncode == 0 and r.stdout.endswith("\nOK: 1 claims, 2 leaves re-verified\n")
+    assert r.stdout.startswith("robot: toy (planar-3rpr), geometry SHA-256 ") and "proved: 1 boxes of poses: 1 singul" in r.stdout
 
     planar["claims"][0]["sign"] = -1
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps(planar))
     r = _run(bad)
-    assert r.returncode == 1 and r.stdout.startswith("REJECTED: claims[0].tree") and r.stdout.count("\n") == 1
+    assert r.returncode == 1 and r.stdout.splitlines()[-1].startswith("REJECTED: claims[0].tree") and not r.stderr
 
     broken = tmp_path / "broken.json"
     broken.write_text('{"format": ')

@@ -1,0 +1,184 @@
+"""Version-2 certificate files (ZIP: JSON header, hashed arrays): re-checked, and every kind of damage or
+tampering rejected with the failing step named (issue items 4-6)."""
+import copy
+import json
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import proofs
+from certfile import from_v1, pack, unpack
+from certkin import load_robot, robot_from_dict
+from certkin.fk import forward_kinematics
+from certkin.singularity import certify_singularity_free
+from certkin.trajectory import verify_trajectory
+
+ROOT = Path(__file__).resolve().parents[1]
+EX2 = ROOT / "examples" / "robots" / "seed003-planar-example-2.toml"
+PLANAR = {"name": "planar benchmark", "kind": "planar-3rpr", "base": [["0", "0"], ["15.91", "0"], ["0", "10"]],
+          "platform": [["0", "0"], ["17.04", "0"], ["13.236", "16.097"]]}
+
+
+@pytest.fixture(scope="module")
+def fk_file(tmp_path_factory):
+    result = forward_kinematics(robot_from_dict(PLANAR), ["14.98", "15.38", "12"])
+    assert result.complete and len(result.solutions) == 6
+    return from_v1(result.certificate(), tmp_path_factory.mktemp("v2") / "fk.ckc")
+
+
+@pytest.fixture(scope="module")
+def singular_file(tmp_path_factory):
+    r = certify_singularity_free(load_robot(EX2), "x=-50:50,y=-50:50,phi=0:0.7853981634")
+    assert r.status == "singular"
+    return from_v1(r.certificate(), tmp_path_factory.mktemp("v2") / "singular.ckc")
+
+
+def forged(path, tmp_path, edit_header=None, edit_arrays=None, rehash=True):
+    """A copy of ``path`` with its header and arrays edited (hashes recomputed unless ``rehash`` is false)."""
+    header, arrays = unpack(path)
+    if edit_header:
+        edit_header(header)
+    if edit_arrays:
+        edit_arrays(arrays)
+    return pack(tmp_path / "forged.ckc", header, arrays, rehash=rehash)
+
+
+def rejected(path, *fragments, robot=None):
+    report = proofs.check(path, robot=robot)
+    assert not report.ok
+    for f in fragments:
+        assert f in report.step, report.step
+    return report.step
+
+
+def test_v2_files_check_and_say_what_was_proved(fk_file, singular_file, tmp_path):
+    report = proofs.check(fk_file)
+    assert report.ok, report.step
+    assert report.proved == ["lengths 14.98, 15.38, 12: 6 unique postures in the domain, "
+                             f"{report.checked['leaves'] - 6} boxes excluded, complete: proved"]
+    assert report.about["geometry_sha256"] == proofs.geometry_sha256(PLANAR) and report.about["version"] == 2
+    assert proofs.check(singular_file).ok
+    with zipfile.ZipFile(fk_file) as z:                   # the header is the first member, stored, readable
+        first = z.infolist()[0]
+        assert first.filename == "header.json" and first.compress_type == zipfile.ZIP_STORED
+        assert json.loads(z.read(first))["claims"][0]["complete"] is True
+    traj = verify_trajectory(load_robot(ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml"),
+                             "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0").certificate()
+    assert proofs.check(from_v1(traj, tmp_path / "traj.ckc")).ok
+
+
+def test_flipped_bit_in_a_packed_array(fk_file, tmp_path):
+    def flip(arrays):
+        raw = bytearray(arrays["tree.C"].tobytes())
+        raw[100] ^= 0x10
+        arrays["tree.C"] = np.frombuffer(bytes(raw), dtype=arrays["tree.C"].dtype).reshape(arrays["tree.C"].shape)
+    rejected(forged(fk_file, tmp_path, edit_arrays=flip, rehash=False), "body: array tree.C: SHA-256 differs")
+    data = bytearray(Path(fk_file).read_bytes())          # a flipped bit in the compressed stream itself
+    with zipfile.ZipFile(fk_file) as z:
+        info = z.getinfo("tree.kind.bin")
+    data[info.header_offset + 30 + len(info.filename) + 3] ^= 0x01
+    damaged = tmp_path / "damaged.ckc"
+    damaged.write_bytes(bytes(data))
+    rejected(damaged, "tree.kind")
+
+
+def test_truncated_body_and_file(fk_file, tmp_path):
+    def cut(arrays):
+        arrays["tree.code"] = arrays["tree.code"][:-7]
+    rejected(forged(fk_file, tmp_path, edit_arrays=cut, rehash=False), "body: member tree.code.bin has",
+             "its header entry says")
+    short = tmp_path / "short.ckc"
+    short.write_bytes(Path(fk_file).read_bytes()[:-200])
+    r = subprocess.run([sys.executable, "-m", "proofs", str(short)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "Traceback" not in r.stderr and not r.stdout
+
+
+def test_wrong_hashes(fk_file, tmp_path):
+    rejected(forged(fk_file, tmp_path, lambda h: h.update(body_sha256="0" * 64), rehash=False),
+             "header.body_sha256: differs")
+    rejected(forged(fk_file, tmp_path, lambda h: h["arrays"]["tree.kind"].update(sha256="1" * 64), rehash=False),
+             "body: array tree.kind: SHA-256 differs")
+    rejected(forged(fk_file, tmp_path, lambda h: h.update(geometry_sha256="2" * 64), rehash=False),
+             "geometry_sha256: differs")
+
+
+def test_removed_node(fk_file, tmp_path):
+    header, arrays = unpack(fk_file)
+    kind = arrays["tree.kind"]
+    i = int(np.nonzero((kind == 3) & (arrays["tree.code"] == 1))[0][-1])   # an hc4-empty leaf (no evidence rows)
+    def remove(a):
+        a["tree.kind"], a["tree.code"] = np.delete(kind, i), np.delete(a["tree.code"], i)
+    rejected(forged(fk_file, tmp_path, edit_arrays=remove), "tree: ")
+
+
+def test_swapped_split_dimension(fk_file, tmp_path):
+    _, arrays = unpack(fk_file)
+    splits = np.nonzero(arrays["tree.kind"] <= 1)[0]
+    for i in splits[:5]:                                   # several nodes: each swap is rejected, the node named
+        def swap(a, i=i):
+            a["tree.code"] = a["tree.code"].copy()
+            a["tree.code"][i] = (a["tree.code"][i] + 1) % 4
+        rejected(forged(fk_file, tmp_path, edit_arrays=swap), "claims[0].tree: node ")
+
+
+def test_reused_preconditioner(fk_file, tmp_path):
+    header, arrays = unpack(fk_file)
+    rows = np.nonzero((arrays["tree.kind"] == 3) & (arrays["tree.code"] == 6))[0]   # krawczyk-unique leaves
+    assert len(rows) >= 2
+    uses = np.zeros(len(arrays["tree.kind"]), int)          # rows of tree.C per node, in node order
+    uses[(arrays["tree.kind"] >= 2) & np.isin(arrays["tree.code"], [3, 4, 5, 6])] = 1
+    uses[(arrays["tree.kind"] == 2) & ~np.isin(arrays["tree.code"], [3, 4, 5])] = 0
+    uses[(arrays["tree.kind"] == 3) & (arrays["tree.code"] == 7)] = 2
+    first = np.concatenate([[0], np.cumsum(uses)])
+    def reuse(a):
+        a["tree.C"] = a["tree.C"].copy()
+        a["tree.C"][first[rows[1]]] = a["tree.C"][first[rows[0]]]      # another root's preconditioner
+    rejected(forged(fk_file, tmp_path, edit_arrays=reuse), "krawczyk-unique", "not proved")
+    def reuse_region(a):
+        a["fk.region.star_C"] = a["fk.region.star_C"].copy()
+        a["fk.region.star_C"][1] = a["fk.region.star_C"][0]
+    rejected(forged(fk_file, tmp_path, edit_arrays=reuse_region), "claims[0].regions[1]", "not all proved")
+
+
+def test_edited_requested_box(singular_file, tmp_path):
+    def free_region(h):                          # a region of poses where det(A) keeps one sign (issue item 5)
+        h["claims"][0]["requested"] = {"x": ["10", "10.001"], "y": ["10", "10.001"], "phi": ["0.39", "0.3901"]}
+    rejected(forged(singular_file, tmp_path, free_region), "claims[0].witnesses", "outside the requested")
+    def outside(h):
+        h["claims"][0]["requested"]["x"] = ["-50", "60"]
+    rejected(forged(singular_file, tmp_path, outside), "claims[0].requested.x: '60' is not inside the box")
+
+
+def test_edited_geometry_and_the_robot_file(singular_file, tmp_path):
+    def moved(h):
+        h["robot"]["base"][0][0] = "30"          # 3.78 → 30, name unchanged
+    path = forged(singular_file, tmp_path, moved)
+    step = rejected(path, "robot: the certificate's geometry is not that of", robot=EX2)
+    assert str(EX2) in step
+    assert proofs.check(singular_file, robot=EX2).ok
+    assert proofs.check(singular_file, robot=EX2).about["robot_file"] == str(EX2)
+
+
+def test_command_line_on_version_2(fk_file, tmp_path):
+    run = lambda *a: subprocess.run([sys.executable, "-m", "proofs", *map(str, a)], capture_output=True,  # noqa: E731
+                                    text=True, timeout=120)
+    r = run(fk_file, "--json")
+    doc = json.loads(r.stdout)
+    assert r.returncode == 0 and doc["ok"] and doc["checked"]["solutions"] == 6 and doc["version"] == 2
+    r = run(fk_file)
+    lines = r.stdout.splitlines()
+    assert lines[0].startswith("robot: planar benchmark (planar-3rpr), geometry SHA-256 ")
+    assert lines[1].startswith("question: ") and lines[2].startswith("proved: ") and lines[-1].startswith("OK: ")
+    header, arrays = unpack(fk_file)
+    deep = tmp_path / "deep.ckc"
+    with zipfile.ZipFile(deep, "w") as z:
+        z.writestr("header.json", "[" * 100000)
+    huge = copy.deepcopy(header)
+    huge["claims"][0]["domain"][0] = [-1e308, 1e308]
+    for path, code in ((deep, 2), (pack(tmp_path / "huge.ckc", huge, arrays), 1)):
+        r = run(path)
+        assert r.returncode == code and "Traceback" not in r.stderr and "Warning" not in r.stderr, r.stderr
