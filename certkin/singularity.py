@@ -181,7 +181,8 @@ class SingularityResult:
         out["stats"] = {"boxes": self.boxes, "seconds": round(self.seconds, 6)}
         return out
 
-    def certificate(self) -> dict:
+    def certificate(self):
+        """The certificate (``certificates.Document``: ``.write(path)``, or ``proofs.check`` it in memory)."""
         return singularity_certificate(self)
 
 

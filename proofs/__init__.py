@@ -9,7 +9,7 @@ It is the trusted kernel, so it stays small:
 
     arith.py        interval arithmetic on numpy arrays (outward rounding, sums, products, sin, cos)
     numbers.py      exact reading of floats and decimal strings
-    container.py    the file: version 2 (ZIP: JSON header, hashed arrays) or version 1 (JSON)
+    container.py    the file: a ZIP archive (JSON header, hashed body arrays), format version 2
     tree.py         search trees stored breadth-first as arrays; their boxes, level by level
     models.py       det(A) of each model, with forward-mode gradients
     singularity.py  singularity claims: tree rules, witnesses, requested boxes
@@ -21,10 +21,10 @@ It is the trusted kernel, so it stays small:
     report.py       the verdict: what was proved, or the failing step
     __main__.py     python -m proofs CERT [--robot ROBOT.toml] [--json] [--progress]
 
-    >>> report = proofs.check("cert.ckc")        # a path, a version-1 dict, or a Certificate
+    >>> report = proofs.check("fk.cert")        # a path, or a document with .header and .arrays
     >>> report.ok, report.step, report.proved
 """
-from .checker import check, check_file, geometry_sha256, load, read_robot
+from .checker import check, check_file, geometry_sha256, load, read_robot, run
 from .report import Rejected, Report, Unreadable
 
-__all__ = ["check", "check_file", "load", "read_robot", "geometry_sha256", "Report", "Rejected", "Unreadable"]
+__all__ = ["check", "check_file", "run", "load", "read_robot", "geometry_sha256", "Report", "Rejected", "Unreadable"]

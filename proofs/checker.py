@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import sys
 import tomllib
 from decimal import Decimal
 from pathlib import Path
@@ -19,14 +20,21 @@ PROBLEMS = {"singularity": singularity, "forward-kinematics": fk, "trajectory": 
 
 
 def check(source, robot=None, progress=None) -> Report:
-    """Re-verify a certificate: a file path, a parsed version-1 document (dict) or a ``Certificate``.
+    """Re-verify a certificate: a file path, a ``Certificate``, or any object with a ``header`` (dict)
+    and ``arrays`` ({name: array}), such as certkin's in-memory documents.
 
     ``robot``: a robot file (TOML) whose geometry the certificate's must equal exactly.
     ``progress(done, total)`` is called as the trees are walked.  Never raises on a malformed
     certificate (the report names the failing step); an unreadable file raises ``Unreadable``.
     """
-    cert = source if isinstance(source, container.Certificate) else \
-        container.read(source) if isinstance(source, (str, Path)) else container.Certificate(source)
+    if isinstance(source, (str, Path)):
+        cert = container.read(source)
+    elif isinstance(source, container.Certificate):
+        cert = source
+    elif hasattr(source, "header") and hasattr(source, "arrays"):
+        cert = container.Certificate(source.header, source.arrays)
+    else:
+        cert = container.Certificate(source)
     counts = {"claims": 0, "undecided": 0, "leaves": 0, "pieces": 0, "witnesses": 0}
     report = Report(False, "", counts)
     report.progress = progress
@@ -49,8 +57,11 @@ def _check(cert, robot_file, report):
         raise Rejected("certificate: expected a JSON object")
     if h.get("format") != FORMAT:
         raise Rejected(f"format: expected {FORMAT!r}, got {h.get('format')!r:.60}")
-    if type(h.get("version")) is not int or h["version"] not in (1, 2):
-        raise Rejected(f"version: unknown version {h.get('version')!r:.60} (known: 1, 2)")
+    if h.get("version") == 1:
+        raise Rejected("version: version 1 certificates (one JSON document) are no longer checked; "
+                       "solve again with --certificate to write version 2")
+    if type(h.get("version")) is not int or h["version"] != 2:
+        raise Rejected(f"version: unknown version {h.get('version')!r:.60} (known: 2)")
     problem = h.get("problem")
     if problem not in PROBLEMS:
         raise Rejected(f"problem: unknown problem {problem!r:.60} (known: {', '.join(PROBLEMS)})")
@@ -63,10 +74,9 @@ def _check(cert, robot_file, report):
     digest = geometry_sha256(robot)
     report.about = {"robot": robot.get("name"), "kind": robot.get("kind"), "geometry_sha256": digest,
                     "problem": problem, "version": h["version"]}
-    if h["version"] == 2:
-        if h.get("geometry_sha256") != digest:
-            raise Rejected("geometry_sha256: differs from the SHA-256 of the stated geometry")
-        cert.verify_body()
+    if h.get("geometry_sha256") != digest:
+        raise Rejected("geometry_sha256: differs from the SHA-256 of the stated geometry")
+    cert.verify_body()
     if robot_file is not None:
         theirs = geometry_sha256(read_robot(robot_file))
         if theirs != digest:
@@ -119,3 +129,24 @@ def load(path) -> container.Certificate:
 
 def check_file(path, robot=None, progress=None) -> Report:
     return check(load(path), robot, progress)
+
+
+def run(path, robot=None, as_json=False, progress=False) -> int:
+    """The command ``python -m proofs`` / ``certkin check``: print the account (or one JSON document);
+    return the exit code: 0 valid, 1 rejected, 2 unreadable (one line on stderr)."""
+    try:
+        report = check(load(path), robot=robot, progress=_bar if progress else None)
+    except (Unreadable, MemoryError, RecursionError) as exc:
+        print(f"{path}: cannot read the certificate: {exc or type(exc).__name__}", file=sys.stderr)
+        return 2
+    if progress:
+        print(file=sys.stderr)
+    print(json.dumps(report.to_json(), indent=1) if as_json else "\n".join(report.lines()))
+    return 0 if report.ok else 1
+
+
+def _bar(done, total, shown=[-1]):
+    k = 40 * done // max(total, 1)
+    if k != shown[0]:
+        shown[0] = k
+        print(f"\r[{'#' * k}{'.' * (40 - k)}] {done}/{total} tree nodes", end="", file=sys.stderr, flush=True)

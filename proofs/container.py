@@ -1,4 +1,5 @@
-"""Reading a certificate file: version 2 (a ZIP archive) or version 1 (one JSON document).
+"""Reading a certificate file: a ZIP archive (version 2); a JSON document is read only to refuse it
+(version 1, no longer checked).
 
 Version 2 (docs/certificates.md): the first member ``header.json`` (UTF-8
 JSON, stored uncompressed), then one member per array ``<name>.bin``: the
@@ -24,7 +25,7 @@ import numpy as np
 from .report import Rejected, Unreadable
 
 MAX_HEADER = 64 << 20            # bytes of header.json
-MAX_JSON = 1 << 30               # bytes of a version-1 document
+MAX_JSON = 1 << 30               # bytes of a JSON document (read to say which version it is)
 MAX_ARRAY = 2 << 30              # bytes of one array
 DTYPES = ("<f8", "<f4", "<i4", "<i8", "<u8", "|i1", "|u1")
 MAX_DEPTH = 10_000               # nesting of a JSON document
@@ -53,10 +54,6 @@ class Certificate:
         if shape_tail is not None and tuple(a.shape[1:]) != tuple(shape_tail):
             raise Rejected(f"body: array {name}: shape {list(a.shape)}, expected [*, {', '.join(map(str, shape_tail))}]")
         return a
-
-    def add(self, arrays: dict) -> None:
-        """Arrays read from a version-1 document (trusted as given: they are the document)."""
-        self._arrays.update(arrays)
 
     def has(self, name: str) -> bool:
         return name in self._arrays or name in self._entries()
@@ -129,7 +126,7 @@ def _no_constant(name):
 
 
 def read(path) -> Certificate:
-    """Open a certificate file (version 2 ZIP or version 1 JSON); raises ``Unreadable``."""
+    """Open a certificate file (a ZIP archive; a JSON document is read for its version); raises ``Unreadable``."""
     try:
         with open(path, "rb") as fh:
             magic = fh.read(4)

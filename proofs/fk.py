@@ -19,7 +19,7 @@ from . import tree
 from .arith import Iv
 from .fk_system import MODELS, System
 from .models import header_model
-from .numbers import exact, real
+from .numbers import exact
 from .report import Rejected
 
 LEAVES = {0: ("equation", {"tree.index": 1}), 1: ("hc4-empty", {}), 2: ("position-empty", {"tree.P": 1}),
@@ -57,10 +57,7 @@ def check(cert, report) -> None:
     header_model(h, MODELS, lambda m: m[0], "unknowns", lambda m: m[1])
     system = System(h["model"], h["robot"])
     n, counts = system.n, report.checked
-    v1 = _from_v1(system, h["claims"]) if cert.version == 1 else None     # (arrays, region offsets)
-    if v1:
-        cert.add(v1[0])
-    claims = [_read_claim(system, cert, c, f"claims[{k}]", v1 and v1[1][k]) for k, c in enumerate(h["claims"])]
+    claims = [_read_claim(system, cert, c, f"claims[{k}]") for k, c in enumerate(h["claims"])]
     for k, cl in enumerate(claims):
         _regions(system, cl, f"claims[{k}]")
         counts["solutions"] = counts.get("solutions", 0) + cl.solutions
@@ -99,11 +96,11 @@ def check(cert, report) -> None:
                              f"{sum(c.solutions for c in claims[5:])} unique postures in all")
 
 
-def _read_claim(system, cert, raw, where, v1_regions=None):
+def _read_claim(system, cert, raw, where):
     if not isinstance(raw, dict):
         raise Rejected(f"{where}: expected an object")
     cl = _Claim()
-    cl.raw, cl.index, cl.rules, cl.v1 = raw, int(where[7:-1]), {}, cert.version == 1
+    cl.raw, cl.index, cl.rules = raw, int(where[7:-1]), {}
     if "length_ranges" in raw:
         rng = raw["length_ranges"]
         if not isinstance(rng, list) or len(rng) != system.legs or not all(isinstance(r, list) and len(r) == 2 for r in rng):
@@ -137,7 +134,7 @@ def _read_claim(system, cert, raw, where, v1_regions=None):
         _covers_all(system, cl, f"{where}.domain")
     elif raw.get("covers") != "box":
         raise Rejected(f"{where}.covers: expected 'all-postures' or 'box'")
-    reg = v1_regions if cl.v1 else raw.get("regions", [0, 0])
+    reg = raw.get("regions", [0, 0])
     if not (isinstance(reg, list) and len(reg) == 2 and all(type(v) is int and v >= 0 for v in reg)):
         raise Rejected(f"{where}.regions: expected [first, count]")
     names = ("fk.region.star", "fk.region.box", "fk.region.star_C", "fk.region.box_C")
@@ -248,10 +245,6 @@ def _regions(system, cl, where):
         raise Rejected(f"{where}: complete, but regions[{np.nonzero(~(inside | outside))[0][0]}] straddles the domain")
     cl.solutions = int(inside.sum())
     sols = cl.raw.get("solutions")
-    if cl.v1:
-        if not inside.all():
-            raise Rejected(f"{where}.solutions[{np.nonzero(~inside)[0][0]}]: box not inside the domain")
-        return
     if not isinstance(sols, list) or [s.get("region") if isinstance(s, dict) else None for s in sols] \
             != np.nonzero(inside)[0].tolist():
         raise Rejected(f"{where}.solutions: must list, in order, the regions whose box lies in the domain")
@@ -353,79 +346,3 @@ def _leaf(system, forest, code, ids, lo, hi, L, claims, at):
         fail((j < 0) | (j >= np.array([len(t) for t in tables])), "names no region or cluster of its claim")
         box = np.array([t[i] for t, i in zip(tables, j)])
         fail(~_inside(lo, hi, box[..., 0], box[..., 1]), "the leaf is not inside the named box")
-
-
-def _from_v1(system, claims):
-    """Version 1 claims → the arrays of version 2 (solutions become regions with X* = R)."""
-    n, p, legs = system.n, system.p, system.legs
-    regions, roots, offsets = [], [], []
-    for k, c in enumerate(claims):
-        offsets.append([len(regions), 0])
-        if not isinstance(c, dict):
-            continue
-        sols = c.get("solutions")
-        if not isinstance(sols, list):
-            raise Rejected(f"claims[{k}].solutions: expected a list")
-        for j, sol in enumerate(sols):
-            w = f"claims[{k}].solutions[{j}]"
-            if not isinstance(sol, dict):
-                raise Rejected(f"{w}: expected an object")
-            regions.append((np.stack(tree.read_box(sol.get("box"), n, f"{w}.box"), -1), _matrix(sol.get("C"), n, n, f"{w}.C")))
-        offsets[-1][1] = len(sols)
-        if c.get("domain") != "empty":
-            roots.append((k, c.get("tree")))
-
-    def leaf(node, at, root):
-        rule = node.get("leaf")
-        C = lambda key="C", d=node: [_matrix(d.get(key), n, n, f"{at}: {key}")]  # noqa: E731
-        if rule == "equation":
-            k = node.get("equation")
-            if type(k) is not int or not 0 <= k < n:
-                raise Rejected(f"{at}: 'equation' must be an index below {n}")
-            return 0, {"tree.index": [k]}
-        if rule in ("hc4-empty", "undecided"):
-            return (1 if rule == "hc4-empty" else 10), {}
-        if rule == "position-empty":
-            return 2, {"tree.P": [_matrix(node.get("P"), p, legs - 1, f"{at}: P")]}
-        if rule in ("krawczyk-empty", "slope-empty", "slope-gs-empty"):
-            return {"krawczyk-empty": 3, "slope-empty": 4, "slope-gs-empty": 5}[rule], {"tree.C": C()}
-        if rule != "krawczyk-unique":
-            raise Rejected(f"{at}: unknown rule {rule!r:.60}")
-        star = [np.stack(tree.read_box(node.get("star", node.get("box")), n, f"{at}: star"), -1)]
-        if "outside" in node:
-            out = node["outside"] if isinstance(node["outside"], dict) else {}
-            return 7, {"tree.star": star, "tree.C": C() + C("C", out),
-                       "tree.rootbox": [np.stack(tree.read_box(out.get("box"), n, f"{at}: outside.box"), -1)]}
-        j = node.get("solution")
-        if type(j) is not int:
-            raise Rejected(f"{at}: 'solution' must name one of the solutions")
-        return 6, {"tree.star": star, "tree.C": C(), "tree.index": [j, int(node.get("twin") is True)]}
-
-    def contraction(node, at):
-        rule = node.get("contract")
-        if rule == "hc4":
-            if "P" in node:
-                return 1, {"tree.P": [_matrix(node.get("P"), p, legs - 1, f"{at}: P")]}
-            return 0, {}
-        if rule == "position":
-            return 2, {"tree.P": [_matrix(node.get("P"), p, legs - 1, f"{at}: P")]}
-        if rule in ("krawczyk", "slope", "slope-gs"):
-            return {"krawczyk": 3, "slope": 4, "slope-gs": 5}[rule], {"tree.C": [_matrix(node.get("C"), n, n, f"{at}: C")]}
-        raise Rejected(f"{at}: unknown contraction {rule!r:.60}")
-
-    out = tree.flatten(roots, n, leaf, contraction, {"tree.index": np.int32})
-    shapes = {"tree.C": (n, n), "tree.P": (p, legs - 1), "tree.star": (n, 2), "tree.rootbox": (n, 2), "tree.index": ()}
-    for name, tail in shapes.items():
-        arr = out.get(name, np.zeros(0))
-        out[name] = arr.reshape((-1,) + tail) if arr.size else np.zeros((0,) + tail, np.int32 if tail == () else float)
-    reg = [r[0] for r in regions]
-    Cs = np.array([r[1] for r in regions]).reshape(-1, n, n)
-    out.update({"fk.region.star": np.array(reg).reshape(-1, n, 2), "fk.region.box": np.array(reg).reshape(-1, n, 2),
-                "fk.region.star_C": Cs, "fk.region.box_C": Cs})
-    return out, offsets
-
-
-def _matrix(value, rows, cols, where):
-    if not isinstance(value, list) or len(value) != rows or any(not isinstance(r, list) or len(r) != cols for r in value):
-        raise Rejected(f"{where}: expected a {rows}x{cols} matrix of numbers")
-    return [[real(v, where) for v in r] for r in value]

@@ -68,9 +68,7 @@ def check(cert, report) -> None:
         if len(bad):
             where, k = witnesses[bad[0]][2], int(got[bad[0], 0] == 1)
             raise Rejected(f"{where}.{('positive', 'negative')[k]}: det(A) not proved {('> 0', '< 0')[k]}")
-    if cert.version == 1:
-        cert.add(_flatten(roots, signs, d))
-    elif any(t is not True for *_, t in roots):
+    if any(t is not True for *_, t in roots):
         raise Rejected("claims: a singularity-free claim has \"tree\": true (its tree is in the body)")
     forest = tree.Forest(cert, d, [r[1] for r in roots], [r[2] for r in roots], {c: (n, {"tree.flags": 2 == c})
                          for c, n in RULES.items()}, {}, {"tree.flags": ((d,), ("|i1",))},
@@ -93,26 +91,6 @@ def check(cert, report) -> None:
     report.about["question"] = (f"does det(A) vanish in {len(h['claims'])} box(es) of poses "
                                 f"({', '.join(model.pose)}); first: {box}")
     report.proved.append(f"{len(h['claims'])} boxes of poses: {text}")
-
-
-def _flatten(roots, signs, d):
-    def leaf(node, at, root):
-        rule = node.get("leaf")
-        code = {v: c for c, v in RULES.items()}.get(rule)
-        if code is None:
-            raise Rejected(f"{at}: unknown rule {rule!r} (known: {', '.join(RULES.values())})")
-        if node.get("sign") != signs[root] or isinstance(node.get("sign"), bool):
-            raise Rejected(f"{at}: sign {node.get('sign')!r} differs from the claim's sign {signs[root]}")
-        if code != 2:
-            return code, {}
-        f = node.get("monotone")
-        if not isinstance(f, list) or len(f) != d or any(isinstance(v, bool) or v not in (-1, 0, 1) for v in f):
-            raise Rejected(f"{at}: 'monotone' must be {d} values in -1, 0, 1")
-        return code, {"tree.flags": [f]}
-
-    out = tree.flatten([(k, t) for k, _, _, t in roots], d, leaf, dtypes={"tree.flags": np.int8})
-    out["tree.flags"] = out.get("tree.flags", np.zeros((0, d), np.int8)).reshape(-1, d)
-    return out
 
 
 def _requested(req, pose, lo, hi, where):

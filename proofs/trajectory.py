@@ -387,28 +387,13 @@ def _instances(geo, value, where):
 
 def _leaves(cert, value, n_seg, K, where):
     """(segment, t lo, t hi, states (N, K) in 0 '?', 1 '+', 2 '-'), checked to tile each segment's [0, 1]."""
-    if cert.version == 2:
-        if not (isinstance(value, list) and len(value) == 2 and all(type(v) is int and v >= 0 for v in value)):
-            raise Rejected(f"{where}: expected [first, count] rows of traj.segment, traj.t, traj.state")
-        a, b = value[0], value[0] + value[1]
-        seg, t = cert.array("traj.segment", ("<i4",))[a:b], cert.array("traj.t", ("<f8",), (2,))[a:b]
-        states = cert.array("traj.state", ("|u1",))[a:b]
-        if len(seg) != value[1] or len(t) != value[1] or states.shape != (value[1], K) or np.any(states > 2):
-            raise Rejected(f"{where}: rows {a}..{b - 1} are not all in the body, or a state is not 0, 1, 2")
-    else:
-        if not isinstance(value, dict):
-            raise Rejected(f"{where}: expected an object with 'segment', 't' and 'state'")
-        s, t, st = value.get("segment"), value.get("t"), value.get("state")
-        if not all(isinstance(x, list) for x in (s, t, st)) or not s or not len(s) == len(t) == len(st):
-            raise Rejected(f"{where}: 'segment', 't' and 'state' must be non-empty lists of one length")
-        if any(type(k) is not int for k in s) or any(not isinstance(x, list) or len(x) != 2 for x in t):
-            raise Rejected(f"{where}: segments are integers, t are [lo, hi]")
-        bad = [i for i, x in enumerate(st) if not isinstance(x, str) or len(x) != K or set(x) - set(CHARS)]
-        if bad:
-            raise Rejected(f"{where}[{bad[0]}]: state must have one of '+', '-', '?' per instance ({K})")
-        seg = np.array(s, dtype=np.int64)
-        t = np.array([[real(a, f"{where}.t"), real(b, f"{where}.t")] for a, b in t])
-        states = np.array([[CHARS[c] for c in x] for x in st], dtype=np.uint8).reshape(len(st), K)
+    if not (isinstance(value, list) and len(value) == 2 and all(type(v) is int and v >= 0 for v in value)):
+        raise Rejected(f"{where}: expected [first, count] rows of traj.segment, traj.t, traj.state")
+    a, b = value[0], value[0] + value[1]
+    seg, t = cert.array("traj.segment", ("<i4",))[a:b], cert.array("traj.t", ("<f8",), (2,))[a:b]
+    states = cert.array("traj.state", ("|u1",))[a:b]
+    if len(seg) != value[1] or len(t) != value[1] or states.shape != (value[1], K) or np.any(states > 2):
+        raise Rejected(f"{where}: rows {a}..{b - 1} are not all in the body, or a state is not 0, 1, 2")
     seg, lo, hi = seg.astype(np.int64), t[:, 0].astype(float), t[:, 1].astype(float)
     if not len(seg):
         raise Rejected(f"{where}: no leaves")

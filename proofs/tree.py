@@ -11,8 +11,8 @@ the rule.  The default split point of [a, b] is the float a + 0.4921875 (b − a
 cut is the next row of ``tree.cut``.  Either must lie strictly inside the
 side, so the children tile their parent exactly, and by induction the
 leaves tile each root.  A contraction's child box is the next row of
-``tree.box`` (version 2: uint64, the bits of the child's bounds XOR those of
-the parent's, which compresses well) and must lie inside its parent (its
+``tree.box`` (uint64: the bits of the child's bounds XOR those of the
+parent's, which compresses well) and must lie inside its parent (its
 rule proves that it keeps every solution).  Rules consume rows of the evidence arrays in node order,
 a fixed number per rule (``Forest``'s tables); every row must be used.
 
@@ -60,7 +60,7 @@ class Forest:
                 for name, k in uses.items():
                     rows[name][mine & (self.code == c)] += k
         self.offset, self.evidence = {}, {}
-        shapes = {"tree.cut": ((), ("<f8",)), "tree.box": ((self.d, 2), ("<f8", "<u8")), **evidence}
+        shapes = {"tree.cut": ((), ("<f8",)), "tree.box": ((self.d, 2), ("<u8",)), **evidence}
         for name, per_node in rows.items():
             total = int(per_node.sum())
             tail, dtypes = shapes[name]
@@ -70,8 +70,6 @@ class Forest:
             self.evidence[name] = arr
             self.offset[name] = np.concatenate([[0], np.cumsum(per_node)])
         self.nodes = len(self.kind)
-        self.stated = cert.array("v1.leafbox") if cert.has("v1.leafbox") else None   # version 1: stated leaf boxes
-        self.leaf_row = np.cumsum(self.kind == LEAF) - 1 if self.stated is not None else None
 
     def at(self, node, root):
         """'claims[k].tree: node i' for messages."""
@@ -119,22 +117,14 @@ class Forest:
                 new_lo[first[s] + 1, dim] = at
             c = np.nonzero(kind == CONTRACT)[0]
             if len(c):
-                box = self.rows("tree.box", ids[c])
-                if box.dtype == np.uint64:          # the child's bits XOR the parent's
-                    box = (np.ascontiguousarray(np.stack([lo[c], hi[c]], -1)).view(np.uint64) ^ box).view(np.float64)
+                box = self.rows("tree.box", ids[c])            # the child's bits XOR the parent's
+                box = (np.ascontiguousarray(np.stack([lo[c], hi[c]], -1)).view(np.uint64) ^ box).view(np.float64)
                 clo, chi = box[..., 0], box[..., 1]
                 bad = ~np.all((lo[c] <= clo) & (clo <= chi) & (chi <= hi[c]), axis=1)
                 if bad.any():
                     i = np.nonzero(bad)[0][0]
                     raise Rejected(f"{self.at(ids[c][i], claim[c][i])}: contracted box not inside its parent")
                 new_lo[first[c]], new_hi[first[c]] = clo, chi
-            if self.stated is not None:
-                leaf = np.nonzero(kind == LEAF)[0]
-                st = self.stated[self.leaf_row[ids[leaf]]]
-                bad = ~np.all((st[..., 0] == lo[leaf]) & (st[..., 1] == hi[leaf]), axis=1)
-                if bad.any():
-                    i = np.nonzero(bad)[0][0]
-                    raise Rejected(f"{self.at(ids[leaf][i], claim[leaf][i])} (leaf): box does not match the derived box")
             for kd in (CONTRACT, LEAF):
                 mine = kind == kd
                 for cd in np.unique(code[mine]):
@@ -160,51 +150,6 @@ class Forest:
             child = None if kd == LEAF else (np.concatenate([p[4][0] for p in parts]),
                                              np.concatenate([p[4][1] for p in parts]))
             visit(kd, cd, cat(0), cat(1), cat(2), cat(3), child)
-
-
-def flatten(roots, d, leaf, contraction=None, dtypes=None):
-    """Version 1: nested trees ``roots`` [(claim index, tree)] → the arrays above.  ``leaf(node, where,
-    root)`` and ``contraction(node, where)`` return (code, {evidence array: [rows]}); splits keep their stored
-    point (kind 1); ``dtypes``: {evidence array: dtype} (default float64).  Stated leaf boxes are
-    redundant in version 1: the checker derives every box."""
-    kinds, codes, ev = [], [], {"tree.cut": [], "tree.box": []}
-    queue, head = [(r, f"claims[{k}].tree", "root", j) for j, (k, r) in enumerate(roots)], 0
-    while head < len(queue):
-        node, where, path, root = queue[head]
-        head += 1
-        at = f"{where}: node at path {path}"
-        if not isinstance(node, dict):
-            raise Rejected(f"{at}: expected an object")
-        if "split" in node:
-            spec, kids = node.get("split"), node.get("children")
-            if (not isinstance(spec, list) or len(spec) != 2 or type(spec[0]) is not int or not 0 <= spec[0] < d
-                    or not isinstance(kids, list) or len(kids) != 2):
-                raise Rejected(f"{at}: a split is {{'split': [dim, at], 'children': [lower, upper]}}, 0 <= dim < {d}")
-            kinds.append(CUT)
-            codes.append(spec[0])
-            ev["tree.cut"].append(real(spec[1], f"{at}: split point"))
-            queue += [(kids[0], where, f"{path}/0", root), (kids[1], where, f"{path}/1", root)]
-            continue
-        if "contract" in node and contraction is not None:
-            code, rows = contraction(node, at)
-            kinds.append(CONTRACT)
-            ev["tree.box"].append(np.stack(read_box(node.get("box"), d, f"{at}: box"), -1))
-            queue.append((node.get("child"), where, f"{path}/c", root))
-        elif "leaf" in node:
-            code, rows = leaf(node, at, root)
-            kinds.append(LEAF)
-            ev.setdefault("v1.leafbox", []).append(np.stack(read_box(node.get("box"), d, f"{at}: box"), -1))
-        else:
-            raise Rejected(f"{at}: neither a split, a contraction nor a leaf")
-        codes.append(code)
-        for name, values in rows.items():
-            ev.setdefault(name, []).extend(values)
-    out = {"tree.kind": np.array(kinds, np.uint8), "tree.code": np.array(codes, np.uint8)}
-    for name, rows in ev.items():
-        out[name] = np.array(rows, dtype=(dtypes or {}).get(name, np.float64))
-    out["tree.box"] = out["tree.box"].reshape(-1, d, 2)
-    out["v1.leafbox"] = out.get("v1.leafbox", np.zeros(0)).reshape(-1, d, 2)
-    return out
 
 
 def read_box(value, d, where):

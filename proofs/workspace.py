@@ -85,10 +85,7 @@ def check(cert, report) -> None:
     h2 = [legs.h2(z) for z in Z]
     boxes = [_domain(legs, h2[k], c.get("domain"), f"claims[{k}]") for k, c in enumerate(claims)]
     roots = [k for k, b in enumerate(boxes) if b is not None]
-    if cert.version == 1:
-        cert.add(tree.flatten([(k, claims[k].get("tree")) for k in roots], 2, _v1_leaf(legs.n),
-                              dtypes={"tree.index": np.int32}))
-    elif any(claims[k].get("tree") is not True for k in roots):
+    if any(claims[k].get("tree") is not True for k in roots):
         raise Rejected("claims: a claim with a domain box has \"tree\": true (its tree is in the body)")
     for k, b in enumerate(boxes):
         if b is None and claims[k].get("tree") is not None:
@@ -168,17 +165,6 @@ def _heights(legs, claims, volume):
         else:
             Z.append(Iv(0.0) if legs.planar else enclose(claim.get("z"), f"{where}.z"))
     return Z
-
-
-def _v1_leaf(legs):
-    def leaf(node, at, root):
-        code = {"inside": 0, "outside": 1, "boundary": 2}.get(node.get("leaf"))
-        if code is None:
-            raise Rejected(f"{at}: unknown leaf {node.get('leaf')!r:.60} (inside, outside, boundary)")
-        if code == 1 and (type(node.get("leg")) is not int or not 1 <= node["leg"] <= legs):
-            raise Rejected(f"{at}: 'leg' must be 1..{legs}")
-        return code, ({"tree.index": [node["leg"]]} if code == 1 else {})
-    return leaf
 
 
 def _areas(lo, hi, root):
