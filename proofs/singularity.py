@@ -107,7 +107,7 @@ def _requested(req, pose, lo, hi, where):
         i = pose.index(name)
         for v in value:
             if not inside(v, lo[i], hi[i], f"{where}.{name}"):
-                raise Rejected(f"{where}.{name}: {v!r} is not inside the box [{lo[i]!r}, {hi[i]!r}]")
+                raise Rejected(f"{where}.{name}: {v!r} is not inside the box [{float(lo[i])!r}, {float(hi[i])!r}]")
     return req
 
 

@@ -1,88 +1,122 @@
-"""Test helpers for version-2 certificate files: pack a header and arrays, read them back, rewrite a file.
+"""Test helpers for certificates (format version 2): an editable copy of a certificate, its trees'
+nodes and evidence rows, and files packed or damaged on purpose.
 
-``pack`` is a plain writer (whole arrays in memory) used to forge and damage files
-in tests; certificates proper are written by certkin.  ``from_v1`` turns a
-version-1 document into a version-2 file through the checker's own v1 reader.
+``Doc(source)`` copies the header and body arrays of a certkin document (``result.certificate()``)
+or of a file; tests edit them and ``check()`` them as a forger would (hashes recomputed), or
+``write(path, rehash=False)`` them as damage would leave them.
 """
 from __future__ import annotations
 
+import copy
 import hashlib
 import json
 import zipfile
-from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal
 
 import numpy as np
 
-from proofs import checker, container, fk, singularity, trajectory, tree
+import proofs
+from proofs import container, fk, singularity, workspace
+
+TABLES = {"singularity": ({c: (n, {"tree.flags": int(c == 2)}) for c, n in singularity.RULES.items()}, {}),
+          "forward-kinematics": (fk.LEAVES, fk.CONTRACTIONS),
+          "workspace-section": (workspace.LEAVES, {}), "workspace-volume": (workspace.LEAVES, {})}
 
 
-def pack(path, header, arrays, rehash=True):
-    """Write header + arrays as a version-2 archive; ``rehash=False`` keeps the header's hashes as they are."""
-    raws = {name: np.ascontiguousarray(a).tobytes() for name, a in arrays.items()}
-    header = dict(header)
-    if rehash:
-        body = hashlib.sha256()
-        header["arrays"] = {}
-        for name, a in arrays.items():
-            a = np.ascontiguousarray(a)
-            header["arrays"][name] = {"dtype": a.dtype.str, "shape": list(a.shape),
-                                      "sha256": hashlib.sha256(raws[name]).hexdigest()}
-            body.update(raws[name])
-        header["body_sha256"] = body.hexdigest()
-        header["geometry_sha256"] = checker.geometry_sha256(header["robot"])
-    with zipfile.ZipFile(path, "w") as z:
-        z.writestr(zipfile.ZipInfo("header.json"), json.dumps(header), compress_type=zipfile.ZIP_STORED)
-        for name, raw in raws.items():
-            z.writestr(name + ".bin", raw, compress_type=zipfile.ZIP_DEFLATED)
-    return path
+class Doc:
+    """An editable copy of a certificate: ``header`` (dict) and ``arrays`` ({name: numpy array})."""
+
+    def __init__(self, source):
+        if hasattr(source, "header") and hasattr(source, "arrays"):
+            header, arrays = source.header, source.arrays
+        else:
+            cert = container.read(source)
+            header, arrays = cert.header, {n: cert.array(n) for n in cert.header["arrays"]}
+        self.header = copy.deepcopy(header)
+        self.arrays = {n: np.array(a, copy=True) for n, a in arrays.items()}
+
+    def copy(self):
+        return Doc(self)
+
+    def check(self, robot=None):
+        return proofs.check(self, robot=robot)
+
+    def claim(self, k=0):
+        return self.header["claims"][k]
+
+    # ----- trees
+    def nodes(self, kind, code=None):
+        """Node numbers (breadth-first order) of a kind (0 split, 1 cut, 2 contraction, 3 leaf) and code."""
+        m = self.arrays["tree.kind"] == kind
+        if code is not None:
+            m &= np.isin(self.arrays["tree.code"], np.atleast_1d(code))
+        return np.nonzero(m)[0]
+
+    def row(self, name, node, k=0):
+        """Row k of evidence array ``name`` used by ``node``."""
+        kind, code = self.arrays["tree.kind"], self.arrays["tree.code"]
+        if name == "tree.box":
+            uses = (kind == 2).astype(int)
+        elif name == "tree.cut":
+            uses = (kind == 1).astype(int)
+        else:
+            leaves, contractions = TABLES[self.header["problem"]]
+            uses = np.zeros(len(kind), int)
+            for table, kd in ((leaves, 3), (contractions, 2)):
+                for c, (_, used) in table.items():
+                    uses[(kind == kd) & (code == c)] += used.get(name, 0)
+        assert uses[node] > k, f"node {node} has no row {k} of {name}"
+        return int(np.sum(uses[:node])) + k
+
+    # ----- files
+    def write(self, path, rehash=True):
+        """Write a version-2 archive; ``rehash=False`` keeps the header's hashes as they are."""
+        raws = {n: np.ascontiguousarray(a).tobytes() for n, a in self.arrays.items()}
+        header = dict(self.header)
+        if rehash:
+            body = hashlib.sha256()
+            header["arrays"] = {}
+            for n, a in self.arrays.items():
+                header["arrays"][n] = {"dtype": np.ascontiguousarray(a).dtype.str, "shape": list(a.shape),
+                                       "sha256": hashlib.sha256(raws[n]).hexdigest()}
+                body.update(raws[n])
+            header["body_sha256"] = body.hexdigest()
+            header["geometry_sha256"] = proofs.geometry_sha256(header["robot"])
+        with zipfile.ZipFile(path, "w") as z:
+            z.writestr(zipfile.ZipInfo("header.json"), json.dumps(header), compress_type=zipfile.ZIP_STORED)
+            for n, raw in raws.items():
+                z.writestr(n + ".bin", raw, compress_type=zipfile.ZIP_DEFLATED)
+        return path
 
 
-def unpack(path):
-    """(header, {name: array}) of a version-2 file."""
-    cert = container.read(path)
-    return cert.header, {name: np.array(cert.array(name)) for name in cert.header["arrays"]}
+def document(header, arrays):
+    """A hand-written certificate (header without hashes, arrays) as an editable ``Doc``."""
+    doc = Doc.__new__(Doc)
+    doc.header = dict(copy.deepcopy(header), geometry_sha256=proofs.geometry_sha256(header["robot"]))
+    doc.arrays = {n: np.array(a, copy=True) for n, a in arrays.items()}
+    return doc
 
 
-def _decimal(v, rounding):
-    d = Decimal(float(v))
-    return "0" if d == 0 else format(d.quantize(Decimal(1).scaleb(d.adjusted() - 16), rounding=rounding).normalize(), "f")
-
-
-def from_v1(doc, path):
-    """A version-1 document (dict) as a version-2 file at ``path``."""
-    cert = container.Certificate(json.loads(json.dumps(doc)))
-    h = dict(cert.header, version=2)
-    if h["problem"] == "forward-kinematics":
-        arrays, offsets = fk._from_v1(fk.System(h["model"], h["robot"]), h["claims"])
-        for name in ("tree.C", "tree.P"):
-            if np.array_equal(arrays[name].astype(np.float32), arrays[name]):
-                arrays[name] = arrays[name].astype(np.float32)
-        claims = []
-        for c, (first, count) in zip(h["claims"], offsets):
-            boxes = arrays["fk.region.box"][first:first + count]
-            claims.append(dict(c, regions=[first, count], tree=True if c.get("domain") != "empty" else None,
-                               solutions=[{"region": j, "box": [[_decimal(a, ROUND_FLOOR), _decimal(b, ROUND_CEILING)]
-                                                                for a, b in boxes[j]]} for j in range(count)]))
-        h["claims"] = claims
-    elif h["problem"] == "singularity":
-        d = len(singularity.MODELS[h["model"]].pose)
-        free = [(k, c) for k, c in enumerate(h["claims"]) if c.get("status") == "singularity-free"]
-        arrays = singularity._flatten([(k, *tree.read_box(c["box"], d, ""), c["tree"]) for k, c in free],
-                                      [c["sign"] for _, c in free], d)
-        h["claims"] = [dict(c, tree=True) if c.get("status") == "singularity-free" else c for c in h["claims"]]
-    elif h["problem"] == "trajectory":
-        seg, t, st, claims = [], [], [], []
-        for c in h["claims"]:
-            leaves = c["leaves"]
-            claims.append(dict(c, leaves=[len(seg), len(leaves["segment"])]))
-            seg += leaves["segment"]
-            t += leaves["t"]
-            st += [[trajectory.CHARS[ch] for ch in s] for s in leaves["state"]]
-        arrays = {"traj.segment": np.array(seg, np.int32), "traj.t": np.array(t, np.float64),
-                  "traj.state": np.array(st, np.uint8)}
-        h["claims"] = claims
-    else:
-        raise ValueError(h["problem"])
-    arrays.pop("v1.leafbox", None)
-    arrays = {k: v for k, v in arrays.items() if v.size or k in ("tree.kind", "tree.code")}
-    return pack(path, h, arrays)
+def tree_arrays(nested, d):
+    """Hand-written trees for tests: nested tuples ``("split", dim, lower, upper)``, ``("cut", dim, at,
+    lower, upper)`` or ``("leaf", code, {array: [rows]})`` (one per root) → the breadth-first arrays."""
+    kinds, codes, cuts, ev = [], [], [], {}
+    level = list(nested)
+    while level:
+        nxt = []
+        for node in level:
+            if node[0] == "split":
+                kinds.append(0), codes.append(node[1])
+                nxt += [node[2], node[3]]
+            elif node[0] == "cut":
+                kinds.append(1), codes.append(node[1]), cuts.append(node[2])
+                nxt += [node[3], node[4]]
+            else:
+                kinds.append(3), codes.append(node[1])
+                for name, rows in (node[2] if len(node) > 2 else {}).items():
+                    ev.setdefault(name, []).extend(rows)
+        level = nxt
+    out = {"tree.kind": np.array(kinds, np.uint8), "tree.code": np.array(codes, np.uint8),
+           "tree.cut": np.array(cuts, np.float64), "tree.box": np.zeros((0, d, 2), np.uint64)}
+    for name, rows in ev.items():
+        out[name] = np.array(rows, np.int8 if name == "tree.flags" else np.int32)
+    return out

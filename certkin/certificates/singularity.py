@@ -32,7 +32,9 @@ def singularity_claim(result) -> dict:
     if result.status == "singularity-free":
         claim.update(sign=int(result.sign), tree=True)
     elif result.status == "singular":
-        claim["witnesses"] = {k: [v if isinstance(v, str) else float(v) for v in w] for k, w in result.witnesses.items()}
+        names = result.robot.pose_names        # a coordinate with an exact irrational value is written as its text
+        claim["witnesses"] = {k: [result.exact_values.get(n, float(v)) for n, v in zip(names, w)]
+                              for k, w in result.witnesses.items()}
     return claim
 
 
