@@ -43,6 +43,11 @@ class Doc:
     def claim(self, k=0):
         return self.header["claims"][k]
 
+    def robot_edited(self):
+        """After an edit of ``header["robot"]``: its geometry hash recomputed (a forger would)."""
+        self.header["geometry_sha256"] = proofs.geometry_sha256(self.header["robot"])
+        return self
+
     # ----- trees
     def nodes(self, kind, code=None):
         """Node numbers (breadth-first order) of a kind (0 split, 1 cut, 2 contraction, 3 leaf) and code."""

@@ -194,3 +194,21 @@ def test_command_line_on_version_2(fk_file, tmp_path):
     for path, code in ((deep, 2), (huge.write(tmp_path / "huge.cert"), 1)):
         r = run(path)
         assert r.returncode == code and "Traceback" not in r.stderr and "Warning" not in r.stderr, r.stderr
+
+
+def test_certificate_option_writes_atomically_or_says_why(tmp_path):
+    run = lambda *a: subprocess.run([sys.executable, "-m", "certkin", *map(str, a)], capture_output=True,  # noqa: E731
+                                    text=True, timeout=300, cwd=ROOT)
+    fk = ("fk", EX2, "--lengths", "28.99,13.66,40.53")
+    for target in (tmp_path, tmp_path / "missing" / "fk.cert"):       # a directory; a path that cannot be made
+        r = run(*fk, "--certificate", target)
+        assert r.returncode == 2 and r.stderr.startswith("certkin: error: --certificate") and r.stderr.count("\n") == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == []           # nothing half-written left behind
+    good = tmp_path / "fk.cert"
+    r = run(*fk, "--certificate", good)
+    assert r.returncode == 0 and zipfile.is_zipfile(good)
+    r = run("check", good, "--robot", EX2, "--json")
+    doc = json.loads(r.stdout)
+    assert r.returncode == 0 and doc["ok"] and doc["robot_file"] == str(EX2) and doc["checked"]["solutions"] == 6
+    r = run("check", good, "--robot", ROOT / "examples" / "robots" / "seed003-planar-example-1.toml")
+    assert r.returncode == 1 and "REJECTED: robot: the certificate's geometry is not that of" in r.stdout
