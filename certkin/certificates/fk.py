@@ -33,19 +33,35 @@ class _Leaf:
         self.split_at = np.zeros(1)
 
 
-def _proof(result, tree, i):
-    if isinstance(tree, _Leaf):
-        return ({"star": (tree.lo[0], tree.hi[0]), "solution": 0, "twin": False, "C": result.track_C}
-                if result.tracked else {"undecided": True})
-    return result.leaf_proofs.get(int(i), {"undecided": True})
+class _Proved:
+    """The proved leaves of one tree as arrays sorted by node: their rule (unique, outside or undecided)
+    and evidence (X*, region and twin; the outside root box and its C), from the results' proofs."""
+
+    def __init__(self, n, proofs):
+        items = sorted(proofs.items())
+        self.node = np.array([i for i, _ in items], np.int64)
+        self.code = np.array([UNDECIDED_LEAF if p.get("undecided") else OUTSIDE if "outside" in p else UNIQUE
+                              for _, p in items], np.int64)
+        zero, zeros = np.zeros(n), np.zeros((n, n))
+        pick = lambda f, shape, dt=float: np.array([f(p) for _, p in items], dt).reshape((-1,) + shape)  # noqa: E731
+        self.star = np.swapaxes(pick(lambda p: p.get("star", (zero, zero)), (2, n)), -1, -2)
+        self.index = pick(lambda p: (p.get("solution", 0), int(bool(p.get("twin")))), (2,), np.int32)
+        self.root = np.swapaxes(pick(lambda p: p["outside"][:2] if "outside" in p else (zero, zero), (2, n)), -1, -2)
+        self.root_C = pick(lambda p: p["outside"][2] if "outside" in p else zeros, (n, n))
+        self.C = pick(lambda p: p.get("C", zeros), (n, n))
+
+    def at(self, ids):
+        """Rows of the proved leaves ``ids``."""
+        return np.searchsorted(self.node, ids)
 
 
-def _rules(result, tree, n):
-    """The rules of one claim's tree (``tree``: the engine tree, or a ``_Leaf``)."""
+def _rules(tree, proved, n):
+    """The rules of a tree: the engine's (``proved``: its ``_Proved``), or a ``_Leaf``'s."""
     names = getattr(tree, "reasons", ())
     leaf_lut = np.array([LEAVES.get(x, 255) for x in names] or [255], np.int64)
     con_lut = np.array([CONTRACTIONS.get(x, 255) for x in names] or [255], np.int64)
     has_p = getattr(tree, "evidence_rows", {}).get("P")
+    own_C = not isinstance(tree, _Leaf)          # a search leaf's C is its evidence; a tracked proof's, its own
 
     def code(t, ids):
         kind, reason = t.kind[ids], np.clip(t.reason[ids], 0, None)
@@ -55,54 +71,40 @@ def _rules(result, tree, n):
         out[c] = con_lut[reason[c]]
         if has_p is not None:                      # an hc4 contraction followed by the position sweep
             out[c & (out == 0) & (has_p[ids] >= 0)] = HC4_POSITION
-        for k in np.nonzero(kind == PROVED)[0]:
-            proof = _proof(result, t, ids[k])
-            out[k] = UNDECIDED_LEAF if proof.get("undecided") else OUTSIDE if "outside" in proof else UNIQUE
+        p = kind == PROVED
+        out[p] = proved.code[proved.at(ids[p])] if p.any() else []
         out[kind == UNDECIDED] = UNDECIDED_LEAF
         return out
 
-    def rows(counts, fill, dtype, tail):
-        """Rows of the nodes in node order: ``counts`` per node, ``fill(out, position)``."""
+    def leaves(t, ids, c, *codes):
+        return (t.kind[ids] != CONTRACTED) & (t.kind[ids] != SPLIT) & np.isin(c, codes)
+
+    def rows(counts, dtype, tail):
         first = np.cumsum(counts) - counts
-        out = np.zeros((int(counts.sum()),) + tail, dtype)
-        fill(out, first)
-        return out
+        return np.zeros((int(counts.sum()),) + tail, dtype), first
 
     def index(t, ids, c):
-        leaf = (t.kind[ids] != CONTRACTED) & (t.kind[ids] != SPLIT)
-        eq, uq = leaf & (c == 0), leaf & (c == UNIQUE)
-
-        def fill(out, first):
-            out[first[eq]] = t.evidence_values("equation", ids[eq]) if eq.any() else []
-            for k in np.nonzero(uq)[0]:
-                proof = _proof(result, t, ids[k])
-                out[first[k]:first[k] + 2] = [proof["solution"], int(bool(proof["twin"]))]
-        return rows(eq * 1 + uq * 2, fill, np.int32, ())
+        eq, uq = leaves(t, ids, c, 0), leaves(t, ids, c, UNIQUE)
+        out, first = rows(eq * 1 + uq * 2, np.int32, ())
+        if eq.any():
+            out[first[eq]] = t.evidence_values("equation", ids[eq])
+        k = proved.at(ids[uq])
+        out[first[uq]], out[first[uq] + 1] = proved.index[k, 0], proved.index[k, 1]
+        return out
 
     def matrices(t, ids, c):
-        leaf = (t.kind[ids] != CONTRACTED) & (t.kind[ids] != SPLIT)
-        uq, out_ = leaf & (c == UNIQUE), leaf & (c == OUTSIDE)
-
-        def fill(out, first):
-            for k in np.nonzero(uq | out_)[0]:
-                proof = _proof(result, t, ids[k])
-                own = proof["C"] if isinstance(t, _Leaf) else t.evidence_values("C", ids[k:k + 1])[0]
-                out[first[k]] = own
-                if out_[k]:
-                    out[first[k] + 1] = proof["outside"][2]
-        return rows(uq * 1 + out_ * 2, fill, np.float32, (n, n))
+        uq, ou = leaves(t, ids, c, UNIQUE, OUTSIDE), leaves(t, ids, c, OUTSIDE)
+        out, first = rows(uq * 1 + ou * 1, np.float32, (n, n))
+        if uq.any():
+            out[first[uq]] = t.evidence_values("C", ids[uq]) if own_C else proved.C[proved.at(ids[uq])]
+        out[first[ou] + 1] = proved.root_C[proved.at(ids[ou])]
+        return out
 
     def boxes(which):
         def get(t, ids, c):
-            leaf = (t.kind[ids] != CONTRACTED) & (t.kind[ids] != SPLIT)
-            sel = leaf & ((c == UNIQUE) | (c == OUTSIDE)) if which == "star" else leaf & (c == OUTSIDE)
-
-            def fill(out, first):
-                for k in np.nonzero(sel)[0]:
-                    proof = _proof(result, t, ids[k])
-                    lo, hi = proof["star"] if which == "star" else proof["outside"][:2]
-                    out[first[k]] = np.stack([lo, hi], -1)
-            return rows(sel * 1, fill, np.float64, (n, 2))
+            sel = leaves(t, ids, c, UNIQUE, OUTSIDE) if which == "star" else leaves(t, ids, c, OUTSIDE)
+            k = proved.at(ids[sel])
+            return proved.star[k] if which == "star" else proved.root[k]
         return get
 
     return Rules(code, {"tree.index": ("<i4", (), index), "tree.C": ("<f4", (n, n), matrices),
@@ -114,7 +116,12 @@ def fk_certificate(results) -> Document:
     results = results if isinstance(results, (list, tuple)) else [results]
     r0 = results[0]
     n = r0.system.n
-    claims, roots, regions = [], [], []
+    claims, roots, regions, shared = [], [], [], {}
+    for r in results:                            # one rules object per engine tree shared by the results
+        if r.tree is not None and not r.tracked:
+            shared.setdefault(id(r.tree), []).append(r)
+    rules = {key: _rules(rs[0].tree, _Proved(n, {i: p for r in rs for i, p in r.leaf_proofs.items()}), n)
+             for key, rs in shared.items()}
     for r in results:
         claim = {"lengths": list(r.lengths)}
         if np.any(r.domain[0] > r.domain[1]):       # the leg-length balls do not meet: no posture at all
@@ -124,14 +131,19 @@ def fk_certificate(results) -> Document:
         first = len(regions)
         regions += r.all_solutions
         dlo, dhi = np.asarray(r.domain[0], float), np.asarray(r.domain[1], float)
-        inside = [j for j, s in enumerate(r.all_solutions) if np.all(s["box"].lo >= dlo) and np.all(s["box"].hi <= dhi)]
+        blo = np.array([s["box"].lo for s in r.all_solutions]).reshape(-1, n)
+        bhi = np.array([s["box"].hi for s in r.all_solutions]).reshape(-1, n)
+        inside = np.nonzero(np.all((blo >= dlo) & (bhi <= dhi), axis=1))[0]
         claim.update(domain=box_json(dlo, dhi), covers="box" if r.user_domain or r.tracked else "all-postures",
                      complete=bool(r.complete), tree=True, regions=[first, len(r.all_solutions)],
-                     solutions=[{"region": j, "box": decimal_box(r.all_solutions[j]["box"].lo,
-                                                                 r.all_solutions[j]["box"].hi)} for j in inside])
+                     solutions=[{"region": int(j), "box": decimal_box(blo[j], bhi[j])} for j in inside])
         claims.append(claim)
-        tree = r.tree if (r.tree is not None and not r.tracked) else _Leaf(dlo, dhi)
-        roots.append((tree, 0 if isinstance(tree, _Leaf) else r.node, _rules(r, tree, n)))
+        if r.tree is not None and not r.tracked:
+            roots.append((r.tree, r.node, rules[id(r.tree)]))
+        else:
+            leaf = _Leaf(dlo, dhi)
+            proof = {"star": (dlo, dhi), "solution": 0, "twin": False, "C": r.track_C} if r.tracked else {"undecided": True}
+            roots.append((leaf, 0, _rules(leaf, _Proved(n, {0: proof}), n)))
     forest = Forest(roots, n)
     _figures(claims, forest)
     R = np.array([np.stack([s["box"].lo, s["box"].hi], -1) for s in regions]).reshape(-1, n, 2)
@@ -144,10 +156,18 @@ def fk_certificate(results) -> Document:
 
 def _figures(claims, forest):
     """Per claim with a tree: the number of solutions, of regions, and of leaves by rule."""
-    with_tree = [c for c in claims if c.get("tree")]
-    for claim, (tree, _, rules), levels in zip(with_tree, forest.roots, forest.levels):
+    with_tree = iter([c for c in claims if c.get("tree")])
+    for part, ((tree, nodes, rules), levels) in enumerate(zip(forest.roots, forest.levels)):
         ids = np.concatenate(levels)
-        leaves = ids[(tree.kind[ids] != CONTRACTED) & (tree.kind[ids] != SPLIT)]
-        codes, counts = np.unique(np.asarray(rules.code(tree, leaves)), return_counts=True)
-        counts = {RULE_NAMES.get(int(c), str(c)): int(k) for c, k in zip(codes, counts)}
-        claim["figures"] = {"solutions": len(claim["solutions"]), "regions": claim["regions"][1], "leaves": counts}
+        codes = np.concatenate([seg[3] for seg in forest.segments if seg[0] == part]).astype(np.int64)
+        is_leaf = (tree.kind[ids] != CONTRACTED) & (tree.kind[ids] != SPLIT)
+        leaves, codes = ids[is_leaf], codes[is_leaf]
+        root = tree.root[leaves].astype(np.int64) if hasattr(tree, "root") else np.zeros(len(leaves), np.int64)
+        pairs, counts = np.unique(root * 256 + codes, return_counts=True)     # (root, rule) -> leaves
+        by_root = {}
+        for pair, k in zip(pairs.tolist(), counts.tolist()):
+            by_root.setdefault(pair // 256, {})[RULE_NAMES.get(pair % 256, str(pair % 256))] = k
+        for node in nodes:                       # the leaves of each claim: those of its root
+            claim = next(with_tree)
+            counts = by_root.get(int(tree.root[node]) if hasattr(tree, "root") else 0, {})
+            claim["figures"] = {"solutions": len(claim["solutions"]), "regions": claim["regions"][1], "leaves": counts}

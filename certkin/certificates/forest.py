@@ -29,9 +29,9 @@ class Rules:
         self.code, self.rows = code, rows or {}
 
 
-def levels(tree, root) -> list:
-    """Node ids of the subtree at ``root``, breadth-first, one array per level."""
-    out, ids = [], np.array([root], dtype=np.int64)
+def levels(tree, roots) -> list:
+    """Node ids of the subtrees at ``roots`` (in order), breadth-first, one array per level."""
+    out, ids = [], np.asarray(roots, dtype=np.int64)
     while len(ids):
         out.append(ids)
         kind = tree.kind[ids]
@@ -45,20 +45,35 @@ def levels(tree, root) -> list:
 
 
 class Forest:
-    """The roots ``[(tree, node, rules)]`` of a certificate's trees; ``arrays()`` gives the body arrays."""
+    """The roots ``[(tree, node, rules)]`` of a certificate's trees; ``arrays()`` gives the body arrays.
+
+    Consecutive roots of one engine tree with the same rules are walked together (one part): the
+    breadth-first order over them is the forest's, and a level is a few numpy operations."""
 
     def __init__(self, roots, d: int):
-        self.roots, self.d = roots, d
-        self.levels = [levels(tree, node) for tree, node, _ in roots]
+        self.d, self.roots = d, []
+        for tree, node, rules in roots:
+            if self.roots and self.roots[-1][0] is tree and self.roots[-1][2] is rules:
+                self.roots[-1][1].append(node)
+            else:
+                self.roots.append((tree, [node], rules))
+        self.levels = [levels(tree, nodes) for tree, nodes, _ in self.roots]
+        self.segments = []                       # (part, ids, kinds, codes) in breadth-first order
+        for k in range(max((len(lv) for lv in self.levels), default=0)):
+            for p, ((tree, _, rules), lv) in enumerate(zip(self.roots, self.levels)):
+                if k < len(lv):
+                    seg = (p, lv[k], self._kind(tree, lv[k]), self._code(tree, rules, lv[k]))
+                    if self.segments and self.segments[-1][0] == p:     # one part: one segment for all levels
+                        last = self.segments.pop()
+                        seg = (p, *(np.concatenate([a, b]) for a, b in zip(last[1:], seg[1:])))
+                    self.segments.append(seg)
 
     def _chunks(self):
-        """(tree, rules, ids) in breadth-first order over the forest, a chunk at a time."""
-        depth = max((len(lv) for lv in self.levels), default=0)
-        for k in range(depth):
-            for (tree, _, rules), lv in zip(self.roots, self.levels):
-                if k < len(lv):
-                    for a in range(0, len(lv[k]), CHUNK):
-                        yield tree, rules, lv[k][a:a + CHUNK]
+        """(tree, rules, ids, kinds, codes) in breadth-first order over the forest, a chunk at a time."""
+        for p, ids, kinds, codes in self.segments:
+            tree, _, rules = self.roots[p]
+            for a in range(0, len(ids), CHUNK):
+                yield tree, rules, ids[a:a + CHUNK], kinds[a:a + CHUNK], codes[a:a + CHUNK]
 
     @staticmethod
     def _kind(tree, ids):
@@ -78,12 +93,11 @@ class Forest:
         return code
 
     def _cuts(self):
-        for tree, _, ids in self._chunks():
-            s = ids[self._kind(tree, ids) == KIND_CUT]
-            yield tree.split_at[s]
+        for tree, _, ids, kind, _ in self._chunks():
+            yield tree.split_at[ids[kind == KIND_CUT]]
 
     def _boxes(self):
-        for tree, _, ids in self._chunks():
+        for tree, _, ids, _, _ in self._chunks():
             c = ids[tree.kind[ids] == CONTRACTED]
             child = tree.first_child[c]
             parent = np.ascontiguousarray(np.stack([tree.lo[c], tree.hi[c]], -1))
@@ -91,17 +105,17 @@ class Forest:
             yield kid.view(np.uint64) ^ parent.view(np.uint64)
 
     def _evidence(self, name):
-        for tree, rules, ids in self._chunks():
+        for tree, rules, ids, _, code in self._chunks():
             if name in rules.rows:
-                yield rules.rows[name][2](tree, ids, self._code(tree, rules, ids))
+                yield rules.rows[name][2](tree, ids, code)
 
     def arrays(self) -> list:
         names = {}
         for _, _, rules in self.roots:
             for name, (dtype, tail, _) in rules.rows.items():
                 names.setdefault(name, (dtype, tail))
-        out = [Array("tree.kind", "|u1", (), lambda: (self._kind(t, ids) for t, _, ids in self._chunks())),
-               Array("tree.code", "|u1", (), lambda: (self._code(t, r, ids) for t, r, ids in self._chunks())),
+        out = [Array("tree.kind", "|u1", (), lambda: (c[3] for c in self._chunks())),
+               Array("tree.code", "|u1", (), lambda: (c[4] for c in self._chunks())),
                Array("tree.cut", "<f8", (), self._cuts),
                Array("tree.box", "<u8", (self.d, 2), self._boxes)]
         out += [Array(name, dtype, tail, lambda name=name: self._evidence(name)) for name, (dtype, tail) in names.items()]

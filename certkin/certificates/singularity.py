@@ -43,6 +43,7 @@ def singularity_certificate(results) -> Document:
     results = results if isinstance(results, (list, tuple)) else [results]
     robot, d = results[0].robot, len(results[0].robot.pose_names)
     free = [r for r in results if r.status == "singularity-free"]
-    forest = Forest([(r.tree, r.node, _rules(r.tree, d)) for r in free], d)
+    rules = {id(r.tree): _rules(r.tree, d) for r in free}          # one per engine tree: cells share theirs
+    forest = Forest([(r.tree, r.node, rules[id(r.tree)]) for r in free], d)
     hdr = header(robot, "singularity", pose=list(robot.pose_names), claims=[singularity_claim(r) for r in results])
     return Document(hdr, forest.arrays())

@@ -12,7 +12,6 @@ for ``proofs.check(document)``).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal
 from fractions import Fraction
 import hashlib
 import json
@@ -90,7 +89,7 @@ class Document:
         os.close(fd)
         try:
             with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED, allowZip64=True, compresslevel=LEVEL) as z:
-                z.writestr(zipfile.ZipInfo("header.json"), json.dumps(header, indent=1, ensure_ascii=False),
+                z.writestr(zipfile.ZipInfo("header.json"), json.dumps(header, separators=(",", ":"), ensure_ascii=False),
                            compress_type=zipfile.ZIP_STORED)
                 for a in self.body:
                     with z.open(a.name + ".bin", "w", force_zip64=True) as fh:
@@ -165,11 +164,9 @@ def geometry_sha256(robot: dict) -> str:
 
 
 def decimal_box(lo, hi) -> list:
-    """[[lo, hi], ...] as decimal strings rounded outward to 17 significant digits (for people)."""
-    def text(v, rounding):
-        d = Decimal(float(v))
-        return "0" if d == 0 else format(d.quantize(Decimal(1).scaleb(d.adjusted() - 16), rounding=rounding).normalize(), "f")
-    return [[text(a, ROUND_FLOOR), text(b, ROUND_CEILING)] for a, b in zip(lo, hi)]
+    """[[lo, hi], ...] as decimal strings rounded outward, for people: the shortest decimal of the float
+    just below lo (it rounds to that float, so it is below lo), and of the float just above hi."""
+    return [[repr(a), repr(b)] for a, b in zip(np.nextafter(lo, -np.inf).tolist(), np.nextafter(hi, np.inf).tolist())]
 
 
 def box_json(lo, hi) -> list:
