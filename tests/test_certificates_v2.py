@@ -212,3 +212,71 @@ def test_certificate_option_writes_atomically_or_says_why(tmp_path):
     assert r.returncode == 0 and doc["ok"] and doc["robot_file"] == str(EX2) and doc["checked"]["solutions"] == 6
     r = run("check", good, "--robot", ROOT / "examples" / "robots" / "seed003-planar-example-1.toml")
     assert r.returncode == 1 and "REJECTED: robot: the certificate's geometry is not that of" in r.stdout
+
+
+# ----- FK regions (X* a uniqueness box around each root, R its tight box) and in-region leaves ----------
+def regions_from_uniqueness_boxes(doc):
+    """The planar certificate rewritten with regions X*_j = the uniqueness box of a krawczyk-unique leaf
+    of root j (its C), R_j the root box as before; every such leaf becomes ``in-region j`` (code 8)."""
+    out = doc.copy()
+    unique = out.nodes(3, 6)
+    star_rows = [out.row("tree.star", k) for k in unique]
+    C_rows = [out.row("tree.C", k) for k in unique]
+    index_rows = [out.row("tree.index", k) for k in unique]
+    region = out.arrays["tree.index"][index_rows]
+    twin = out.arrays["tree.index"][[r + 1 for r in index_rows]]
+    assert not twin.any()                                  # planar: no twins
+    for j in range(len(out.arrays["fk.region.box"])):
+        k = list(region).index(j)
+        out.arrays["fk.region.star"][j] = out.arrays["tree.star"][star_rows[k]]
+        out.arrays["fk.region.star_C"][j] = out.arrays["tree.C"][C_rows[k]]
+    out.arrays["tree.code"][unique] = 8
+    out.arrays["tree.star"] = np.delete(out.arrays["tree.star"], star_rows, axis=0)
+    out.arrays["tree.C"] = np.delete(out.arrays["tree.C"], C_rows, axis=0)
+    out.arrays["tree.index"] = np.delete(out.arrays["tree.index"], [r + 1 for r in index_rows])
+    leaves = out.claim()["figures"]["leaves"]
+    leaves["in-region"] = leaves.pop("krawczyk-unique")
+    return out
+
+
+def test_regions_and_in_region_leaves(fk_file):
+    doc = regions_from_uniqueness_boxes(Doc(fk_file))
+    assert not np.array_equal(doc.arrays["fk.region.star"], doc.arrays["fk.region.box"])    # X* ⊋ R
+    report = doc.check()
+    assert report.ok, report.step
+    assert report.checked["solutions"] == 6 and doc.claim()["figures"]["leaves"]["in-region"] == 6
+    wrong = doc.copy()                                     # an in-region leaf naming another region
+    wrong.arrays["tree.index"][wrong.row("tree.index", wrong.nodes(3, 8)[0])] += 1
+    assert "the leaf is not inside the named box" in wrong.check().step
+    small = doc.copy()                                     # X* shrunk to R: the leaves no longer lie in it
+    small.arrays["fk.region.star"] = small.arrays["fk.region.box"].copy()
+    small.arrays["fk.region.star_C"] = small.arrays["fk.region.box_C"].copy()
+    assert "not inside the named box" in small.check().step
+    loose = doc.copy()                                     # R moved out of its X*
+    loose.arrays["fk.region.box"][2, 0] += 1.0
+    assert "claims[0].regions[2]" in loose.check().step
+    outside = doc.copy()                                   # a domain cut through a region's R: it straddles
+    box = outside.arrays["fk.region.box"][0, 0]            # the boundary, so "complete" is not proved
+    outside.claim()["domain"][0][1] = float(0.5 * box[0] + 0.5 * box[1])
+    assert not outside.check().ok
+
+
+def test_clusters_and_length_ranges(fk_file):
+    doc = Doc(fk_file)
+    clustered = doc.copy()                                 # an excluded leaf called "in a cluster" (the domain)
+    leaf = clustered.nodes(3, 1)[0]
+    clustered.arrays["tree.code"][leaf] = 9
+    clustered.arrays["tree.index"] = np.insert(clustered.arrays["tree.index"], clustered.row("tree.index", leaf), 0)
+    clustered.claim()["clusters"] = [clustered.claim()["domain"]]
+    clustered.claim()["figures"]["leaves"]["hc4-empty"] -= 1
+    clustered.claim()["figures"]["leaves"]["in-cluster"] = 1
+    report = clustered.check()
+    assert report.ok and "1 unresolved clusters" in report.proved[0], report.step
+    clustered.claim()["clusters"] = [[[0.0, 0.0]] * 4]    # a cluster that does not hold the leaf
+    assert "not inside the named box" in clustered.check().step
+    ranged = doc.copy()                                    # the lengths as (degenerate) ranges
+    ranged.claim()["length_ranges"] = [[v, v] for v in ranged.claim().pop("lengths")]
+    report = ranged.check()
+    assert report.ok and report.proved[0].startswith("lengths in [14.98, 14.98]"), report.step
+    ranged.claim()["length_ranges"][0] = ["14.99", "14.97"]
+    assert "leg lengths must satisfy 0 <= lo <= hi" in ranged.check().step
