@@ -300,7 +300,12 @@ def _contraction(system, forest, code, ids, lo, hi, child, L, at):
 def _leaf(system, forest, code, ids, lo, hi, L, claims, at):
     n = system.n
     stored, code = code, (code % REBUILT if code >= REBUILT else code)
-    fail = lambda mask, what: (_ for _ in ()).throw(Rejected(at(np.nonzero(mask)[0][0], what))) if mask.any() else None  # noqa: E731
+
+    def fail(mask, what):
+        """Reject, naming the first leaf where ``mask`` holds."""
+        if np.any(mask):
+            raise Rejected(at(np.nonzero(mask)[0][0], what))
+
     if code == 10:
         fail(np.array([c.complete for c in claims]), "undecided leaf in a claim that says complete")
     elif code == 0:
