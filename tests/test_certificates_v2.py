@@ -146,7 +146,7 @@ def test_reused_preconditioner(fk_file, tmp_path):
     bad.arrays["tree.C"][bad.row("tree.C", unique[1])] = bad.arrays["tree.C"][bad.row("tree.C", unique[0])]
     rejected(bad.write(tmp_path / "reused.cert"), "krawczyk-unique", "not proved")
     bad = doc.copy()
-    bad.arrays["fk.region.star_C"][1] = bad.arrays["fk.region.star_C"][0]     # another root's matrix
+    bad.arrays["fk.region.box_C"][1] = bad.arrays["fk.region.box_C"][0]       # another root's matrix
     rejected(bad.write(tmp_path / "reused.cert"), "claims[0].regions[1]", "not all proved")
     bad = doc.copy()                                      # a contraction whose C the checker rebuilds: set
     k = bad.nodes(2, 3 + 64)[0]                           # one instead, that of a unique leaf elsewhere
@@ -224,6 +224,8 @@ def regions_from_uniqueness_boxes(doc):
     C_rows = [out.row("tree.C", k) for k in unique]
     index_rows = [out.row("tree.index", k) for k in unique]
     region = out.arrays["tree.index"][index_rows]
+    out.arrays["fk.region.star"] = out.arrays["fk.region.box"].copy()      # X* given explicitly now
+    out.arrays["fk.region.star_C"] = out.arrays["fk.region.box_C"].copy()
     twin = out.arrays["tree.index"][[r + 1 for r in index_rows]]
     assert not twin.any()                                  # planar: no twins
     for j in range(len(out.arrays["fk.region.box"])):

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..engine import CONTRACTED, EXCLUDED, PROVED, SPLIT, UNDECIDED
 from .forest import Forest, Rules
-from .writing import Array, Document, box_json, decimal_box, header, one
+from .writing import Array, Document, box_json, header, one, outward_boxes
 
 REBUILT = 64
 LEAVES = {"equation": 0, "hc4-empty": 1, "position-empty": 2 + REBUILT, "krawczyk-empty": 3 + REBUILT,
@@ -136,7 +136,7 @@ def fk_certificate(results) -> Document:
         inside = np.nonzero(np.all((blo >= dlo) & (bhi <= dhi), axis=1))[0]
         claim.update(domain=box_json(dlo, dhi), covers="box" if r.user_domain or r.tracked else "all-postures",
                      complete=bool(r.complete), tree=True, regions=[first, len(r.all_solutions)],
-                     solutions=[{"region": int(j), "box": decimal_box(blo[j], bhi[j])} for j in inside])
+                     solutions=[{"region": int(j), "box": box} for j, box in zip(inside, outward_boxes(blo[inside], bhi[inside]))])
         claims.append(claim)
         if r.tree is not None and not r.tracked:
             roots.append((r.tree, r.node, rules[id(r.tree)]))
@@ -146,10 +146,11 @@ def fk_certificate(results) -> Document:
             roots.append((leaf, 0, _rules(leaf, _Proved(n, {0: proof}), n)))
     forest = Forest(roots, n)
     _figures(claims, forest)
-    R = np.array([np.stack([s["box"].lo, s["box"].hi], -1) for s in regions]).reshape(-1, n, 2)
+    R = np.stack([np.array([s["box"].lo for s in regions]).reshape(-1, n),
+                  np.array([s["box"].hi for s in regions]).reshape(-1, n)], -1)
     C = np.array([np.asarray(s["C"], float) for s in regions]).reshape(-1, n, n)
-    body = forest.arrays() + [Array("fk.region.star", "<f8", (n, 2), one(R)), Array("fk.region.box", "<f8", (n, 2), one(R)),
-                              Array("fk.region.star_C", "<f8", (n, n), one(C)), Array("fk.region.box_C", "<f8", (n, n), one(C))]
+    body = forest.arrays() + [Array("fk.region.box", "<f8", (n, 2), one(R)),      # X* = R: no fk.region.star
+                              Array("fk.region.box_C", "<f8", (n, n), one(C))]
     hdr = header(r0.robot, "forward-kinematics", r0.system.model_name, unknowns=list(r0.system.unknowns), claims=claims)
     return Document(hdr, body)
 

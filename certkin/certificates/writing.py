@@ -163,10 +163,10 @@ def geometry_sha256(robot: dict) -> str:
     return hashlib.sha256(json.dumps(geo, sort_keys=True, separators=(",", ":"), ensure_ascii=False).encode()).hexdigest()
 
 
-def decimal_box(lo, hi) -> list:
-    """[[lo, hi], ...] as decimal strings rounded outward, for people: the shortest decimal of the float
-    just below lo (it rounds to that float, so it is below lo), and of the float just above hi."""
-    return [[repr(a), repr(b)] for a, b in zip(np.nextafter(lo, -np.inf).tolist(), np.nextafter(hi, np.inf).tolist())]
+def outward_boxes(lo, hi) -> list:
+    """Boxes (lo, hi: arrays (k, d)) as [[[lo', hi'], ...], ...]: each bound the next float outward, so that
+    its JSON text (the shortest decimal that rounds to it) lies outside the box too: for people."""
+    return np.stack([np.nextafter(lo, -np.inf), np.nextafter(hi, np.inf)], -1).tolist()
 
 
 def box_json(lo, hi) -> list:
