@@ -36,7 +36,7 @@ from intervals import Interval
 from .certificates import singularity_certificate
 from .engine import OPEN, PROVED, Budget, Decisions, budgets, search
 from .errors import InputError
-from .robots.poses import parse_box, parse_pose
+from .robots.poses import inner_box, parse_box, parse_pose
 
 
 class SingularityProblem:
@@ -44,8 +44,9 @@ class SingularityProblem:
 
     reasons = ("natural", "centred", "monotone")
 
-    def __init__(self, robot, n_roots: int):
+    def __init__(self, robot, n_roots: int, inner=None):
         self.robot = robot
+        self.inner = inner                       # per root: float bounds inside the exact requested box
         d = len(robot.pose_names)
         self.positive = np.zeros((n_roots, d))   # per root: a pose with certified det > 0
         self.negative = np.zeros((n_roots, d))
@@ -53,7 +54,19 @@ class SingularityProblem:
         self.has_negative = np.zeros(n_roots, dtype=bool)
 
     def _witness(self, roots, points, signs):
-        """Record the first pose of each certified sign per root; returns the roots with both."""
+        """Record the first pose of each certified sign per root; returns the roots with both.
+
+        A witness must lie in the exact requested box (``inner``, ``poses.inner_box``): points outside it
+        are moved onto its faces, and coordinates that take an exact irrational value are evaluated
+        over its enclosure; their signs are computed again."""
+        if self.inner is not None:
+            wlo, whi, exact = (np.broadcast_to(a, points.shape) for a in self.inner)
+            moved = np.any((points < wlo) | (points > whi) | exact, axis=1)
+            if moved.any():
+                at = np.clip(points[moved], wlo[moved], whi[moved])
+                box = Interval.from_bounds(np.where(exact[moved], wlo[moved], at), np.where(exact[moved], whi[moved], at))
+                points, signs = points.copy(), np.array(signs, copy=True)
+                points[moved], signs[moved] = box.lo, _sign(self.robot.det_enclosure(box))
         for s, has, store in ((1, self.has_positive, self.positive), (-1, self.has_negative, self.negative)):
             sel = (signs == s) & ~has[roots]
             if sel.any():
@@ -163,6 +176,7 @@ class SingularityResult:
     boxes: int = 0
     seconds: float = 0.0
     scale_factor: float | None = None  # for largest_free_box
+    exact_values: dict = field(default_factory=dict)   # witness coordinates that are an exact text ({name: text})
 
     def to_json(self) -> dict:
         out = {"problem": "singularity", "robot": self.robot.name, "kind": self.robot.kind,
@@ -181,7 +195,8 @@ class SingularityResult:
         out["stats"] = {"boxes": self.boxes, "seconds": round(self.seconds, 6)}
         return out
 
-    def certificate(self) -> dict:
+    def certificate(self):
+        """The certificate (``certificates.Document``: ``.write(path)``, or ``proofs.check`` it in memory)."""
         return singularity_certificate(self)
 
 
@@ -237,7 +252,8 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
     idx = np.stack(np.meshgrid(*[np.arange(c) for c in counts], indexing="ij"), -1).reshape(-1, len(counts))
     clo = np.stack([grids[i][idx[:, i]] for i in range(len(counts))], axis=1)
     chi = np.stack([grids[i][idx[:, i] + 1] for i in range(len(counts))], axis=1)
-    problem = SingularityProblem(robot, len(idx))
+    inner = inner_box(texts, robot) if len(idx) == 1 else None      # cells: their float bounds are exact
+    problem = SingularityProblem(robot, len(idx), inner)
     scale = np.where(free, hi0 - lo0, 1.0)
     budget = budget or Budget(**budgets.SINGULARITY)
     res = search(problem, clo, chi, scale=scale, budget=budget, progress=progress)
@@ -251,6 +267,7 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
                                      clo[r], chi[r], status, sign, wit, tree, r, und, nboxes, per_cell_seconds))
     if len(idx) == 1:
         out[0].boxes, out[0].seconds = res.boxes, res.seconds
+        out[0].exact_values = {name: texts[name][0] for name, e in zip(robot.pose_names, inner[2]) if e}
     return out
 
 

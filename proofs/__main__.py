@@ -1,27 +1,31 @@
-"""python -m proofs CERT.json [--prec N]: one line, exit 0 (OK), 1 (REJECTED), 2 (unreadable)."""
+"""python -m proofs CERT [--robot ROBOT.toml] [--json] [--progress] (the same as ``certkin check``).
+
+Prints the robot (name, geometry SHA-256), the question, what was proved and
+``OK: ...`` — or ``REJECTED: <the failing step>``.  Exit code 0 valid,
+1 checked and rejected, 2 unreadable (one line on stderr, no traceback).
+"""
 from __future__ import annotations
 
 import argparse
 import sys
 
-from .checker import check, load
+from .checker import run
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        print(f"{self.prog}: {message}", file=sys.stderr)
+        raise SystemExit(2)
 
 
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="python -m proofs", description="Re-verify a certkin certificate.")
-    p.add_argument("certificate", help="certificate file (JSON)")
-    p.add_argument("--prec", type=int, default=80, help="iv precision in bits (default 80, at least 53)")
+    p = _Parser(prog="python -m proofs", description="Re-verify a certkin certificate with the independent checker.")
+    p.add_argument("certificate", help="certificate file")
+    p.add_argument("--robot", metavar="ROBOT.toml", help="also confirm that the geometry is this robot file's, exactly")
+    p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.add_argument("--progress", action="store_true", help="show a progress bar on stderr")
     args = p.parse_args(argv)
-    if not 53 <= args.prec <= 100_000:
-        p.error("--prec must be between 53 and 100000")
-    try:
-        cert = load(args.certificate)
-    except (OSError, ValueError) as exc:
-        print(f"{args.certificate}: cannot read the certificate: {exc}", file=sys.stderr)
-        return 2
-    report = check(cert, args.prec)
-    print(report)
-    return 0 if report.ok else 1
+    return run(args.certificate, args.robot, args.json, args.progress)
 
 
 if __name__ == "__main__":

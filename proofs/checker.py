@@ -1,94 +1,152 @@
-"""``check``: the header of a certificate, then its claims, at a chosen precision."""
+"""``check``: the common header of a certificate, the robot's geometry hash, then the claims."""
 from __future__ import annotations
 
+import hashlib
 import json
+import sys
+import tomllib
+from decimal import Decimal
+from pathlib import Path
 
-from mpmath import iv
+import numpy as np
 
-from . import fk, singularity, trajectory, workspace
-from .models import MODELS, Robot
-from .report import Rejected, Report
+from . import container, fk, singularity, trajectory, workspace
+from .numbers import canonical
+from .report import Rejected, Report, Unreadable
 
 FORMAT = "certkin-certificate"
-VERSION = 1
-PROBLEMS = ("singularity", "forward-kinematics", "trajectory") + workspace.PROBLEMS
+PROBLEMS = {"singularity": singularity, "forward-kinematics": fk, "trajectory": trajectory,
+            "workspace-section": workspace, "workspace-volume": workspace}
 
 
-def check(cert, prec: int = 80) -> Report:
-    """Re-verify a certificate (a parsed JSON document) with ``iv.prec = prec``.
+def check(source, robot=None, progress=None) -> Report:
+    """Re-verify a certificate: a file path, a ``Certificate``, or any object with a ``header`` (dict)
+    and ``arrays`` ({name: array}), such as certkin's in-memory documents.
 
-    Never raises on a malformed certificate: the report names the step.
-    ``iv.prec`` is restored afterwards (mpmath's iv context is global, so do
-    not run two checks at once in one process).
+    ``robot``: a robot file (TOML) whose geometry the certificate's must equal exactly.
+    ``progress(done, total)`` is called as the trees are walked.  Never raises on a malformed
+    certificate (the report names the failing step); an unreadable file raises ``Unreadable``.
     """
-    if isinstance(prec, bool) or not isinstance(prec, int) or not 53 <= prec <= 100_000:
-        raise ValueError(f"prec must be an int in [53, 100000], got {prec!r}")
+    if isinstance(source, (str, Path)):
+        cert = container.read(source)
+    elif isinstance(source, container.Certificate):
+        cert = source
+    elif hasattr(source, "header") and hasattr(source, "arrays"):
+        cert = container.Certificate(source.header, source.arrays)
+    else:
+        cert = container.Certificate(source)
     counts = {"claims": 0, "undecided": 0, "leaves": 0, "pieces": 0, "witnesses": 0}
-    saved = iv.prec
-    iv.prec = prec
+    report = Report(False, "", counts)
+    report.progress = progress
     try:
-        _check(cert, counts)
+        with np.errstate(all="ignore"):
+            _check(cert, robot, report)
     except Rejected as exc:
-        return Report(False, exc.step, counts)
-    except RecursionError:
-        return Report(False, "certificate: nested too deeply", counts)
-    finally:
-        iv.prec = saved
-    return Report(True, "", counts)
+        report.step = exc.step
+        return report
+    except (RecursionError, MemoryError) as exc:
+        report.step = f"certificate: {'nested too deeply' if isinstance(exc, RecursionError) else 'too large'}"
+        return report
+    report.ok = True
+    return report
 
 
-def _check(cert, counts):
-    if not isinstance(cert, dict):
+def _check(cert, robot_file, report):
+    h = cert.header
+    if not isinstance(h, dict):
         raise Rejected("certificate: expected a JSON object")
-    if cert.get("format") != FORMAT:
-        raise Rejected(f"format: expected {FORMAT!r}, got {cert.get('format')!r}")
-    version = cert.get("version")
-    if type(version) is not int or version != VERSION:
-        raise Rejected(f"version: unknown version {version!r} (known: {VERSION})")
-    problem = cert.get("problem")
+    if h.get("format") != FORMAT:
+        raise Rejected(f"format: expected {FORMAT!r}, got {h.get('format')!r:.60}")
+    if h.get("version") == 1:
+        raise Rejected("version: version 1 certificates (one JSON document) are no longer checked; "
+                       "solve again with --certificate to write version 2")
+    if type(h.get("version")) is not int or h["version"] != 2:
+        raise Rejected(f"version: unknown version {h.get('version')!r:.60} (known: 2)")
+    problem = h.get("problem")
     if problem not in PROBLEMS:
-        raise Rejected(f"problem: unknown problem {problem!r} (known: {', '.join(PROBLEMS)})")
-    robot = cert.get("robot")
+        raise Rejected(f"problem: unknown problem {problem!r:.60} (known: {', '.join(PROBLEMS)})")
+    robot = h.get("robot")
     if not isinstance(robot, dict):
         raise Rejected("robot: expected an object")
-    claims = cert.get("claims")
+    claims = h.get("claims")
     if not isinstance(claims, list) or not claims:
         raise Rejected("claims: expected a non-empty list")
-    counts["claims"] = len(claims)
-    if problem in workspace.PROBLEMS:
-        workspace.check_claims(cert, counts)
-        return
-    if problem == "forward-kinematics":
-        model = cert.get("model")
-        if not isinstance(model, str) or model not in fk.MODELS:
-            raise Rejected(f"model: unknown model {model!r} (known: {', '.join(fk.MODELS)})")
-        if cert.get("unknowns") != list(fk.MODELS[model][1]):
-            raise Rejected(f"unknowns: expected {list(fk.MODELS[model][1])} for model {model}")
-        fk.check_claims(model, robot, claims, counts)
-        return
-    model = MODELS.get(cert.get("model")) if isinstance(cert.get("model"), str) else None
-    if model is None:
-        raise Rejected(f"model: unknown model {cert.get('model')!r} (known: {', '.join(MODELS)})")
-    if robot.get("kind") != model.kind:
-        raise Rejected(f"robot.kind: {robot.get('kind')!r} does not fit model {model.name}")
-    if cert.get("pose") != list(model.pose):
-        raise Rejected(f"pose: expected {list(model.pose)} for model {model.name}")
-    if problem == "trajectory":
-        trajectory.check_claims(model, robot, claims, counts)
-        return
-    singularity.check_claims(Robot(model, robot), claims, counts)
+    digest = geometry_sha256(robot)
+    report.about = {"robot": robot.get("name"), "kind": robot.get("kind"), "geometry_sha256": digest,
+                    "problem": problem, "version": h["version"]}
+    if h.get("geometry_sha256") != digest:
+        raise Rejected("geometry_sha256: differs from the SHA-256 of the stated geometry")
+    cert.verify_body()
+    if robot_file is not None:
+        theirs = geometry_sha256(read_robot(robot_file))
+        if theirs != digest:
+            raise Rejected(f"robot: the certificate's geometry is not that of {robot_file} "
+                           f"(SHA-256 {digest[:16]}… against {theirs[:16]}…)")
+        report.about["robot_file"] = str(robot_file)
+    report.checked["claims"] = len(claims)
+    PROBLEMS[problem].check(cert, report)
 
 
-def _no_constants(name):
-    raise ValueError(f"invalid JSON constant {name}")
+def geometry_canonical(robot: dict) -> str:
+    """The canonical text of a robot's geometry: JSON (sorted keys, no spaces) of kind, base,
+    platform and limits, every decimal in its canonical form (``numbers.canonical``)."""
+    def canon(v):
+        if isinstance(v, dict):
+            return {str(k): canon(x) for k, x in v.items()}
+        if isinstance(v, (list, tuple)):
+            return [canon(x) for x in v]
+        if isinstance(v, bool) or v is None:
+            return v
+        try:
+            return canonical(v)
+        except (ValueError, ArithmeticError, TypeError):
+            return str(v)
+    geo = {k: canon(robot[k]) for k in ("kind", "base", "platform", "limits") if k in robot}
+    return json.dumps(geo, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
 
 
-def load(path):
-    """Parse a certificate file; raises ``OSError`` or ``ValueError`` (invalid JSON, NaN/Infinity)."""
-    with open(path, encoding="utf-8") as fh:
-        return json.load(fh, parse_constant=_no_constants)
+def geometry_sha256(robot: dict) -> str:
+    try:
+        return hashlib.sha256(geometry_canonical(robot).encode()).hexdigest()
+    except RecursionError:
+        raise Rejected("robot: nested too deeply") from None
 
 
-def check_file(path, prec: int = 80) -> Report:
-    """``check(load(path), prec)``; an unreadable file or invalid JSON raises ``OSError``/``ValueError``."""
-    return check(load(path), prec)
+def read_robot(path) -> dict:
+    """A robot file (TOML, decimals read exactly); raises ``Unreadable``."""
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh, parse_float=Decimal)
+    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError, RecursionError) as exc:
+        raise Unreadable(f"{path}: cannot read the robot file ({exc})") from None
+    return {k: data[k] for k in ("name", "kind", "base", "platform", "limits") if k in data}
+
+
+def load(path) -> container.Certificate:
+    """Open a certificate file; raises ``Unreadable`` (a ``ValueError``)."""
+    return container.read(Path(path))
+
+
+def check_file(path, robot=None, progress=None) -> Report:
+    return check(load(path), robot, progress)
+
+
+def run(path, robot=None, as_json=False, progress=False) -> int:
+    """The command ``python -m proofs`` / ``certkin check``: print the account (or one JSON document);
+    return the exit code: 0 valid, 1 rejected, 2 unreadable (one line on stderr)."""
+    try:
+        report = check(load(path), robot=robot, progress=_bar if progress else None)
+    except (Unreadable, MemoryError, RecursionError) as exc:
+        print(f"{path}: cannot read the certificate: {exc or type(exc).__name__}", file=sys.stderr)
+        return 2
+    if progress:
+        print(file=sys.stderr)
+    print(json.dumps(report.to_json(), indent=1) if as_json else "\n".join(report.lines()))
+    return 0 if report.ok else 1
+
+
+def _bar(done, total, shown=[-1]):
+    k = 40 * done // max(total, 1)
+    if k != shown[0]:
+        shown[0] = k
+        print(f"\r[{'#' * k}{'.' * (40 - k)}] {done}/{total} tree nodes", end="", file=sys.stderr, flush=True)

@@ -1,40 +1,97 @@
-"""The model equations of docs/certificates.md, rebuilt from the stated geometry.
-
-Each model maps a pose and the geometry to the matrix A of A ṫ + B ρ̇ = 0;
-``det.det_interval`` encloses det(A) (Laplace, and for 6×6 also a
-preconditioned elimination).  The formulas use only +, −, ×, sin and cos
-(``ad.sin``/``ad.cos``), so the same code gives an interval enclosure of
-det(A) over a box (``iv`` numbers) or, with ``ad.Dual`` numbers, enclosures
-of det(A) and of its gradient.
+"""det(A) of each model (docs/certificates.md), over batches of boxes, with its gradient.
 
 - ``planar-3rpr/1`` (x, y, phi): q_i = R(phi) p_i, u_i = (x, y) + q_i − b_i,
   row i = [(y − b_iy) q_ix − (x − b_ix) q_iy, u_ix, u_iy].
 - ``spherical-3dof/1`` (phi1, phi2, phi3): Q = Rz(phi1) Ry(phi2) Rz(phi3),
-  row i = a_i × (Q b_i).
-- ``spherical-3dof-tt/1`` (phi1, phi2, sigma): Q = Rz(phi1) Ry(phi2) Rz(sigma − phi1).
+  row i = a_i × (Q b_i); ``spherical-3dof-tt/1`` (phi1, phi2, sigma):
+  Q = Rz(phi1) Ry(phi2) Rz(sigma − phi1).
 - ``gough-stewart/1`` (x, y, z, psi, theta, phi): R = Rz(psi) Rx(theta) Rz(phi),
   l_i = (x, y, z) + R b_i − a_i, row i = [l_i, (R b_i) × l_i].
+
+Rz(a) = [[c, −s, 0], [s, c, 0], [0, 0, 1]], Ry = [[c, 0, s], [0, 1, 0], [−s, 0, c]],
+Rx = [[1, 0, 0], [0, c, −s], [0, s, c]].  The formulas use +, −, ×, sin and cos
+only, so the same code evaluates them on intervals (``arith.Iv``, one per
+box) and on ``Dual`` numbers (value and gradient enclosures: forward-mode
+differentiation, each operation applying the exact rule in interval
+arithmetic).  ``det`` is the Laplace expansion (minors memoised by their
+columns); ``det_interval`` intersects it, for n ≥ 4, with a preconditioned
+elimination (Rump, Acta Numerica 2010, §10): a float LU factorisation of
+the midpoint matrix gives a permutation P and a unit lower-triangular X
+whose diagonal is exactly 1, so det(X P M) = ±det(M); Y = X P M is enclosed
+and eliminated without pivoting, det Y being the product of the pivots
+when no pivot used as a divisor holds 0.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from mpmath import iv
+import numpy as np
 
-from . import ad
-from .det import det, det_interval
+from . import arith
+from .arith import Iv
 from .numbers import enclose
 from .report import Rejected
 
 
-def _cs(angle):
-    return ad.cos(angle), ad.sin(angle)
+class Dual:
+    """A value enclosure ``v`` (Iv, shape S) and gradient enclosures ``g`` (Iv, S + (d,); None = 0)."""
+
+    __slots__ = ("v", "g")
+
+    def __init__(self, v, g=None):
+        self.v, self.g = v, g
+
+    def __add__(self, o):
+        o = lift(o)
+        g = o.g if self.g is None else self.g if o.g is None else self.g + o.g
+        return Dual(self.v + o.v, g)
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return Dual(-self.v, None if self.g is None else -self.g)
+
+    def __sub__(self, o):
+        return self + (-lift(o))
+
+    def __rsub__(self, o):
+        return lift(o) + (-self)
+
+    def __mul__(self, o):
+        o = lift(o)
+        parts = [x for x in (None if self.g is None else self.g * _col(o.v),
+                             None if o.g is None else o.g * _col(self.v)) if x is not None]
+        g = None if not parts else parts[0] if len(parts) == 1 else parts[0] + parts[1]
+        return Dual(self.v * o.v, g)
+
+    __rmul__ = __mul__
 
 
-def rot(axis: str, cs, v):
-    """R_axis(angle) v, with cs = (cos, sin) of the angle: Rz = [[c,−s,0],[s,c,0],[0,0,1]],
-    Ry = [[c,0,s],[0,1,0],[−s,0,c]], Rx = [[1,0,0],[0,c,−s],[0,s,c]]."""
-    c, s = cs
+def _col(v):
+    return Iv(v.lo[..., None], v.hi[..., None])
+
+
+def lift(x):
+    return x if isinstance(x, Dual) else Dual(x if isinstance(x, Iv) else Iv(x))
+
+
+def variables(lo, hi):
+    """The pose variables over boxes (N, d) as Duals with unit gradients."""
+    n, d = lo.shape
+    eye = np.broadcast_to(np.eye(d), (n, d, d))
+    return [Dual(Iv(lo[:, i], hi[:, i]), Iv(eye[:, i])) for i in range(d)]
+
+
+def sincos(x):
+    """(sin x, cos x) of an interval or a Dual (d sin = cos dx, d cos = −sin dx)."""
+    if not isinstance(x, Dual):
+        return arith.sincos(x)
+    s, c = arith.sincos(x.v)
+    return (Dual(s, None if x.g is None else x.g * _col(c)), Dual(c, None if x.g is None else x.g * _col(-s)))
+
+
+def rot(axis: str, c, s, v):
+    """R_axis(angle) v from c = cos, s = sin of the angle."""
     x, y, z = v
     if axis == "z":
         return (c * x - s * y, s * x + c * y, z)
@@ -43,47 +100,33 @@ def rot(axis: str, cs, v):
     return (x, c * y - s * z, s * y + c * z)
 
 
-def _cross(a, b):
+def cross(a, b):
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
 def planar_rows(pose, base, platform):
     x, y, phi = pose
-    c, s = ad.cos(phi), ad.sin(phi)
+    s, c = sincos(phi)
     rows = []
     for (bx, by), (px, py) in zip(base, platform):
         qx, qy = c * px - s * py, s * px + c * py
-        rows.append([(y - by) * qx - (x - bx) * qy, x + qx - bx, y + qy - by])
+        rows.append([(y - by) * qx - (x - bx) * qy, (x + qx) - bx, (y + qy) - by])
     return rows
 
 
 def _spherical(p1, p2, p3, base, platform):
-    rows = []
-    c1, c2, c3 = _cs(p1), _cs(p2), _cs(p3)
-    for a, b in zip(base, platform):
-        qb = rot("z", c1, rot("y", c2, rot("z", c3, b)))
-        rows.append(list(_cross(a, qb)))
-    return rows
-
-
-def spherical_rows(pose, base, platform):
-    phi1, phi2, phi3 = pose
-    return _spherical(phi1, phi2, phi3, base, platform)
-
-
-def spherical_tt_rows(pose, base, platform):
-    phi1, phi2, sigma = pose
-    return _spherical(phi1, phi2, sigma - phi1, base, platform)
+    (s1, c1), (s2, c2), (s3, c3) = [sincos(t) for t in (p1, p2, p3)]
+    return [list(cross(a, rot("z", c1, s1, rot("y", c2, s2, rot("z", c3, s3, b))))) for a, b in zip(base, platform)]
 
 
 def gough_rows(pose, base, platform):
     x, y, z, psi, theta, phi = pose
+    (s1, c1), (s2, c2), (s3, c3) = [sincos(t) for t in (psi, theta, phi)]
     rows = []
-    c1, c2, c3 = _cs(psi), _cs(theta), _cs(phi)
     for a, b in zip(base, platform):
-        rb = rot("z", c1, rot("x", c2, rot("z", c3, b)))
-        l = (x + rb[0] - a[0], y + rb[1] - a[1], z + rb[2] - a[2])
-        rows.append(list(l) + list(_cross(rb, l)))
+        rb = rot("z", c1, s1, rot("x", c2, s2, rot("z", c3, s3, b)))
+        l = ((x + rb[0]) - a[0], (y + rb[1]) - a[1], (z + rb[2]) - a[2])
+        rows.append(list(l) + list(cross(rb, l)))
     return rows
 
 
@@ -100,13 +143,28 @@ class Model:
 
 MODELS = {m.name: m for m in (
     Model("planar-3rpr/1", "planar-3rpr", ("x", "y", "phi"), 3, 2, 2, planar_rows),
-    Model("spherical-3dof/1", "spherical-3dof", ("phi1", "phi2", "phi3"), 3, 3, 3, spherical_rows),
-    Model("spherical-3dof-tt/1", "spherical-3dof", ("phi1", "phi2", "sigma"), 3, 3, 3, spherical_tt_rows),
+    Model("spherical-3dof/1", "spherical-3dof", ("phi1", "phi2", "phi3"), 3, 3, 3,
+          lambda p, a, b: _spherical(p[0], p[1], p[2], a, b)),
+    Model("spherical-3dof-tt/1", "spherical-3dof", ("phi1", "phi2", "sigma"), 3, 3, 3,
+          lambda p, a, b: _spherical(p[0], p[1], p[2] - p[0], a, b)),
     Model("gough-stewart/1", "gough-stewart", ("x", "y", "z", "psi", "theta", "phi"), 6, 3, 3, gough_rows),
 )}
 
 
+def header_model(h, table, kind, names_key=None, names=None):
+    """The header's model, looked up in ``table`` and checked against robot.kind (and pose/unknown names)."""
+    name = h.get("model")
+    if not isinstance(name, str) or name not in table:
+        raise Rejected(f"model: unknown model {name!r:.60} (known: {', '.join(table)})")
+    if h["robot"].get("kind") != kind(table[name]):
+        raise Rejected(f"robot.kind: {h['robot'].get('kind')!r:.60} does not fit model {name}")
+    if names_key and h.get(names_key) != list(names(table[name])):
+        raise Rejected(f"{names_key}: expected {list(names(table[name]))} for model {name}")
+    return table[name]
+
+
 def points(robot: dict, key: str, count: int, dim: int):
+    """The exact decimal points robot[key] as lists of scalar enclosures."""
     pts = robot.get(key)
     if not isinstance(pts, list) or len(pts) != count:
         raise Rejected(f"robot.{key}: expected {count} points")
@@ -118,26 +176,87 @@ def points(robot: dict, key: str, count: int, dim: int):
     return out
 
 
-class Robot:
-    """A model with its geometry enclosed; evaluates det(A) over boxes.
+def det(M):
+    """Laplace expansion along the rows (minors of the lower rows memoised by column set)."""
+    n, memo = len(M), {}
 
-    A box is a sequence of (lo, hi) floats (lo == hi for a point).
-    """
+    def minor(cols):
+        if len(cols) == 1:
+            return M[n - 1][cols[0]]
+        if cols not in memo:
+            r, total = n - len(cols), None
+            for k, j in enumerate(cols):
+                term = M[r][j] * minor(cols[:k] + cols[k + 1:])
+                total = term if total is None else (total - term if k % 2 else total + term)
+            memo[cols] = total
+        return memo[cols]
+
+    return minor(tuple(range(n)))
+
+
+def det_interval(M):
+    """Enclosure of det over interval matrices (lists of Iv of shape (N,)): Laplace, ∩ elimination for n ≥ 4."""
+    D = det(M)
+    if len(M) < 4:
+        return D
+    E, ok = _det_elimination(arith.stack([arith.stack(row) for row in M]))
+    return Iv(np.where(ok, np.maximum(D.lo, E.lo), D.lo), np.where(ok, np.minimum(D.hi, E.hi), D.hi))
+
+
+def _det_elimination(M: Iv):
+    """(enclosure, valid mask) of det M for M (N, n, n), by preconditioned elimination."""
+    N, n, _ = M.lo.shape
+    with np.errstate(all="ignore"):
+        U = 0.5 * M.lo + 0.5 * M.hi
+        U = np.where(np.isfinite(U), U, 0.0)
+        L = np.zeros_like(U)
+        perm = np.broadcast_to(np.arange(n), (N, n)).copy()
+        sign = np.ones(N)
+        rows = np.arange(N)
+        for k in range(n):                          # float LU with partial pivoting
+            p = k + np.argmax(np.abs(U[:, k:, k]), axis=1)
+            sign = np.where(p != k, -sign, sign)
+            for A in (U, L, perm):
+                A[rows, k], A[rows, p] = A[rows, p].copy(), A[rows, k].copy()
+            piv = np.where(U[:, k, k] == 0, 1.0, U[:, k, k])
+            f = U[:, k + 1:, k] / piv[:, None]
+            L[:, k + 1:, k] = f
+            U[:, k + 1:, k:] -= f[..., None] * U[:, k, None, k:]
+        X = np.zeros_like(U)                        # ≈ L⁻¹, exactly unit lower triangular
+        for i in range(n):
+            X[:, i, i] = 1.0
+            for j in range(i):
+                X[:, i, j] = -np.sum(L[:, i, j:i] * X[:, j:i, j], axis=1)
+        X = np.where(np.isfinite(X), X, 0.0)
+        Y = arith.pmatmul(X, M[rows[:, None], perm])
+        Y = [[Y[:, i, j] for j in range(n)] for i in range(n)]
+        d, ok = Iv(np.ones(N)), np.ones(N, dtype=bool)
+        for k in range(n):
+            piv = Y[k][k]
+            d = d * piv
+            if k == n - 1:
+                break
+            ok &= piv.pos() | piv.neg()
+            for i in range(k + 1, n):
+                f = Y[i][k] / piv
+                for j in range(k + 1, n):
+                    Y[i][j] = Y[i][j] - f * Y[k][j]
+    return Iv(np.where(sign > 0, d.lo, -d.hi), np.where(sign > 0, d.hi, -d.lo)), ok
+
+
+class Robot:
+    """A model with its geometry enclosed: det(A) and its gradient over batches of boxes (N, d)."""
 
     def __init__(self, model: Model, robot: dict):
         self.model = model
         self.base = points(robot, "base", model.legs, model.base_dim)
         self.platform = points(robot, "platform", model.legs, model.platform_dim)
-        lift = lambda pts: [tuple(ad.lift(c) for c in p) for p in pts]
-        self._lifted = lift(self.base), lift(self.platform)  # constants for ``ad.Dual`` evaluation
 
-    def det(self, box):
-        """Interval enclosure of det(A) over the box."""
-        pose = [iv.mpf([lo, hi]) for lo, hi in box]
+    def det(self, lo, hi) -> Iv:
+        pose = [Iv(lo[:, i], hi[:, i]) for i in range(lo.shape[1])]
         return det_interval(self.model.rows(pose, self.base, self.platform))
 
-    def det_gradient(self, box):
-        """(enclosure of det(A), enclosures of ∂det/∂x_i) over the box."""
-        pose = ad.variables([iv.mpf([lo, hi]) for lo, hi in box])
-        base, platform = self._lifted
-        return ad.gradient(det(self.model.rows(pose, base, platform)), len(box))
+    def det_gradient(self, lo, hi):
+        """(enclosure of det(A), enclosures of ∂det/∂x_i (N, d)) over the boxes."""
+        y = det(self.model.rows(variables(lo, hi), self.base, self.platform))
+        return y.v, (y.g if y.g is not None else Iv(np.zeros(lo.shape)))

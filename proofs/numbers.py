@@ -1,16 +1,12 @@
-"""Reading the numbers of a certificate.
+"""Reading the numbers of a certificate exactly.
 
-Two kinds of numbers occur (docs/certificates.md):
+- Floats (JSON numbers, body arrays) denote their exact binary64 value.
+- Decimal strings (geometry, leg lengths, requested boxes, paths) denote
+  their exact rational value: ``exact`` gives the ``Fraction``, ``enclose``
+  the tightest float interval (``arith.Iv.const``).  An angle may carry the
+  suffix ``deg``: its value q·π/180 is enclosed with the interval π.
 
-- JSON numbers (box bounds, split points, witness poses) denote the exact
-  binary64 value of Python's float ``repr``; ``real`` returns that float and
-  ``iv.mpf(float)`` is then exact (at any ``iv.prec`` >= 53, else enclosed).
-- Exact decimal strings (geometry, ``requested``): ``enclose`` returns an
-  outward interval ``iv.mpf(text)`` and ``exact`` the rational ``Fraction``.
-  A requested bound may carry ``deg`` (degrees, as certkin's command line
-  accepts); its value d·π/180 is irrational and only enclosed.
-
-Strings are limited in length and exponent so that a hostile file cannot
+Strings are limited in length and exponent, so that a hostile file cannot
 make the checker build gigantic integers.
 """
 from __future__ import annotations
@@ -19,19 +15,18 @@ import math
 import re
 from fractions import Fraction
 
-from mpmath import iv
-
+from .arith import PI, Iv
 from .report import Rejected
 
 _DECIMAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?")
 MAX_TEXT = 200
-MAX_EXPONENT = 1000
+MAX_EXPONENT = 400
 
 
 def real(value, where: str) -> float:
-    """A JSON number as the exact float it denotes (ints only if exactly representable)."""
+    """A JSON number as the exact finite float it denotes (integers only if exactly representable)."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise Rejected(f"{where}: expected a number, got {value!r}")
+        raise Rejected(f"{where}: expected a number, got {value!r:.60}")
     if isinstance(value, int):
         if abs(value) > 2 ** 53:
             raise Rejected(f"{where}: integer {value} is not an exact float")
@@ -41,39 +36,50 @@ def real(value, where: str) -> float:
     return value
 
 
-def _decimal_text(value, where: str) -> str:
+def exact(value, where: str) -> Fraction:
+    """The exact rational value of a decimal string (or JSON integer)."""
     if isinstance(value, bool) or not isinstance(value, (str, int)):
-        raise Rejected(f"{where}: expected an exact decimal string, got {value!r}")
+        raise Rejected(f"{where}: expected an exact decimal string, got {value!r:.60}")
     text = str(value).strip()
     m = _DECIMAL.fullmatch(text)
     if len(text) > MAX_TEXT or not m or (m.group(2) and abs(int(m.group(2))) > MAX_EXPONENT):
-        raise Rejected(f"{where}: not an exact decimal: {value!r}")
-    return text
+        raise Rejected(f"{where}: not an exact decimal: {value!r:.60}")
+    return Fraction(text)
 
 
-def enclose(value, where: str):
-    """Outward interval enclosing an exact decimal (string or JSON integer)."""
-    return iv.mpf(_decimal_text(value, where))
+def angle(value, where: str):
+    """(exact rational, in degrees?) of ``<decimal>`` or ``<decimal>deg``."""
+    if isinstance(value, str) and value.strip().lower().endswith("deg"):
+        return exact(value.strip()[:-3], where), True
+    return exact(value, where), False
 
 
-def exact(value, where: str) -> Fraction:
-    """The exact rational value of a decimal string."""
-    return Fraction(_decimal_text(value, where))
+def enclose(value, where: str, degrees_allowed: bool = False) -> Iv:
+    """The tightest float interval holding a decimal (an angle in degrees: q·π/180, enclosed)."""
+    q, deg = angle(value, where) if degrees_allowed else (exact(value, where), False)
+    return Iv.const(q) * PI * Iv.const(Fraction(1, 180)) if deg else Iv.const(q)
+
+
+def canonical(value) -> str:
+    """The canonical text of an exact decimal (``3.780`` → ``3.78``, ``1e1`` → ``10``; ``deg`` kept)."""
+    text = str(value).strip()
+    suffix = "deg" if text.lower().endswith("deg") else ""
+    q = Fraction(text[:-3] if suffix else text)
+    sign, q = ("-" if q < 0 else ""), abs(q)
+    whole, rest = divmod(q.numerator, q.denominator)
+    digits = ""
+    while rest and len(digits) < 2000:      # terminates: the denominator divides a power of ten
+        rest *= 10
+        d, rest = divmod(rest, q.denominator)
+        digits += str(d)
+    return sign + str(whole) + ("." + digits if digits else "") + suffix
 
 
 def inside(value, lo: float, hi: float, where: str) -> bool:
-    """Is the exact decimal (or ``<decimal>deg``) ``value`` in [lo, hi]?"""
-    if isinstance(value, str) and value.strip().lower().endswith("deg"):
-        x = enclose(value.strip()[:-3], where) * iv.pi / 180
-        return (x >= iv.mpf(lo)) is True and (x <= iv.mpf(hi)) is True
-    q = exact(value, where)
-    return Fraction(lo) <= q <= Fraction(hi)
-
-
-def sign(x) -> int:
-    """1 or -1 when the interval ``x`` excludes 0, else 0."""
-    if (x > 0) is True:
-        return 1
-    if (x < 0) is True:
-        return -1
-    return 0
+    """Is the exact decimal (or ``<decimal>deg``, enclosed) ``value`` within [lo, hi]?"""
+    q, deg = angle(value, where)
+    if deg:
+        x = enclose(value, where, True)
+        return bool(x.lo >= lo and x.hi <= hi)
+    f = float(q)                  # correctly rounded and monotone: lo < f ⇒ lo < q, f < hi ⇒ q < hi
+    return (lo < f or (f == lo and Fraction(lo) <= q)) and (f < hi or (f == hi and q <= Fraction(hi)))

@@ -1,4 +1,4 @@
-"""The verdict of the checker, and the exception that names a failing step."""
+"""The checker's verdict: ``Report`` (what was proved, or the step that failed) and ``Rejected``."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -12,20 +12,23 @@ class Rejected(Exception):
         self.step = step
 
 
+class Unreadable(ValueError):
+    """The file is not a certificate at all (not JSON, not a ZIP with a JSON header): exit code 2."""
+
+
 @dataclass
 class Report:
-    """``ok``; ``step`` names the first failing step ("" when ok); ``checked`` counts what was re-verified.
-
-    ``checked`` keys: ``claims`` (all claims), ``undecided`` (claims that claim
-    nothing), ``leaves`` (tree leaves re-proved), ``solutions`` and
-    ``contractions`` (forward kinematics), ``pieces`` (sub-boxes the
-    checker cut leaves into when its own enclosure did not decide a whole
-    leaf), ``witnesses`` (witness pairs re-proved).
-    """
+    """``ok``; ``step`` names the first failing step ("" when ok); ``checked`` counts what was
+    re-verified (claims, undecided, leaves, pieces, solutions, contractions, witnesses);
+    ``proved`` holds one line per claim group saying what was proved; ``about`` the robot and
+    the question (name, geometry SHA-256, problem)."""
 
     ok: bool
     step: str = ""
     checked: dict = field(default_factory=dict)
+    proved: list = field(default_factory=list)
+    about: dict = field(default_factory=dict)
+    progress: object = field(default=None, repr=False)
 
     def __bool__(self) -> bool:
         return self.ok
@@ -46,3 +49,19 @@ class Report:
 
     def __str__(self) -> str:
         return ("OK: " if self.ok else "REJECTED: ") + self.summary()
+
+    def lines(self) -> list:
+        """The full account printed by ``certkin check``: robot, question, verdicts, result."""
+        a = self.about
+        out = []
+        if a.get("robot") is not None:
+            out.append(f"robot: {a['robot']} ({a.get('kind')}), geometry SHA-256 {a.get('geometry_sha256')}")
+        if a.get("robot_file"):
+            out.append(f"robot file: {a['robot_file']}: same geometry")
+        if a.get("question"):
+            out.append(f"question: {a['question']}")
+        out += [f"proved: {p}" for p in self.proved] if self.ok else []
+        return out + [str(self)]
+
+    def to_json(self) -> dict:
+        return {"ok": self.ok, "step": self.step, "checked": self.checked, "proved": self.proved, **self.about}

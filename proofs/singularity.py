@@ -1,68 +1,102 @@
 """Singularity claims (``"problem": "singularity"``, docs/certificates.md).
 
-- ``singularity-free``: the tree's boxes are derived from the claim's ``box``
-  (a split [dim, at] needs lo < at < hi and gives the lower and upper parts),
-  so the leaves tile the box exactly; every leaf's ``box`` must equal its
-  derived box, its ``sign`` the claim's ``sign``, and its rule must re-prove
-  that sign (``rules.prove``).  det(A) then has that sign on the whole box.
-- ``singular``: two poses of the box with det(A) proved > 0 and < 0; det
-  vanishes on the segment between them (intermediate value theorem), which
-  lies in the convex box.
-- ``undecided``: nothing is claimed and nothing is checked.
+- ``singularity-free`` with ``sign`` s: the claim's ``box`` is the root of a
+  tree whose leaves tile it (``tree``); every leaf's rule re-proves
+  sign(det A) = s on the leaf.  Rules (leaf codes): 0 ``natural`` (the
+  interval extension of det(A)); 1 ``centred`` (det(m) + Σ ∂det/∂x_i(X)
+  (X_i − m_i), m the float midpoint, or the natural enclosure that the
+  gradient pass gives); 2 ``monotone`` with flags f ∈ {−1, 0, 1}^d (one
+  ``tree.flags`` row): ∂det/∂x_i has sign f_i on the leaf for every f_i ≠ 0,
+  so the extremum of det lies on the face where each such x_i sits at the
+  bound minimising (s = 1) or maximising (s = −1) det, and the natural or
+  centred enclosure on that face has sign s.  When the checker's own
+  enclosure does not decide a leaf, it bisects it (up to ``MAX_DEPTH``
+  levels) and proves the rule on every piece; a rule proving −s refutes it.
+- ``singular``: two witness poses, inside the exact ``requested`` box (or
+  inside ``box`` when there is none), with det(A) proved > 0 and < 0: det
+  vanishes on the segment between them (intermediate value theorem).
+- ``undecided``: nothing is claimed.
 
-The optional ``requested`` exact decimals must lie inside ``box``.
+``requested`` (exact decimals, optional) must lie inside ``box``: a free
+claim then covers all of it.
 """
 from __future__ import annotations
 
-from . import rules, tree
-from .numbers import inside, real, sign
+import numpy as np
+
+from . import tree
+from .arith import Iv
+from .models import MODELS, Robot, header_model
+from .numbers import angle, enclose, inside, real
 from .report import Rejected
 
-
-def check_claims(robot, claims, counts: dict) -> None:
-    for k, claim in enumerate(claims):
-        _claim(robot, claim, f"claims[{k}]", counts)
+RULES = {0: "natural", 1: "centred", 2: "monotone"}
+MAX_DEPTH = 6
 
 
-def _claim(robot, claim, where, counts):
-    if not isinstance(claim, dict):
-        raise Rejected(f"{where}: expected an object")
-    status = claim.get("status")
-    if status == "undecided":
-        counts["undecided"] += 1
-        return
-    if status not in ("singularity-free", "singular"):
-        raise Rejected(f"{where}.status: unknown status {status!r}")
-    pose = robot.model.pose
-    box = read_box(claim.get("box"), len(pose), f"{where}.box")
-    if "requested" in claim:
-        _requested(claim["requested"], pose, box, f"{where}.requested")
-    if status == "singularity-free":
+def check(cert, report) -> None:
+    h = cert.header
+    model = header_model(h, MODELS, lambda m: m.kind, "pose", lambda m: m.pose)
+    robot, d, counts = Robot(model, h["robot"]), len(model.pose), report.checked
+    roots, signs, status_count, witnesses = [], [], {}, []
+    for k, claim in enumerate(h["claims"]):
+        where = f"claims[{k}]"
+        if not isinstance(claim, dict):
+            raise Rejected(f"{where}: expected an object")
+        status = claim.get("status")
+        if status not in ("singularity-free", "singular", "undecided"):
+            raise Rejected(f"{where}.status: unknown status {status!r}")
+        status_count[status] = status_count.get(status, 0) + 1
+        if status == "undecided":
+            counts["undecided"] += 1
+            continue
+        lo, hi = tree.read_box(claim.get("box"), d, f"{where}.box")
+        req = _requested(claim.get("requested"), model.pose, lo, hi, f"{where}.requested")
+        if status == "singular":
+            witnesses.append(_witnesses(model.pose, claim.get("witnesses"), req, lo, hi, f"{where}.witnesses"))
+            counts["witnesses"] += 1
+            continue
         s = claim.get("sign")
         if s not in (1, -1) or isinstance(s, bool):
             raise Rejected(f"{where}.sign: expected 1 or -1, got {s!r}")
-        _tree(robot, claim.get("tree"), box, s, f"{where}.tree", counts)
-    else:
-        _witnesses(robot, claim.get("witnesses"), box, f"{where}.witnesses")
-        counts["witnesses"] += 1
+        roots.append((k, lo, hi, claim.get("tree")))
+        signs.append(s)
+    if witnesses:                        # all witness poses in one batch: +, − per claim
+        got = robot.det(np.concatenate([w[0] for w in witnesses]), np.concatenate([w[1] for w in witnesses]))
+        got = got.sign().reshape(-1, 2)
+        bad = np.nonzero(np.any(got != [1, -1], axis=1))[0]
+        if len(bad):
+            where, k = witnesses[bad[0]][2], int(got[bad[0], 0] == 1)
+            raise Rejected(f"{where}.{('positive', 'negative')[k]}: det(A) not proved {('> 0', '< 0')[k]}")
+    if any(t is not True for *_, t in roots):
+        raise Rejected("claims: a singularity-free claim has \"tree\": true (its tree is in the body)")
+    forest = tree.Forest(cert, d, [r[1] for r in roots], [r[2] for r in roots], {c: (n, {"tree.flags": 2 == c})
+                         for c, n in RULES.items()}, {}, {"tree.flags": ((d,), ("|i1",))},
+                         [f"claims[{r[0]}].tree" for r in roots])
+    flags = forest.evidence["tree.flags"]
+    if np.any((flags < -1) | (flags > 1)):
+        raise Rejected("tree.flags: monotonicity flags must be -1, 0 or 1")
+    signs, claim_of = np.array(signs or [0]), np.array([r[0] for r in roots] or [0])
+    scale = np.array([np.where(r[2] > r[1], r[2] - r[1], 1.0) for r in roots] or [np.ones(d)])
+
+    def visit(kind, code, ids, lo, hi, root, child):
+        f = forest.rows("tree.flags", ids) if code == 2 else None
+        counts["pieces"] += _prove(robot, code, ids, lo, hi, signs[root], f, scale[root], claim_of[root])
+        counts["leaves"] += len(ids)
+
+    forest.walk(visit, report.progress)
+    text = ", ".join(f"{n} {s}" for s, n in status_count.items())
+    first = h["claims"][0]
+    box = first.get("requested") or dict(zip(model.pose, first.get("box", [])))
+    report.about["question"] = (f"does det(A) vanish in {len(h['claims'])} box(es) of poses "
+                                f"({', '.join(model.pose)}); first: {box}")
+    report.proved.append(f"{len(h['claims'])} boxes of poses: {text}")
 
 
-def read_box(value, dims: int, where: str):
-    """A box: ``dims`` pairs [lo, hi] of exact floats with lo <= hi."""
-    if not isinstance(value, list) or len(value) != dims:
-        raise Rejected(f"{where}: expected {dims} intervals [lo, hi]")
-    box = []
-    for i, pair in enumerate(value):
-        if not isinstance(pair, list) or len(pair) != 2:
-            raise Rejected(f"{where}[{i}]: expected [lo, hi]")
-        lo, hi = real(pair[0], f"{where}[{i}]"), real(pair[1], f"{where}[{i}]")
-        if not lo <= hi:
-            raise Rejected(f"{where}[{i}]: lo > hi")
-        box.append((lo, hi))
-    return box
-
-
-def _requested(req, pose, box, where):
+def _requested(req, pose, lo, hi, where):
+    """The exact requested box (decimal texts per variable), checked to lie inside the float box."""
+    if req is None:
+        return None
     if not isinstance(req, dict):
         raise Rejected(f"{where}: expected an object")
     for name, value in req.items():
@@ -70,47 +104,104 @@ def _requested(req, pose, box, where):
             raise Rejected(f"{where}: unknown pose variable {name!r}")
         if not isinstance(value, list) or len(value) != 2:
             raise Rejected(f"{where}.{name}: expected [lo, hi] exact decimals")
-        lo, hi = box[pose.index(name)]
+        i = pose.index(name)
         for v in value:
-            if not inside(v, lo, hi, f"{where}.{name}"):
-                raise Rejected(f"{where}.{name}: {v!r} is not inside the box [{lo!r}, {hi!r}]")
+            if not inside(v, lo[i], hi[i], f"{where}.{name}"):
+                raise Rejected(f"{where}.{name}: {v!r} is not inside the box [{float(lo[i])!r}, {float(hi[i])!r}]")
+    return req
 
 
-def _tree(robot, root, box, s, where, counts):
-    scale = [hi - lo for lo, hi in box]
-    dims = len(box)
-    stack = [(root, box, ())]
-    while stack:
-        node, nbox, path = stack.pop()
-        at_path = tree.label(where, node, path)
-        if "split" in node:
-            (c0, lower), (c1, upper) = tree.split(node, nbox, at_path)
-            stack.append((c1, upper, path + (1,)))
-            stack.append((c0, lower, path + (0,)))
-        elif "leaf" in node:
-            rule, flags = rules.parse(node, dims, at_path)
-            if read_box(node.get("box"), dims, f"{at_path}: box") != nbox:
-                raise Rejected(f"{at_path}: box does not match the derived box")
-            if node.get("sign") != s or isinstance(node.get("sign"), bool):
-                raise Rejected(f"{at_path}: sign {node.get('sign')!r} differs from the claim's sign {s}")
-            try:
-                counts["pieces"] += rules.prove(robot, rule, nbox, s, flags, scale) - 1
-            except rules.NotProved as exc:
-                raise Rejected(f"{at_path}: {node['leaf']} rule: {exc}") from None
-            counts["leaves"] += 1
-        else:
-            raise Rejected(f"{at_path}: neither a split nor a leaf")
-
-
-def _witnesses(robot, wit, box, where):
+def _witnesses(pose, wit, req, lo, hi, where):
+    """The two witness poses as boxes (lo, hi) (2, d), checked to lie in the box and in the exact requested
+    box.  A coordinate is a float (its exact value) or an exact decimal string (``deg`` allowed),
+    enclosed: det(A) of one sign over the enclosure has that sign at the exact pose."""
     if not isinstance(wit, dict):
         raise Rejected(f"{where}: expected {{'positive': pose, 'negative': pose}}")
-    for key, want, text in (("positive", 1, "> 0"), ("negative", -1, "< 0")):
-        pose = wit.get(key)
-        if not isinstance(pose, list) or len(pose) != len(box):
-            raise Rejected(f"{where}.{key}: expected a pose of {len(box)} numbers")
-        point = [real(v, f"{where}.{key}[{i}]") for i, v in enumerate(pose)]
-        if not all(lo <= x <= hi for x, (lo, hi) in zip(point, box)):
+    out = []
+    for key in ("positive", "negative"):
+        p = wit.get(key)
+        if not isinstance(p, list) or len(p) != len(pose):
+            raise Rejected(f"{where}.{key}: expected a pose of {len(pose)} values")
+        x = [enclose(v, f"{where}.{key}[{i}]", True) if isinstance(v, str) else Iv(real(v, f"{where}.{key}[{i}]"))
+             for i, v in enumerate(p)]
+        xl, xh = np.array([float(v.lo) for v in x]), np.array([float(v.hi) for v in x])
+        if not np.all((lo <= xl) & (xh <= hi)):
             raise Rejected(f"{where}.{key}: pose outside the box")
-        if sign(robot.det([(x, x) for x in point])) != want:
-            raise Rejected(f"{where}.{key}: det(A) not proved {text}")
+        for name, (a, b) in (req or {}).items():
+            i = pose.index(name)
+            if not (_le(a, p[i], xl[i], where) and _le(p[i], b, xh[i], where, True)):
+                raise Rejected(f"{where}.{key}: {name} = {p[i]!r} is outside the requested [{a}, {b}]")
+        out.append((xl, xh))
+    return np.array([o[0] for o in out]), np.array([o[1] for o in out]), where
+
+
+def _le(a, b, x, where, flip=False):
+    """a ≤ b exactly, for decimal texts (``deg`` allowed) and floats (``x``: the float bound of the witness)."""
+    if isinstance(b if not flip else a, str):
+        (qa, da), (qb, db) = angle(a, where), angle(b, where)
+        if da == db:
+            return qa <= qb
+        return bool(enclose(a, where, True).hi <= enclose(b, where, True).lo)
+    return inside(a, -np.inf, x, where) if not flip else inside(b, x, np.inf, where)
+
+
+# ----- the rules, on batches ----------------------------------------------------------
+def _rule(robot, code, lo, hi, s, flags):
+    """Per box: s (proved), −s (refuted: det has the other sign there) or 0 (undecided)."""
+    if code == 0:
+        return robot.det(lo, hi).sign()
+    D, grad = robot.det_gradient(lo, hi)
+    if code == 1:
+        return _centred(robot, lo, hi, D, grad)
+    got = np.where(D.sign() == -s, -s, 0)
+    mono = np.all(np.where(flags > 0, grad.lo >= 0, np.where(flags < 0, grad.hi <= 0, True)), axis=1)
+    face = (flags * s[:, None] > 0, flags * s[:, None] < 0)          # at lo, at hi
+    flo, fhi = np.where(face[1], hi, lo), np.where(face[0], lo, hi)
+    Fd = robot.det(flo, fhi).sign()
+    todo = (Fd != s) & mono & (got == 0)
+    if todo.any():
+        Fd[todo] = _centred(robot, flo[todo], fhi[todo], *robot.det_gradient(flo[todo], fhi[todo]))
+    return np.where(got != 0, got, np.where(D.sign() == s, s, np.where(mono & (Fd == s), s, 0)))
+
+
+def _centred(robot, lo, hi, D, grad):
+    m = np.minimum(np.maximum(0.5 * lo + 0.5 * hi, lo), hi)
+    form = robot.det(m, m)
+    for i in range(lo.shape[1]):
+        form = form + grad[:, i] * (Iv(lo[:, i], hi[:, i]) - m[:, i])
+    s = form.sign()
+    return np.where(s != 0, s, D.sign())
+
+
+def _prove(robot, code, ids, lo, hi, s, flags, scale, claim):
+    """Prove the rule on every leaf, bisecting undecided ones; returns the extra pieces used."""
+    pieces, depth, owner = 0, 0, np.arange(len(ids))
+    while len(lo):
+        got = _rule(robot, code, lo, hi, s, flags)
+        bad = got == -s
+        if bad.any() or (depth == MAX_DEPTH and np.any(got == 0)):
+            i = int(np.nonzero(bad | (got == 0))[0][0])
+            box = ", ".join(f"{float(a)!r}:{float(b)!r}" for a, b in zip(lo[i], hi[i]))
+            what = (f"det(A) has sign {got[i]} on [{box}], not {s[i]}" if got[i] else
+                    f"sign {s[i]} not proved on [{box}] (also after bisecting {MAX_DEPTH} levels)")
+            raise Rejected(f"claims[{claim[owner[i]]}].tree: node {ids[owner[i]]} (leaf): {RULES[code]} rule: {what}")
+        open_ = got == 0
+        if not open_.any():
+            break
+        lo, hi, s, owner = lo[open_], hi[open_], s[open_], owner[open_]
+        flags = None if flags is None else flags[open_]
+        sc = scale[owner]
+        dim = np.argmax((hi - lo) / sc, axis=1)
+        r = np.arange(len(lo))
+        mid = 0.5 * lo[r, dim] + 0.5 * hi[r, dim]
+        if not np.all((lo[r, dim] < mid) & (mid < hi[r, dim])):
+            depth = MAX_DEPTH
+            continue
+        lo2, hi2 = lo.copy(), hi.copy()
+        hi[r, dim], lo2[r, dim] = mid, mid
+        lo, hi = np.concatenate([lo, lo2]), np.concatenate([hi, hi2])
+        s, owner = np.concatenate([s, s]), np.concatenate([owner, owner])
+        flags = None if flags is None else np.concatenate([flags, flags])
+        pieces += len(r)
+        depth += 1
+    return pieces

@@ -1,39 +1,163 @@
-"""Walking a certificate's tree of boxes: node labels and the validation of splits.
+"""The search trees of a certificate, stored breadth-first as arrays (docs/certificates.md).
 
-Shared by the checkers of singularity, forward-kinematics and workspace
-certificates.  A split node ``{"split": [dim, at], "children": [a, b]}`` of a
-box is accepted only when ``dim`` is an axis of the box and ``at`` (a real
-read exactly) lies strictly inside that side; the two children then cover
-the box exactly: [lo, at] and [at, hi] on ``dim``, the other sides unchanged.
+One forest per certificate: its roots are the boxes of the claims that
+have a tree, in claim order (level 0).  Level k + 1 lists, in the order of
+level k, the children of its nodes: two for a split (lower part, then
+upper part), one for a contraction, none for a leaf.  Per node,
+``tree.kind`` (uint8) is 0 split at the default point, 1 split at a stored
+cut, 2 contraction, 3 leaf, and ``tree.code`` (uint8) the split dimension or
+the rule.  The default split point of [a, b] is the float a + 0.4921875 (b − a)
+(the engine's off-centre point, evaluated in round-to-nearest); a stored
+cut is the next row of ``tree.cut``.  Either must lie strictly inside the
+side, so the children tile their parent exactly, and by induction the
+leaves tile each root.  A contraction's child box is the next row of
+``tree.box`` (uint64: the bits of the child's bounds XOR those of the
+parent's, which compresses well) and must lie inside its parent (its
+rule proves that it keeps every solution).  Rules consume rows of the evidence arrays in node order,
+a fixed number per rule (``Forest``'s tables); every row must be used.
+
+``Forest.walk`` rebuilds each level's boxes with a few numpy operations and
+hands leaves and contractions to the problem in batches, grouped by rule.
 """
 from __future__ import annotations
+
+import numpy as np
 
 from .numbers import real
 from .report import Rejected
 
-
-def label(where: str, node, path) -> str:
-    """'<where>: leaf|node at path a/b/c' for messages; rejects a node that is not an object."""
-    kind = "leaf" if isinstance(node, dict) and "leaf" in node else "node"
-    at = f"{where}: {kind} at path {'/'.join(map(str, path)) or 'root'}"
-    if not isinstance(node, dict):
-        raise Rejected(f"{at}: expected an object")
-    return at
+SPLIT, CUT, CONTRACT, LEAF = 0, 1, 2, 3
+SPLIT_RATIO = 0.4921875
+BATCH = 8192
 
 
-def split(node: dict, box, at: str):
-    """The two children of a split node with their boxes: [(child, box), (child, box)]."""
-    dims = len(box)
-    cut_spec, children = node.get("split"), node.get("children")
-    if (not isinstance(cut_spec, list) or len(cut_spec) != 2 or isinstance(cut_spec[0], bool)
-            or not isinstance(cut_spec[0], int) or not 0 <= cut_spec[0] < dims):
-        raise Rejected(f"{at}: 'split' must be [dim, at] with 0 <= dim < {dims}")
-    if not isinstance(children, list) or len(children) != 2:
-        raise Rejected(f"{at}: a split needs exactly two children")
-    dim, cut = cut_spec[0], real(cut_spec[1], f"{at}: split point")
-    lo, hi = box[dim]
-    if not lo < cut < hi:
-        raise Rejected(f"{at}: split point {cut!r} not strictly inside [{lo!r}, {hi!r}] on dim {dim}")
-    lower = [*box[:dim], (lo, cut), *box[dim + 1:]]
-    upper = [*box[:dim], (cut, hi), *box[dim + 1:]]
-    return [(children[0], lower), (children[1], upper)]
+class Forest:
+    """``leaves``/``contractions``: {code: (name, {evidence array: rows per node})}."""
+
+    def __init__(self, cert, d, roots_lo, roots_hi, leaves: dict, contractions: dict, evidence: dict, labels=None):
+        self.cert, self.leaves, self.contractions, self.d = cert, leaves, contractions, d
+        self.labels = labels or []
+        self.lo0 = np.asarray(roots_lo, float).reshape(-1, d)
+        self.hi0 = np.asarray(roots_hi, float).reshape(-1, d)
+        self.kind = cert.array("tree.kind", ("<u1",))
+        self.code = cert.array("tree.code", ("<u1",))
+        if self.kind.ndim != 1 or self.code.shape != self.kind.shape:
+            raise Rejected("tree: tree.kind and tree.code must be two arrays of one length")
+        bad = np.nonzero(self.kind > LEAF)[0]
+        if len(bad):
+            raise Rejected(f"tree: node {bad[0]}: unknown kind {self.kind[bad[0]]}")
+        rows = {name: np.zeros(len(self.kind), np.int64) for name in evidence}
+        rows["tree.cut"] = (self.kind == CUT).astype(np.int64)
+        rows["tree.box"] = (self.kind == CONTRACT).astype(np.int64)
+        for kind, table in ((LEAF, leaves), (CONTRACT, contractions)):
+            mine = self.kind == kind
+            unknown = mine & ~np.isin(self.code, list(table))
+            if unknown.any():
+                i = np.nonzero(unknown)[0][0]
+                what = "leaf rule" if kind == LEAF else "contraction rule"
+                raise Rejected(f"tree: node {i}: unknown {what} code {self.code[i]}")
+            for c, (_, uses) in table.items():
+                for name, k in uses.items():
+                    rows[name][mine & (self.code == c)] += k
+        self.offset, self.evidence = {}, {}
+        shapes = {"tree.cut": ((), ("<f8",)), "tree.box": ((self.d, 2), ("<u8",)), **evidence}
+        for name, per_node in rows.items():
+            total = int(per_node.sum())
+            tail, dtypes = shapes[name]
+            arr = cert.array(name, dtypes, tail) if total or cert.has(name) else np.zeros((0,) + tuple(tail))
+            if len(arr) != total:
+                raise Rejected(f"tree: {name} has {len(arr)} rows, the nodes use {total}")
+            self.evidence[name] = arr
+            self.offset[name] = np.concatenate([[0], np.cumsum(per_node)])
+        self.nodes = len(self.kind)
+
+    def at(self, node, root):
+        """'claims[k].tree: node i' for messages."""
+        label = self.labels[root] if root < len(self.labels) else "tree"
+        return f"{label}: node {node}"
+
+    def rows(self, name, ids, k=0):
+        """Row k of evidence ``name`` of each node ``ids``."""
+        return self.evidence[name][self.offset[name][ids] + k]
+
+    def walk(self, visit, progress=None):
+        """Call ``visit(kind, code, ids, lo, hi, claim, child)`` on batches of leaves (child None) and
+        contractions (child = (lo, hi) of the child boxes), grouped by rule."""
+        lo, hi, claim = self.lo0, self.hi0, np.arange(len(self.lo0))
+        start, pending, size, level = 0, {}, 0, 0
+        while len(lo):
+            m = len(lo)
+            if start + m > self.nodes:
+                raise Rejected(f"tree: level {level} needs {m} nodes, only {self.nodes - start} are left")
+            ids = np.arange(start, start + m)
+            kind, code = self.kind[ids], self.code[ids]
+            split = kind <= CUT
+            if np.any(split & (code >= self.d)):
+                i = np.nonzero(split & (code >= self.d))[0][0]
+                raise Rejected(f"{self.at(ids[i], claim[i])}: split dimension {code[i]} (the boxes have {self.d})")
+            nkids = np.where(split, 2, np.where(kind == CONTRACT, 1, 0))
+            first = np.concatenate([[0], np.cumsum(nkids)])[:-1]
+            new_lo = np.empty((int(nkids.sum()), self.d))
+            new_hi = np.empty_like(new_lo)
+            s = np.nonzero(split)[0]
+            if len(s):
+                dim = code[s].astype(np.int64)
+                a, b = lo[s, dim], hi[s, dim]
+                at = a + SPLIT_RATIO * (b - a)
+                cut = kind[s] == CUT
+                at[cut] = self.rows("tree.cut", ids[s][cut])
+                bad = ~((a < at) & (at < b))
+                if bad.any():
+                    i = np.nonzero(bad)[0][0]
+                    raise Rejected(f"{self.at(ids[s][i], claim[s][i])}: split point {float(at[i])!r} not strictly "
+                                   f"inside [{float(a[i])!r}, {float(b[i])!r}] on dimension {dim[i]}")
+                new_lo[first[s]], new_hi[first[s]] = lo[s], hi[s]
+                new_hi[first[s], dim] = at
+                new_lo[first[s] + 1], new_hi[first[s] + 1] = lo[s], hi[s]
+                new_lo[first[s] + 1, dim] = at
+            c = np.nonzero(kind == CONTRACT)[0]
+            if len(c):
+                box = self.rows("tree.box", ids[c])            # the child's bits XOR the parent's
+                box = (np.ascontiguousarray(np.stack([lo[c], hi[c]], -1)).view(np.uint64) ^ box).view(np.float64)
+                clo, chi = box[..., 0], box[..., 1]
+                bad = ~np.all((lo[c] <= clo) & (clo <= chi) & (chi <= hi[c]), axis=1)
+                if bad.any():
+                    i = np.nonzero(bad)[0][0]
+                    raise Rejected(f"{self.at(ids[c][i], claim[c][i])}: contracted box not inside its parent")
+                new_lo[first[c]], new_hi[first[c]] = clo, chi
+            for kd in (CONTRACT, LEAF):
+                mine = kind == kd
+                for cd in np.unique(code[mine]):
+                    sel = np.nonzero(mine & (code == cd))[0]
+                    child = (new_lo[first[sel]], new_hi[first[sel]]) if kd == CONTRACT else None
+                    pending.setdefault((kd, int(cd)), []).append((ids[sel], lo[sel], hi[sel], claim[sel], child))
+                    size += len(sel)
+            if size >= BATCH:
+                self._flush(pending, visit)
+                pending, size = {}, 0
+            claim = np.repeat(claim, nkids)
+            lo, hi, start, level = new_lo, new_hi, start + m, level + 1
+            if progress:
+                progress(start, self.nodes)
+        self._flush(pending, visit)
+        if start != self.nodes:
+            raise Rejected(f"tree: {self.nodes - start} nodes after the last level belong to no box")
+
+    @staticmethod
+    def _flush(pending, visit):
+        for (kd, cd), parts in pending.items():
+            cat = lambda k: np.concatenate([p[k] for p in parts])  # noqa: E731
+            child = None if kd == LEAF else (np.concatenate([p[4][0] for p in parts]),
+                                             np.concatenate([p[4][1] for p in parts]))
+            visit(kd, cd, cat(0), cat(1), cat(2), cat(3), child)
+
+
+def read_box(value, d, where):
+    """A box of the header: ``d`` pairs [lo, hi] of exact finite floats, lo <= hi; returns (lo, hi) arrays."""
+    if not isinstance(value, list) or len(value) != d or not all(isinstance(p, list) and len(p) == 2 for p in value):
+        raise Rejected(f"{where}: expected {d} intervals [lo, hi]")
+    lo = np.array([real(a, where) for a, _ in value])
+    hi = np.array([real(b, where) for _, b in value])
+    if not np.all(lo <= hi):
+        raise Rejected(f"{where}: lo > hi")
+    return lo, hi

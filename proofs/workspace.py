@@ -2,240 +2,183 @@
 
 Models ``gough-stewart-workspace/1`` (orientation psi, theta, phi;
 R = Rz(psi) Rx(theta) Rz(phi)) and ``planar-3rpr-workspace/1`` (orientation
-phi; R the plane rotation, z = 0): with u_i = a_i − R b_i, the point C =
-(X, Y, z) satisfies leg i when ρmin_i² ≤ (X − u_ix)² + (Y − u_iy)² +
-(z − u_iz)² ≤ ρmax_i² (``limits.leg_length``, exact decimals).  Only these
-constraints are claimed about.
+phi, z = 0): with u_i = a_i − R b_i, the point C = (X, Y, z) satisfies leg i
+when ρmin_i² ≤ (X − u_ix)² + (Y − u_iy)² + (z − u_iz)² ≤ ρmax_i²
+(``limits.leg_length``).  A claim is one section (``z``, an exact decimal)
+or one slab (``slab``: [lo, hi] floats, z ranging over it), with
 
-A claim is one section (``"z"``: an exact decimal; no ``z`` for planar
-robots) or one z-slab (``"slab"``: [lo, hi] floats, z ranging over it), with
+- ``domain`` holding every point of the section (every section of the
+  slab), re-proved from the outer disks D_i (centre u_i, radius²
+  ρmax_i² − (z − u_iz)², at its largest over a slab): the extremes of their
+  intersection are among the candidates (extreme points of each disk,
+  pairwise intersection points) not proved outside a disk
+  (docs/soundness.md §11), or ``"empty"``;
+- a tree (``tree.py``) whose leaves tile the domain: 0 ``inside`` (every
+  leg's ρ² over the box within its limits), 1 ``outside`` (leg k,
+  ``tree.index`` = k 1-based, disjoint from them), 2 ``boundary`` (nothing);
+- ``area``: ``inner`` ≤ the exact sum of the inside boxes' areas and
+  ``outer`` ≥ the exact sum over inside and boundary boxes (integers).
 
-- ``domain``: [[xlo, xhi], [ylo, yhi]] (floats) holding every point of the
-  section (of every section of the slab), or ``"empty"``.  Re-proved from the
-  outer disks D_i (centre u_i, radius² ρmax_i² − (z − u_iz)², at its largest
-  over a slab): the extremes of the intersection of the D_i are among the
-  *candidates* (four extreme points of each disk, pairwise intersection
-  points of the circles) not proved outside a disk (docs/soundness.md), so
-  each side holds when every such candidate is within it, or when one disk
-  lies within it.  ``"empty"`` needs a disk with radius² < 0 or no candidate left;
-- ``tree``: splits ``{"split": [dim, at], "children": [lower, upper]}`` (dim 0
-  = x, 1 = y, lo < at < hi) and leaves ``{"leaf": "inside" | "outside" |
-  "boundary", "box": ..., "leg": k}``; every leaf box must equal the box
-  derived from the domain, so the leaves tile it.  ``inside``: for every leg
-  the enclosure of ρ_i² over box (× z) lies in [ρmin², ρmax²]; ``outside``:
-  for leg ``k`` (1-based) it is disjoint from it; ``boundary``: nothing;
-- ``area``: ``inner`` ≤ the exact (rational) sum of the inside boxes' areas
-  ≤ area ≤ the exact sum over inside and boundary boxes ≤ ``outer``.
-
-A volume certificate's slabs must be contiguous and cover the
-``requested`` z range; its ``volume`` inner and outer must be bounded by
-Σ (hi − lo) × inside area and Σ (hi − lo) × (inside + boundary) area,
-computed exactly.  A section with an empty domain claims area 0.
+A volume certificate's slabs are contiguous and cover ``requested.z``; its
+``volume`` bounds Σ (hi − lo) × those sums, exactly.
 """
 from __future__ import annotations
 
 from fractions import Fraction
 
-from mpmath import iv
+import numpy as np
 
 from . import tree
+from .arith import Iv, sincos
+from .models import header_model, points, rot
 from .numbers import enclose, exact, real
 from .report import Rejected
-from .singularity import read_box
 
 MODELS = {"gough-stewart-workspace/1": ("gough-stewart", ("psi", "theta", "phi"), 6, 3),
           "planar-3rpr-workspace/1": ("planar-3rpr", ("phi",), 3, 2)}
-PROBLEMS = ("workspace-section", "workspace-volume")
+LEAVES = {0: ("inside", {}), 1: ("outside", {"tree.index": 1}), 2: ("boundary", {})}
 
 
-def check_claims(cert, counts: dict) -> None:
-    """Everything after the common header (format, version): model, robot, orientation, claims."""
-    problem = cert.get("problem")
-    if problem not in PROBLEMS:
-        raise Rejected(f"problem: unknown problem {problem!r} (known: {', '.join(PROBLEMS)})")
-    model = cert.get("model")
-    if not isinstance(model, str) or model not in MODELS:
-        raise Rejected(f"model: unknown model {model!r} (known: {', '.join(MODELS)})")
-    legs = Legs(model, cert.get("robot"), cert.get("orientation"))
-    claims = cert.get("claims")
-    if not isinstance(claims, list) or not claims:
-        raise Rejected("claims: expected a non-empty list")
-    counts["claims"] = len(claims)
-    if problem == "workspace-section":
-        for k, claim in enumerate(claims):
-            where = f"claims[{k}]"
-            if not isinstance(claim, dict):
-                raise Rejected(f"{where}: expected an object")
-            if legs.planar:
-                if "z" in claim:
-                    raise Rejected(f"{where}.z: a planar model has no z")
-                Z = iv.mpf(0)
-            else:
-                Z = enclose(claim.get("z"), f"{where}.z")
-            _claim(legs, claim, Z, where, counts)
-        return
-    if legs.planar:
+class Legs:
+    """u_i = a_i − R b_i (Iv (legs, 3)) and the squared limits, from the stated exact data."""
+
+    def __init__(self, model, robot, orientation):
+        kind, angles, n, dim = MODELS[model]
+        self.planar, self.n = dim == 2, n
+        a, b = points(robot, "base", n, dim), points(robot, "platform", n, dim)
+        if not isinstance(orientation, dict) or sorted(orientation) != sorted(angles):
+            raise Rejected(f"orientation: expected the angles {', '.join(angles)}")
+        cs = [sincos(enclose(orientation[name], f"orientation.{name}", True)) for name in angles]
+        zero = Iv(0.0)
+        rb = []
+        for p in b:
+            v = tuple(p) + (zero,) * (3 - dim)
+            for axis, (s, c) in zip(reversed("zxz" if not self.planar else "z"), reversed(cs)):
+                v = rot(axis, c, s, v)
+            rb.append(v)
+        u = [[(tuple(p) + (zero,) * (3 - dim))[k] - q[k] for k in range(3)] for p, q in zip(a, rb)]
+        self.u = [Iv(np.array([r[k].lo for r in u]), np.array([r[k].hi for r in u])) for k in range(3)]
+        limits = robot.get("limits")
+        pairs = limits.get("leg_length") if isinstance(limits, dict) else None
+        if not isinstance(pairs, list) or len(pairs) != n or not all(isinstance(p, list) and len(p) == 2 for p in pairs):
+            raise Rejected(f"robot.limits.leg_length: expected {n} [min, max] pairs")
+        q = [(exact(p[0], f"robot.limits.leg_length[{i}]"), exact(p[1], f"robot.limits.leg_length[{i}]"))
+             for i, p in enumerate(pairs)]
+        if any(not 0 <= lo <= hi for lo, hi in q):
+            raise Rejected("robot.limits.leg_length: expected 0 <= min <= max")
+        self.rmin2 = Iv([Iv.const(lo * lo).lo for lo, _ in q], [Iv.const(lo * lo).hi for lo, _ in q])
+        self.rmax2 = Iv([Iv.const(hi * hi).lo for _, hi in q], [Iv.const(hi * hi).hi for _, hi in q])
+
+    def h2(self, Z: Iv) -> Iv:
+        return (Iv(Z.lo, Z.hi) - self.u[2]).sqr()
+
+
+def check(cert, report) -> None:
+    h = cert.header
+    header_model(h, MODELS, lambda m: m[0])
+    legs = Legs(h["model"], h["robot"], h.get("orientation"))
+    volume = h["problem"] == "workspace-volume"
+    if volume and legs.planar:
         raise Rejected("problem: a planar model has no volume")
-    total_in, total_out, prev = Fraction(0), Fraction(0), None
-    first = last = None
+    claims = h["claims"]
+    Z = _heights(legs, claims, volume)
+    h2 = [legs.h2(z) for z in Z]
+    boxes = [_domain(legs, h2[k], c.get("domain"), f"claims[{k}]") for k, c in enumerate(claims)]
+    roots = [k for k, b in enumerate(boxes) if b is not None]
+    if any(claims[k].get("tree") is not True for k in roots):
+        raise Rejected("claims: a claim with a domain box has \"tree\": true (its tree is in the body)")
+    for k, b in enumerate(boxes):
+        if b is None and claims[k].get("tree") is not None:
+            raise Rejected(f"claims[{k}].tree: an empty domain has no tree")
+    forest = tree.Forest(cert, 2, [boxes[k][0] for k in roots], [boxes[k][1] for k in roots], LEAVES, {},
+                         {"tree.index": ((), ("<i4",))}, [f"claims[{k}].tree" for k in roots])
+    H2 = Iv(np.array([h2[k].lo for k in roots] or np.zeros((0, legs.n))),
+            np.array([h2[k].hi for k in roots] or np.zeros((0, legs.n))))
+    sums = [[0, 0] for _ in roots]                 # exact integers: inside, boundary areas (scaled)
+
+    def visit(kind, code, ids, lo, hi, root, child):
+        X, Y = Iv(lo[:, 0:1], hi[:, 0:1]), Iv(lo[:, 1:2], hi[:, 1:2])
+        r2 = ((X - legs.u[0]).sqr() + (Y - legs.u[1]).sqr()) + H2[root]
+        if code == 0:
+            bad = ~np.all((r2.lo >= legs.rmin2.hi) & (r2.hi <= legs.rmax2.lo), axis=1)
+        elif code == 1:
+            j = forest.rows("tree.index", ids) - 1
+            if np.any((j < 0) | (j >= legs.n)):
+                raise Rejected(f"claims[{roots[root[0]]}].tree: 'leg' must be 1..{legs.n}")
+            r, a, b = r2[np.arange(len(j)), j], legs.rmin2[j], legs.rmax2[j]
+            bad = ~((r.hi < a.lo) | (r.lo > b.hi))
+        else:
+            bad = np.zeros(len(ids), bool)
+        if bad.any():
+            i = np.nonzero(bad)[0][0]
+            raise Rejected(f"{forest.at(ids[i], root[i])} ({LEAVES[code][0]}): {LEAVES[code][0]} not proved")
+        if code != 1:
+            for r, area in zip(*_areas(lo, hi, root)):
+                sums[r][code // 2] += area
+        report.checked["leaves"] += len(ids)
+
+    forest.walk(visit, report.progress)
+    report.about["question"] = (f"the workspace at orientation {h.get('orientation')}, "
+                                + (f"z in {h.get('requested', {}).get('z')}" if volume else f"{len(claims)} section(s)"))
+    totals = [(Fraction(0), Fraction(0)) for _ in claims]
+    for j, k in enumerate(roots):
+        inside = Fraction(sums[j][0], 2 ** _SHIFT)
+        totals[k] = (inside, inside + Fraction(sums[j][1], 2 ** _SHIFT))
+    for k, claim in enumerate(claims):
+        _bounds(claim.get("area"), *totals[k], f"claims[{k}].area")
+    if not volume:
+        report.proved.append(f"{len(claims)} section(s): area bracketed by the inside and boundary boxes")
+        return
+    req = h.get("requested")
+    if not isinstance(req, dict) or not isinstance(req.get("z"), list) or len(req["z"]) != 2:
+        raise Rejected("requested.z: expected [lo, hi] exact decimals")
+    zl, zh = exact(req["z"][0], "requested.z"), exact(req["z"][1], "requested.z")
+    if not (Fraction(float(Z[0].lo)) <= zl < zh <= Fraction(float(Z[-1].hi))):
+        raise Rejected(f"requested.z: [{req['z'][0]}, {req['z'][1]}] is not covered by the slabs")
+    dz = [Fraction(float(z.hi)) - Fraction(float(z.lo)) for z in Z]
+    _bounds(h.get("volume"), sum(d * t[0] for d, t in zip(dz, totals)), sum(d * t[1] for d, t in zip(dz, totals)), "volume")
+    report.proved.append(f"{len(claims)} slabs covering z in [{req['z'][0]}, {req['z'][1]}]: volume bracketed")
+
+
+_SHIFT = 2 * 1100       # areas are integers times 2^-_SHIFT (products of float differences)
+
+
+def _heights(legs, claims, volume):
+    """z of each claim as an interval: the exact decimal ``z``, or the float ``slab`` (contiguous slabs)."""
+    Z = []
     for k, claim in enumerate(claims):
         where = f"claims[{k}]"
         if not isinstance(claim, dict):
             raise Rejected(f"{where}: expected an object")
-        slab = claim.get("slab")
-        if not isinstance(slab, list) or len(slab) != 2:
-            raise Rejected(f"{where}.slab: expected [lo, hi]")
-        lo, hi = real(slab[0], f"{where}.slab"), real(slab[1], f"{where}.slab")
-        if not lo < hi:
-            raise Rejected(f"{where}.slab: lo must be below hi")
-        if prev is not None and lo != prev:
-            raise Rejected(f"{where}.slab: does not start where the previous slab ends ({prev!r})")
-        prev = hi
-        first = lo if first is None else first
-        last = hi
-        inside, outer = _claim(legs, claim, iv.mpf([lo, hi]), where, counts)
-        h = Fraction(hi) - Fraction(lo)
-        total_in += h * inside
-        total_out += h * outer
-    req = cert.get("requested")
-    if not isinstance(req, dict) or not isinstance(req.get("z"), list) or len(req["z"]) != 2:
-        raise Rejected("requested.z: expected [lo, hi] exact decimals")
-    zl, zh = exact(req["z"][0], "requested.z"), exact(req["z"][1], "requested.z")
-    if not (Fraction(first) <= zl < zh <= Fraction(last)):
-        raise Rejected(f"requested.z: [{req['z'][0]}, {req['z'][1]}] is not covered by the slabs [{first!r}, {last!r}]")
-    _bounds(cert.get("volume"), total_in, total_out, "volume")
-
-
-class Legs:
-    """u_i = a_i − R b_i and the squared limits, as iv intervals, from the stated exact data."""
-
-    def __init__(self, model, robot, orientation):
-        kind, angles, n, dim = MODELS[model]
-        self.planar = dim == 2
-        if not isinstance(robot, dict):
-            raise Rejected("robot: expected an object")
-        if robot.get("kind") != kind:
-            raise Rejected(f"robot.kind: {robot.get('kind')!r} does not fit model {model}")
-        a = _points(robot, "base", n, dim)
-        b = _points(robot, "platform", n, dim)
-        if not isinstance(orientation, dict) or sorted(orientation) != sorted(angles):
-            raise Rejected(f"orientation: expected the angles {', '.join(angles)}")
-        ang = [_angle(orientation[name], f"orientation.{name}") for name in angles]
-        if self.planar:
-            c, s = iv.cos(ang[0]), iv.sin(ang[0])
-            rb = [(c * p[0] - s * p[1], s * p[0] + c * p[1], iv.mpf(0)) for p in b]
-            a = [(p[0], p[1], iv.mpf(0)) for p in a]
+        if volume:
+            slab = claim.get("slab")
+            if not isinstance(slab, list) or len(slab) != 2:
+                raise Rejected(f"{where}.slab: expected [lo, hi]")
+            lo, hi = real(slab[0], f"{where}.slab"), real(slab[1], f"{where}.slab")
+            if not lo < hi:
+                raise Rejected(f"{where}.slab: lo must be below hi")
+            if Z and lo != Z[-1].hi:
+                raise Rejected(f"{where}.slab: does not start where the previous slab ends ({float(Z[-1].hi)!r})")
+            Z.append(Iv(lo, hi))
+        elif legs.planar and "z" in claim:
+            raise Rejected(f"{where}.z: a planar model has no z")
         else:
-            (c1, s1), (c2, s2), (c3, s3) = [(iv.cos(t), iv.sin(t)) for t in ang]
-            rb = []
-            for x, y, z in b:                       # Rz(psi) Rx(theta) Rz(phi) b
-                x, y = c3 * x - s3 * y, s3 * x + c3 * y
-                y, z = c2 * y - s2 * z, s2 * y + c2 * z
-                x, y = c1 * x - s1 * y, s1 * x + c1 * y
-                rb.append((x, y, z))
-        self.u = [tuple(p[k] - q[k] for k in range(3)) for p, q in zip(a, rb)]
-        limits = robot.get("limits")
-        pairs = limits.get("leg_length") if isinstance(limits, dict) else None
-        if not isinstance(pairs, list) or len(pairs) != n:
-            raise Rejected(f"robot.limits.leg_length: expected {n} [min, max] pairs")
-        self.rmin2, self.rmax2 = [], []
-        for i, p in enumerate(pairs):
-            where = f"robot.limits.leg_length[{i}]"
-            if not isinstance(p, list) or len(p) != 2:
-                raise Rejected(f"{where}: expected [min, max]")
-            lo, hi = exact(p[0], where), exact(p[1], where)
-            if not 0 <= lo <= hi:
-                raise Rejected(f"{where}: expected 0 <= min <= max")
-            self.rmin2.append(enclose(p[0], where) ** 2)
-            self.rmax2.append(enclose(p[1], where) ** 2)
-        self.n = n
-
-    def rho2(self, X, Y, h2):
-        return [(X - u[0]) ** 2 + (Y - u[1]) ** 2 + h for u, h in zip(self.u, h2)]
-
-    def h2(self, Z):
-        return [(Z - u[2]) ** 2 for u in self.u]
+            Z.append(Iv(0.0) if legs.planar else enclose(claim.get("z"), f"{where}.z"))
+    return Z
 
 
-def _points(robot, key, n, dim):
-    pts = robot.get(key)
-    if not isinstance(pts, list) or len(pts) != n:
-        raise Rejected(f"robot.{key}: expected {n} points")
-    out = []
-    for i, p in enumerate(pts):
-        if not isinstance(p, list) or len(p) != dim:
-            raise Rejected(f"robot.{key}[{i}]: expected {dim} coordinates")
-        out.append(tuple(enclose(c, f"robot.{key}[{i}]") for c in p))
-    return out
-
-
-def _angle(value, where):
-    if isinstance(value, str) and value.strip().lower().endswith("deg"):
-        return enclose(value.strip()[:-3], where) * iv.pi / 180
-    return enclose(value, where)
-
-
-# ----- the domain -------------------------------------------------------------
-def _domain_ok(legs, h2, domain, where):
-    """Re-prove that the section (every section of the slab) lies in ``domain`` ("empty": is empty)."""
-    r2 = [m - h for m, h in zip(legs.rmax2, h2)]
-    if any(r.b < 0 for r in r2):               # a disk is empty for every z: so is the section
-        return
-    cx = [u[0] for u in legs.u]
-    cy = [u[1] for u in legs.u]
-    r = [iv.sqrt(iv.mpf([max(v.a, 0), v.b])) for v in r2]
-    cand = []                                  # (x, y) boxes, None coordinates for unbounded ones
-    for i in range(legs.n):
-        cand += [(cx[i] + r[i], cy[i]), (cx[i] - r[i], cy[i]), (cx[i], cy[i] + r[i]), (cx[i], cy[i] - r[i])]
-    for i in range(legs.n):
-        for j in range(i + 1, legs.n):
-            dx, dy = cx[j] - cx[i], cy[j] - cy[i]
-            D = dx ** 2 + dy ** 2
-            s = D + r2[i] - r2[j]
-            disc = 4 * D * r2[i] - s ** 2
-            if disc.b < 0:
-                continue                       # the circles do not meet (whatever the radii in the slab)
-            if not D.a > 0:
-                cand += [(None, None), (None, None)]
-                continue
-            t = s / (2 * D)
-            q = iv.sqrt(iv.mpf([max(disc.a, 0), disc.b])) / (2 * D)
-            px, py = cx[i] + t * dx, cy[i] + t * dy
-            cand += [(px - q * dy, py + q * dx), (px + q * dy, py - q * dx)]
-    alive = [p for p in cand if p[0] is None or not any(
-        ((p[0] - cx[k]) ** 2 + (p[1] - cy[k]) ** 2).a > r2[k].b for k in range(legs.n))]
-    if domain == "empty":
-        if alive:
-            raise Rejected(f"{where}.domain: 'empty' not proved (a candidate extreme point survives every disk)")
-        return
-    box = read_box(domain, 2, f"{where}.domain")
-    (xlo, xhi), (ylo, yhi) = box
-    sides = [("x", 0, "lo", lambda p: p[0] is not None and p[0].a >= xlo, lambda i: (cx[i] - r[i]).a >= xlo),
-             ("x", 0, "hi", lambda p: p[0] is not None and p[0].b <= xhi, lambda i: (cx[i] + r[i]).b <= xhi),
-             ("y", 1, "lo", lambda p: p[1] is not None and p[1].a >= ylo, lambda i: (cy[i] - r[i]).a >= ylo),
-             ("y", 1, "hi", lambda p: p[1] is not None and p[1].b <= yhi, lambda i: (cy[i] + r[i]).b <= yhi)]
-    for name, _, end, cand_ok, disk_ok in sides:
-        if not (all(cand_ok(p) for p in alive) or any(disk_ok(i) for i in range(legs.n))):
-            raise Rejected(f"{where}.domain: the {end} bound of {name} may cut the section")
-    return box
-
-
-# ----- one claim -----------------------------------------------------------------
-def _claim(legs, claim, Z, where, counts):
-    """Re-verify one section or slab; returns the exact (inside, inside + boundary) areas."""
-    h2 = legs.h2(Z)
-    domain = claim.get("domain")
-    box = _domain_ok(legs, h2, domain, where)
-    if domain == "empty":
-        if claim.get("tree") is not None:
-            raise Rejected(f"{where}.tree: an empty domain has no tree")
-        inside = outer = Fraction(0)
-    else:
-        if box is None:                            # a disk is empty: the stated box is just read
-            box = read_box(domain, 2, f"{where}.domain")
-        inside, outer = _tree(legs, claim.get("tree"), box, h2, f"{where}.tree", counts)
-    _bounds(claim.get("area"), inside, outer, f"{where}.area")
-    return inside, outer
+def _areas(lo, hi, root):
+    """Exact areas of the boxes as Python integers times 2^-_SHIFT, grouped by root: (roots, areas)."""
+    m, e = np.frexp(np.stack([lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1]]))
+    ints = (m * 2.0 ** 53).astype(np.int64).astype(object)
+    shift = (e.astype(np.int64) - 53 + 1100)
+    if np.any(shift < 0):
+        raise Rejected("tree: a box bound below 2^-1100: its area is not computed")
+    scaled = ints * (np.ones(shift.shape, dtype=object) * 2) ** shift.astype(object)
+    area = (scaled[1] - scaled[0]) * (scaled[3] - scaled[2])
+    order = np.argsort(root, kind="stable")
+    r, starts = np.unique(root[order], return_index=True)
+    return r, [sum(area[order][a:b]) for a, b in zip(starts, list(starts[1:]) + [len(order)])]
 
 
 def _bounds(value, inside, outer, where):
@@ -248,40 +191,43 @@ def _bounds(value, inside, outer, where):
         raise Rejected(f"{where}.outer: {hi!r} is below the area of the inside and boundary boxes ({float(outer)!r})")
 
 
-def _tree(legs, root, box, h2, where, counts):
-    inside = outer = Fraction(0)
-    stack = [(root, box, ())]
-    while stack:
-        node, nbox, path = stack.pop()
-        at = tree.label(where, node, path)
-        if "split" in node:
-            (c0, lower), (c1, upper) = tree.split(node, nbox, at)
-            stack.append((c1, upper, path + (1,)))
-            stack.append((c0, lower, path + (0,)))
-            continue
-        kind = node.get("leaf")
-        if kind not in ("inside", "outside", "boundary"):
-            raise Rejected(f"{at}: unknown leaf {kind!r} (inside, outside, boundary)")
-        if read_box(node.get("box"), 2, f"{at}: box") != nbox:
-            raise Rejected(f"{at}: box does not match the derived box")
-        (xlo, xhi), (ylo, yhi) = nbox
-        area = (Fraction(xhi) - Fraction(xlo)) * (Fraction(yhi) - Fraction(ylo))
-        X, Y = iv.mpf([xlo, xhi]), iv.mpf([ylo, yhi])
-        if kind == "inside":
-            for i, v in enumerate(legs.rho2(X, Y, h2)):
-                if not (v.a >= legs.rmin2[i].b and v.b <= legs.rmax2[i].a):
-                    raise Rejected(f"{at}: inside not proved (leg {i + 1} may leave its limits)")
-            inside += area
-            outer += area
-        elif kind == "outside":
-            k = node.get("leg")
-            if isinstance(k, bool) or not isinstance(k, int) or not 1 <= k <= legs.n:
-                raise Rejected(f"{at}: 'leg' must be 1..{legs.n}")
-            u = legs.u[k - 1]
-            v = (X - u[0]) ** 2 + (Y - u[1]) ** 2 + h2[k - 1]
-            if not (v.b < legs.rmin2[k - 1].a or v.a > legs.rmax2[k - 1].b):
-                raise Rejected(f"{at}: outside not proved (leg {k} may be within its limits)")
-        else:
-            outer += area
-        counts["leaves"] += 1
-    return inside, outer
+def _domain(legs, h2, domain, where):
+    """Re-prove that the section (every section of the slab) lies in ``domain``; None when "empty"."""
+    r2 = legs.rmax2 - h2
+    box = None if domain == "empty" else tree.read_box(domain, 2, f"{where}.domain")
+    if np.any(r2.hi < 0):               # a disk is empty for every z: so is the section
+        return box
+    cx, cy = legs.u[0], legs.u[1]
+    r = Iv(np.maximum(r2.lo, 0.0), r2.hi).sqrt()
+    cand = [(cx + r, cy), (cx - r, cy), (cx, cy + r), (cx, cy - r)]    # each (legs,) boxes
+    i, j = np.triu_indices(legs.n, 1)
+    dx, dy = cx[j] - cx[i], cy[j] - cy[i]
+    D = dx.sqr() + dy.sqr()
+    s = (D + r2[i]) - r2[j]
+    disc = D * r2[i] * 4.0 - s.sqr()
+    meet = ~(disc.hi < 0)
+    unbounded = meet & ~(D.lo > 0)
+    t = s / (D * 2.0)
+    q = Iv(np.maximum(disc.lo, 0.0), disc.hi).sqrt() / (D * 2.0)
+    px, py = cx[i] + t * dx, cy[i] + t * dy
+    for x, y in ((px - q * dy, py + q * dx), (px + q * dy, py - q * dx)):
+        x, y = Iv(np.where(unbounded, -np.inf, x.lo), np.where(unbounded, np.inf, x.hi)), \
+               Iv(np.where(unbounded, -np.inf, y.lo), np.where(unbounded, np.inf, y.hi))
+        cand.append((x[meet], y[meet]))
+    X = Iv(np.concatenate([c[0].lo for c in cand]), np.concatenate([c[0].hi for c in cand]))
+    Y = Iv(np.concatenate([c[1].lo for c in cand]), np.concatenate([c[1].hi for c in cand]))
+    dist = (Iv(X.lo[:, None], X.hi[:, None]) - cx).sqr() + (Iv(Y.lo[:, None], Y.hi[:, None]) - cy).sqr()
+    alive = ~np.any(dist.lo > r2.hi, axis=1)
+    X, Y = X[alive], Y[alive]
+    if box is None:
+        if alive.any():
+            raise Rejected(f"{where}.domain: 'empty' not proved (a candidate extreme point survives every disk)")
+        return None
+    (xlo, ylo), (xhi, yhi) = box
+    for name, ok_cand, ok_disk in (("lo bound of x", X.lo >= xlo, (cx - r).lo >= xlo),
+                                   ("hi bound of x", X.hi <= xhi, (cx + r).hi <= xhi),
+                                   ("lo bound of y", Y.lo >= ylo, (cy - r).lo >= ylo),
+                                   ("hi bound of y", Y.hi <= yhi, (cy + r).hi <= yhi)):
+        if not (ok_cand.all() or ok_disk.any()):
+            raise Rejected(f"{where}.domain: the {name} may cut the section")
+    return box

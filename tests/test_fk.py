@@ -5,7 +5,6 @@ planar instances by eliminating x, y and reducing to one polynomial in
 T = tan(phi/2) whose real roots sympy isolates exactly; spherical instances
 by a lex Groebner basis; Gough postures from the seed's own table.
 """
-import copy
 import json
 import subprocess
 import sys
@@ -18,6 +17,7 @@ import pytest
 import sympy as sp
 
 import proofs
+from certfile import Doc
 from certkin import robot_from_dict
 from certkin.fk import forward_kinematics
 
@@ -300,71 +300,53 @@ def test_gough_table_vi2_postures_are_each_proved_unique():
 def planar_certificate():
     base, plat, lengths = SIX_MODES[0]
     result = forward_kinematics(planar(base, plat), lengths)
-    cert = result.certificate()
-    assert proofs.check(cert).ok
+    cert = Doc(result.certificate())
+    assert cert.check().ok
     return cert
-
-
-def _first(node, want):
-    stack = [node]
-    while stack:
-        n = stack.pop()
-        if want(n):
-            return n
-        stack.extend(n.get("children", []) + ([n["child"]] if "child" in n else []))
-    raise AssertionError("no such node")
-
-
-def _all(node, want):
-    """Every node of a certificate tree for which ``want`` holds, depth first."""
-    stack = [node]
-    while stack:
-        n = stack.pop()
-        if want(n):
-            yield n
-        stack.extend(n.get("children", []) + ([n["child"]] if "child" in n else []))
 
 
 def test_tampered_fk_certificates_are_rejected(planar_certificate):
     cert = planar_certificate
-    claim = lambda c: c["claims"][0]  # noqa: E731
 
-    dropped = copy.deepcopy(cert)
-    claim(dropped)["solutions"].pop()
-    assert not proofs.check(dropped).ok
+    dropped = cert.copy()                        # a solution left out of the list
+    dropped.claim()["solutions"].pop()
+    assert "solutions: must list" in dropped.check().step
 
-    duplicated = copy.deepcopy(cert)
-    claim(duplicated)["solutions"].append(copy.deepcopy(claim(duplicated)["solutions"][0]))
-    assert "not proved distinct" in proofs.check(duplicated).step
+    region = cert.copy()                         # a region moved away from its root
+    region.arrays["fk.region.box"][0] += 1.0
+    assert "claims[0].regions[0]" in region.check().step
 
-    length = copy.deepcopy(cert)
-    claim(length)["lengths"][0] = "14.99"
-    assert not proofs.check(length).ok
+    duplicated = cert.copy()
+    duplicated.arrays["fk.region.box"][1] = duplicated.arrays["fk.region.box"][0]
+    duplicated.arrays["fk.region.box_C"][1] = duplicated.arrays["fk.region.box_C"][0]
+    assert "not proved distinct" in duplicated.check().step
 
-    widened = copy.deepcopy(cert)
-    leaf = _first(claim(widened)["tree"], lambda n: n.get("leaf") == "equation")
-    leaf["box"][0][0] -= 1.0
-    assert "box does not match" in proofs.check(widened).step
+    length = cert.copy()
+    length.claim()["lengths"][0] = "14.99"
+    assert not length.check().ok
 
-    undecided = copy.deepcopy(cert)
-    leaf = _first(claim(undecided)["tree"], lambda n: n.get("leaf") == "krawczyk-empty")
-    leaf["leaf"] = "undecided"
-    assert "undecided leaf in a claim that says complete" in proofs.check(undecided).step
+    undecided = cert.copy()
+    undecided.arrays["tree.code"][undecided.nodes(3, 1)[0]] = 10       # an hc4-empty leaf called undecided
+    assert "undecided leaf in a claim that says complete" in undecided.check().step
 
-    shrunk = copy.deepcopy(cert)
-    claim(shrunk)["domain"][0][1] -= 5.0
-    assert not proofs.check(shrunk).ok
+    shrunk = cert.copy()
+    shrunk.claim()["domain"][0][1] -= 5.0
+    assert not shrunk.check().ok
 
-    wrong_solution = copy.deepcopy(cert)
-    leaf = _first(claim(wrong_solution)["tree"], lambda n: n.get("leaf") == "krawczyk-unique")
-    leaf["solution"] = (leaf["solution"] + 1) % len(claim(wrong_solution)["solutions"])
-    assert "is not inside 'star'" in proofs.check(wrong_solution).step
+    wrong_solution = cert.copy()
+    leaf = wrong_solution.nodes(3, 6)[0]
+    row = wrong_solution.row("tree.index", leaf)
+    wrong_solution.arrays["tree.index"][row] = (wrong_solution.arrays["tree.index"][row] + 1) % 6
+    assert "root box is not inside X*" in wrong_solution.check().step
 
-    contraction = copy.deepcopy(cert)
-    node = _first(claim(contraction)["tree"], lambda n: n.get("contract") == "krawczyk")
-    mid = 0.5 * (node["box"][0][0] + node["box"][0][1])
-    node["box"][0] = [mid, mid]   # claims more of the box is empty than K proves
-    assert not proofs.check(contraction).ok
+    contraction = cert.copy()                    # a contracted box that claims more of its parent is empty
+    node = contraction.nodes(2, [3 + 64, 0])[0]
+    contraction.arrays["tree.box"][contraction.row("tree.box", node), :, 1] ^= np.uint64(1 << 51)
+    assert not contraction.check().ok
+
+    figures = cert.copy()
+    figures.claim()["figures"]["solutions"] = 7
+    assert "claims[0].figures: stated" in figures.check().step
 
 
 # ----- slopes --------------------------------------------------------------------------------
@@ -421,14 +403,15 @@ def test_slope_matrices_enclose_exact_differences():
     from certkin.fk.stacked import StackedFKSystem
     from certkin.fk.system import FKSystem
     from intervals import Interval
-    from proofs.fk import System
+    from proofs.arith import Iv
+    from proofs.fk_system import System
     robots = [(planar(*SIX_MODES[0][:2]), ["14.98", "15.38", "12"]),
               (robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]),
               (load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml"), "1.093,2.280,2.031,2.524,3.136,1.845".split(","))]
     rng = np.random.default_rng(11)
     for robot, lengths in robots:
         s = FKSystem(robot)
-        checker = System(f"{robot.kind}-fk/1", robot.to_dict(), lengths)
+        checker = System(f"{robot.kind}-fk/1", robot.to_dict())
         L = [Fraction(t) ** 2 for t in lengths]
         N = 12
         c = rng.uniform(-1, 1, (N, s.n))
@@ -441,9 +424,8 @@ def test_slope_matrices_enclose_exact_differences():
         J = s.jacobian(X)
         rows = slice(0, s.legs)
         assert np.median((S.hi - S.lo)[:, rows] / (J.hi - J.lo)[:, rows]) < 0.6
+        Sc = checker.slope([Iv(X.lo[:, j], X.hi[:, j]) for j in range(s.n)], m)
         for k in range(N):
-            box = [(float(X.lo[k, j]), float(X.hi[k, j])) for j in range(s.n)]
-            Sc = checker.slope(box, [float(v) for v in m[k]])
             fc = _exact_f(robot, s.n_pos, [Fraction(float(v)) for v in m[k]], L)
             for _ in range(3):
                 x = [Fraction(float(v)) for v in X.lo[k] + rng.random(s.n) * (X.hi[k] - X.lo[k])]
@@ -451,7 +433,7 @@ def test_slope_matrices_enclose_exact_differences():
                 d = [xj - Fraction(float(mj)) for xj, mj in zip(x, m[k])]
                 for i in range(s.n):
                     assert _in_product(S.lo[k, i], S.hi[k, i], d, fx[i] - fc[i])
-                    assert _in_product([mp.mpf(v.a) for v in Sc[i]], [mp.mpf(v.b) for v in Sc[i]], d, fx[i] - fc[i])
+                    assert _in_product(Sc.lo[k, i], Sc.hi[k, i], d, fx[i] - fc[i])
 
 
 def test_rotated_derivatives_enclose_sympy_derivatives():
@@ -632,10 +614,11 @@ def test_centred_rotated_points_enclose_exact_values():
     from certkin import load_robot
     from certkin.fk.system import FKSystem
     from intervals import Interval
-    from proofs.fk import System
+    from proofs.arith import Iv
+    from proofs.fk_system import System
     robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
     s = FKSystem(robot)
-    checker = System("gough-stewart-fk/1", robot.to_dict(), "1.093,2.280,2.031,2.524,3.136,1.845".split(","))
+    checker = System("gough-stewart-fk/1", robot.to_dict())
     b = [[Fraction(t) for t in p] for p in robot.to_dict()["platform"]]
     rng = np.random.default_rng(7)
     N = 8
@@ -647,15 +630,15 @@ def test_centred_rotated_points_enclose_exact_values():
     assert np.all(T.lo >= natural.lo) and np.all(T.hi <= natural.hi)
     legs = slice(2, 5)   # the platform points with several nonzero coordinates (the others: exact anyway)
     assert np.median((T.hi - T.lo)[:, legs] / (natural.hi - natural.lo)[:, legs]) < 0.9
+    U = checker.rotated([Iv(X.lo[:, j], X.hi[:, j]) for j in range(7)])     # [k]: (N, legs)
     for n in range(N):
-        U = checker.rotated_box([mp.iv.mpf([float(X.lo[n, j]), float(X.hi[n, j])]) for j in range(7)])
         for _ in range(3):
             R = _exact_rotation(*(Fraction(float(v)) for v in X.lo[n, 3:] + rng.random(4) * (X.hi[n, 3:] - X.lo[n, 3:])))
             for i in range(6):
                 for k in range(3):
                     v = sum(R[k][j] * b[i][j] for j in range(3))
                     assert Fraction(T.lo[n, i, k]) <= v <= Fraction(T.hi[n, i, k])
-                    assert _frac(mp.mpf(U[i][k].a)) <= v <= _frac(mp.mpf(U[i][k].b))
+                    assert Fraction(U[k].lo[n, i]) <= v <= Fraction(U[k].hi[n, i])
     # the parts reused by the slope step: R b_i at the midpoints, derivatives over Y (as ``slope`` computes them)
     T2, rbc, drbs = s.rotated_centred(X, parts=True)
     m = X.mid()
@@ -668,54 +651,29 @@ def test_centred_rotated_points_enclose_exact_values():
 
 def test_tampered_slope_evidence_is_rejected():
     """The spherical 8-mode search excludes and contracts boxes by the Hansen-Sengupta step with slope
-    matrices (``slope-gs-empty``, ``slope-gs``); the checker accepts each such step and rejects it when
-    the matrix C or the contracted box is changed.  The Krawczyk form of the slope step (``slope-empty``,
-    ``slope``: older certificates) is still checked, and tampering with it is rejected too."""
-    from proofs.fk import System, _contraction, _leaf
-    from proofs.report import Rejected
+    matrices (``slope-gs-empty``, ``slope-gs``); the checker rebuilds their C (codes + 64) and accepts
+    each step, and rejects it when a zero matrix is stored in its place or the contracted box is changed.
+    The Krawczyk form of the slope step (``slope-empty``) is checked too."""
     lengths = ["2.277", "2.473", "1.902"]
-    cert = forward_kinematics(robot_from_dict(SPHERICAL_8), lengths).certificate()
-    system = System(cert["model"], cert["robot"], lengths)
-    tree = cert["claims"][0]["tree"]
-    leaf = _first(tree, lambda n: n.get("leaf") == "slope-gs-empty")
-    box = [tuple(b) for b in leaf["box"]]
-    _leaf(system, leaf, box, [], True, "leaf")
-    bad = copy.deepcopy(leaf)
-    bad["C"] = [[0.0] * 4 for _ in range(4)]
-    with pytest.raises(Rejected, match="does not empty the box"):
-        _leaf(system, bad, box, [], True, "leaf")
-    wider = [(lo - 1.0, hi + 1.0) for lo, hi in box]     # the same evidence on a box holding roots
-    with pytest.raises(Rejected, match="does not empty the box"):
-        _leaf(system, dict(leaf, box=[list(b) for b in wider]), wider, [], True, "leaf")
-    parent = _first(tree, lambda n: n.get("child", {}).get("contract") == "slope-gs")
-    node, box = parent["child"], [tuple(b) for b in parent["box"]]   # the box before the slope contraction
-    child = [tuple(b) for b in node["box"]]
-    _contraction(system, node, box, child, "node")
-    dim = max(range(4), key=lambda k: child[k][1] - child[k][0])
-    mid = 0.5 * (child[dim][0] + child[dim][1])
-    shrunk = list(child)
-    shrunk[dim] = (mid, mid)
-    with pytest.raises(Rejected, match="slope-gs contraction"):
-        _contraction(system, node, box, shrunk, "node")
-    bad = dict(node, C=[[0.0] * 4 for _ in range(4)])
-    with pytest.raises(Rejected, match="slope-gs contraction"):
-        _contraction(system, bad, box, child, "node")
-    # the Krawczyk form with the same C: some of these leaves are proved empty by it as well
-    legacy = None
-    for cand in _all(tree, lambda n: n.get("leaf") == "slope-gs-empty"):
-        try:
-            _leaf(system, dict(cand, leaf="slope-empty"), [tuple(b) for b in cand["box"]], [], True, "leaf")
-        except Rejected:
-            continue
-        legacy = cand
-        break
-    assert legacy is not None
-    lbox = [tuple(b) for b in legacy["box"]]
-    with pytest.raises(Rejected, match="slope image meets the box"):
-        _leaf(system, dict(legacy, leaf="slope-empty", C=[[0.0] * 4 for _ in range(4)]), lbox, [], True, "leaf")
-    _contraction(system, dict(node, contract="slope"), box, box, "node")    # K ∩ X ⊆ X
-    with pytest.raises(Rejected, match="slope contraction"):
-        _contraction(system, dict(node, contract="slope"), box, shrunk, "node")
+    cert = Doc(forward_kinematics(robot_from_dict(SPHERICAL_8), lengths).certificate())
+    assert cert.check().ok
+    zero = np.zeros((1, 4, 4), np.float32)
+
+    def stored(doc, node, code, C):                       # the rule with its C stored instead of rebuilt
+        doc.arrays["tree.code"][node] = code
+        doc.arrays["tree.C"] = np.insert(doc.arrays["tree.C"], doc.row("tree.C", node), C, axis=0)
+        return doc
+
+    leaf = cert.nodes(3, 5 + 64)[0]
+    bad = stored(cert.copy(), leaf, 5, zero)
+    assert "slope Gauss-Seidel sweep does not empty the box" in bad.check().step
+    node = cert.nodes(2, 5 + 64)[0]
+    bad = stored(cert.copy(), node, 5, zero)
+    assert "slope-gs" in bad.check().step and "not inside the child box" in bad.check().step
+    bad = cert.copy()                                     # a contracted box changed
+    bad.arrays["tree.box"][bad.row("tree.box", node), :, 1] ^= np.uint64(1 << 50)
+    assert not bad.check().ok
+    assert "the image meets the box" in stored(cert.copy(), leaf, 4, zero).check().step      # the slope K form
 
 
 @pytest.mark.slow
@@ -728,7 +686,7 @@ def test_gough_certificate_with_slope_steps_rechecks():
                            domain="x=-0.9:-0.8,y=-0.4:-0.3,z=0.5:0.6,psi=-4:4,theta=-4:4,phi=-4:4")
     assert r.complete and len(r.solutions) == 1
     cert = r.certificate()
-    assert _first(cert["claims"][0]["tree"], lambda n: n.get("contract") == "slope-gs")
+    assert len(Doc(cert).nodes(2, 5 + 64))
     checked(r)
 
 
@@ -948,23 +906,22 @@ def test_tampered_tracking_certificates_are_rejected():
     L = robot.leg_lengths_float(poses[1:2])[0]
     r = forward_kinematics(robot, [repr(float(v)) for v in L], track=_pose_text(poses[0]))
     assert r.tracked
-    cert = r.certificate()
-    assert proofs.check(cert).ok
-    claim = lambda c: c["claims"][0]  # noqa: E731
+    cert = Doc(r.certificate())
+    assert cert.check().ok
 
-    moved = copy.deepcopy(cert)      # the root box shifted out of the tracking box
-    w = claim(moved)["domain"][0][1] - claim(moved)["domain"][0][0]
-    claim(moved)["solutions"][0]["box"][0] = [v + 2 * w for v in claim(moved)["solutions"][0]["box"][0]]
-    assert not proofs.check(moved).ok
+    moved = cert.copy()                          # the root box shifted out of the tracking box
+    w = moved.claim()["domain"][0][1] - moved.claim()["domain"][0][0]
+    moved.arrays["fk.region.box"][0, 0] += 2 * w
+    assert not moved.check().ok
 
-    widened = copy.deepcopy(cert)    # a wider tracking box than the one proved
-    claim(widened)["domain"][0][0] -= 5.0
-    claim(widened)["tree"]["box"][0][0] -= 5.0
-    assert not proofs.check(widened).ok
+    widened = cert.copy()                        # a wider tracking box than the one proved
+    widened.claim()["domain"][0][0] -= 5.0
+    widened.arrays["tree.star"][0, 0, 0] -= 5.0
+    assert not widened.check().ok
 
-    length = copy.deepcopy(cert)
-    claim(length)["lengths"][0] = str(float(claim(length)["lengths"][0]) + 0.01)
-    assert not proofs.check(length).ok
+    length = cert.copy()
+    length.claim()["lengths"][0] = str(float(length.claim()["lengths"][0]) + 0.01)
+    assert not length.check().ok
 
 
 def test_tracked_steps_agree_with_the_full_search():

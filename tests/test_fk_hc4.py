@@ -1,27 +1,27 @@
 """The forward-backward (HC4) contraction of the FK equations and its re-check by ``proofs``.
 
 - it never loses a root: boxes around proved root boxes keep them;
-- the checker's re-computation (``proofs.fk.System.hc4``, mpmath at 80 bits)
-  lands inside the solver's result (before the solver widens it), so every
-  recorded contraction re-checks;
+- the checker's re-computation (``proofs.fk.System.hc4``, its own numpy
+  interval arithmetic) lands inside the solver's result once the solver
+  widens it (by 2⁻²⁰ of the width), so every recorded contraction re-checks;
 - tampered ``hc4`` contractions and ``hc4-empty`` leaves are rejected.
 """
-import copy
 
 import numpy as np
 import pytest
-from mpmath import iv
 
 import proofs
+from certfile import Doc
+import proofs.arith
 from certkin import load_robot, robot_from_dict
 from certkin.fk import forward_kinematics
 from certkin.fk.contract import hc4
 from certkin.fk.stacked import StackedFKSystem
 from certkin.fk.system import FKSystem
 from intervals import Interval, sqr
-from proofs.fk import System
+from proofs.fk_system import System
 
-from test_fk import EXAMPLES, SIX_MODES, SPHERICAL_8, _first, _pose_from_points, planar, root_boxes, table_vi2
+from test_fk import EXAMPLES, SIX_MODES, SPHERICAL_8, _pose_from_points, planar, root_boxes, table_vi2
 
 GOUGH_LENGTHS = ["1.093", "2.280", "2.031", "2.524", "3.136", "1.845"]
 
@@ -77,7 +77,7 @@ def test_hc4_keeps_every_root(case, request):
 def test_checker_hc4_lands_inside_the_solver_result(case, request):
     robot, lengths, result = request.getfixturevalue(case)
     system = FKSystem(robot)
-    checker = System(system.model_name, robot.to_dict(), list(lengths))
+    checker = System(system.model_name, robot.to_dict())
     rng = np.random.default_rng(7)
     dlo, dhi = result.domain if not result.tracked else system.domain(sqr(Interval.from_bounds(
         np.array([[float(Interval(v).lo) for v in lengths]]), np.array([[float(Interval(v).hi) for v in lengths]]))))
@@ -87,54 +87,39 @@ def test_checker_hc4_lands_inside_the_solver_result(case, request):
     c = dlo + (dhi - dlo) * rng.uniform(size=(N, len(dlo)))
     w = (dhi - dlo) * rng.uniform(0.001, 0.3, size=(N, len(dlo)))
     lo, hi = np.maximum(c - w, dlo), np.minimum(c + w, dhi)
-    nlo, nhi, empty = hc4(system, lo, hi, _L(lengths, N))
-    saved = iv.prec
-    iv.prec = 80
-    try:
-        contracted = emptied = 0
-        for k in range(N):
-            z = checker.hc4([(float(a), float(b)) for a, b in zip(lo[k], hi[k])])
-            if empty[k]:
-                assert z is None, k         # the solver's "empty" re-checks
-                emptied += 1
-                continue
-            if z is None:
-                continue                    # the checker may prove more
-            contracted += bool(np.any(nlo[k] > lo[k]) or np.any(nhi[k] < hi[k]))
-            for j, v in enumerate(z):
-                assert (v.a >= nlo[k][j]) is True and (v.b <= nhi[k][j]) is True, (k, j)
-    finally:
-        iv.prec = saved
-    assert contracted + emptied > 0
+    L = _L(lengths, N)
+    nlo, nhi, empty = hc4(system, lo, hi, L)
+    w = (hi - lo) * 2.0 ** -20                       # the solver's widening of a recorded contraction
+    nlo, nhi = np.maximum(lo, nlo - w), np.minimum(hi, nhi + w)
+    z, z_empty = checker.hc4(lo, hi, proofs.arith.Iv(L.lo, L.hi))
+    assert np.all(z_empty[empty])                     # the solver's "empty" re-checks
+    keep = ~empty & ~z_empty                          # the checker may prove more
+    assert np.all((z.lo[keep] >= nlo[keep]) & (z.hi[keep] <= nhi[keep]))
+    contracted = np.any((nlo[keep] > lo[keep]) | (nhi[keep] < hi[keep]), axis=1).sum()
+    assert contracted + empty.sum() > 0
 
 
 def test_tampered_hc4_steps_are_rejected(planar_case):
     _, _, result = planar_case
-    cert = result.certificate()
-    assert proofs.check(cert).ok
-    tree = lambda c: c["claims"][0]["tree"]  # noqa: E731
+    cert = Doc(result.certificate())
+    assert cert.check().ok
 
-    shrunk = copy.deepcopy(cert)
-    node = _first(tree(shrunk), lambda n: n.get("contract") == "hc4" and "P" not in n)
-    for k, (a, b) in enumerate(node["box"]):
-        if b - a > 1e-6:                         # claim half of the contracted box as empty
-            node["box"][k] = [a, a + 0.25 * (b - a)]
-            break
-    report = proofs.check(shrunk)
-    assert not report.ok
+    shrunk = cert.copy()                         # an hc4 child box that claims more of its parent empty
+    node = shrunk.nodes(2, 0)[0]
+    shrunk.arrays["tree.box"][shrunk.row("tree.box", node), :, 1] ^= np.uint64(1 << 51)
+    assert not shrunk.check().ok
 
-    emptied = copy.deepcopy(cert)
-    leaf = _first(tree(emptied), lambda n: n.get("leaf") == "krawczyk-unique")
-    for key in ("C", "star", "solution", "twin", "outside"):
-        leaf.pop(key, None)
-    leaf["leaf"] = "hc4-empty"                   # a box with a root is not emptied by HC4
-    report = proofs.check(emptied)
-    assert not report.ok and "does not prove the box empty" in report.step
+    emptied = cert.copy()                        # a box with a root is not emptied by HC4
+    leaf = emptied.nodes(3, 6)[0]
+    emptied.arrays["tree.code"][leaf] = 1
+    for name, rows in (("tree.C", 1), ("tree.star", 1), ("tree.index", 2)):
+        emptied.arrays[name] = np.delete(emptied.arrays[name], [cert.row(name, leaf, k) for k in range(rows)], axis=0)
+    report = emptied.check()
+    assert not report.ok and "does not empty the box" in report.step
 
-    relabelled = copy.deepcopy(cert)
-    leaf = _first(tree(relabelled), lambda n: n.get("leaf") == "hc4-empty")
-    leaf["leaf"] = "equation-free"
-    assert "unknown rule" in proofs.check(relabelled).step
+    relabelled = cert.copy()
+    relabelled.arrays["tree.code"][relabelled.nodes(3, 1)[0]] = 42
+    assert "unknown leaf rule code 42" in relabelled.check().step
 
 
 def test_planar_stacked_pass_gives_the_generic_floats():

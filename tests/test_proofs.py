@@ -1,4 +1,4 @@
-"""The independent checker ``proofs`` on certificates written by hand (not by certkin).
+"""The independent checker ``proofs`` on certificates written by hand (format version 2, not by certkin).
 
 The sign of det(A) at the centre of every box is computed here independently
 with sympy (exact rationals, 30-digit evaluation) from the formulas of
@@ -12,10 +12,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
-from mpmath import iv, mp
+from mpmath import mp
 
 import proofs
+from certfile import document, tree_arrays
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -77,32 +79,32 @@ def reference_det(model, robot, pose):
         return float(mp.det(mp.matrix(rows)))
 
 
-def cert(model, robot, pose, claims):
-    return {"format": "certkin-certificate", "version": 1, "problem": "singularity",
-            "robot": copy.deepcopy(robot), "model": model, "pose": pose, "claims": claims}
+def cert(model, robot, pose, claims, trees=(), d=3):
+    """A singularity certificate: the header and the arrays of the hand-written ``trees`` (one per
+    claim with ``"tree": true``, as ``certfile.tree_arrays`` nodes)."""
+    header = {"format": "certkin-certificate", "version": 2, "problem": "singularity",
+              "robot": copy.deepcopy(robot), "model": model, "pose": pose, "claims": claims}
+    return document(header, tree_arrays(trees, d))
 
 
-def leaf(box, sign, rule="natural", **extra):
-    return {"leaf": rule, "box": copy.deepcopy(box), "sign": sign, **extra}
+def leaf(rule=0, flags=None):
+    return ("leaf", rule, {} if flags is None else {"tree.flags": [flags]})
 
 
 # float bounds enclosing the requested decimals (the float 4.9 is above 4.9, 5.1 below 5.1)
 BOX = [[4.89, 5.11], [4.89, 5.11], [0.289, 0.32]]
-LOWER = [[4.89, 5.0], [4.89, 5.11], [0.289, 0.32]]
-UPPER = [[5.0, 5.11], [4.89, 5.11], [0.289, 0.32]]
 
 
 @pytest.fixture
 def planar():
     assert reference_det("planar-3rpr/1", PLANAR, [5.0, 5.0, 0.3]) > 100
-    tree = {"split": [0, 5.0], "children": [leaf(LOWER, 1), leaf(UPPER, 1)]}
     claim = {"requested": {"x": ["4.9", "5.1"], "y": ["4.9", "5.1"], "phi": ["0.29", "0.31"]},
-             "box": copy.deepcopy(BOX), "status": "singularity-free", "sign": 1, "tree": tree}
-    return cert("planar-3rpr/1", PLANAR, ["x", "y", "phi"], [claim])
+             "box": copy.deepcopy(BOX), "status": "singularity-free", "sign": 1, "tree": True}
+    return cert("planar-3rpr/1", PLANAR, ["x", "y", "phi"], [claim], [("cut", 0, 5.0, leaf(), leaf())])
 
 
 def rejected(c, *fragments):
-    report = proofs.check(c)
+    report = c.check()
     assert not report.ok
     for f in fragments:
         assert f in report.step, report.step
@@ -111,18 +113,11 @@ def rejected(c, *fragments):
 
 # ----- acceptance ---------------------------------------------------------------
 def test_planar_certificate_accepted(planar):
-    report = proofs.check(planar)
+    report = planar.check()
     assert report.ok, report.step
     assert report.checked["leaves"] == 2 and report.checked["claims"] == 1
     assert str(report) == "OK: 1 claims, 2 leaves re-verified"
-
-
-def test_precision_is_restored_and_validated(planar):
-    before = iv.prec
-    assert proofs.check(planar, prec=120).ok
-    assert iv.prec == before
-    with pytest.raises(ValueError):
-        proofs.check(planar, prec=10)
+    assert report.proved == ["1 boxes of poses: 1 singularity-free"]
 
 
 def test_models_match_seed_reference_values():
@@ -130,24 +125,27 @@ def test_models_match_seed_reference_values():
     from proofs.models import MODELS, Robot
     ex2 = {"kind": "planar-3rpr", "base": [["3.78", "4.34"], ["34.47", "-3.78"], ["16.233", "34.76"]],
            "platform": [["-4.83", "-3.19"], ["12.04", "-3.19"], ["8.23", "12.09"]]}
-    point = lambda p: [(v, v) for v in p]
-    saved, iv.prec = iv.prec, 80
-    try:
-        r = Robot(MODELS["planar-3rpr/1"], ex2)
-        assert r.det(point([0.0, 0.0, 0.0])).mid == pytest.approx(28891.66058, abs=1e-5)
-        assert r.det(point([10.0, 10.0, math.pi / 8])).mid == pytest.approx(8868.48667784, abs=1e-7)
-        tt = Robot(MODELS["spherical-3dof-tt/1"], SPHERICAL)
-        zyz = Robot(MODELS["spherical-3dof/1"], SPHERICAL)
-        assert tt.det(point([0.0, math.pi / 4, 0.0])).mid == pytest.approx(-0.025258874503, abs=1e-11)
-        h = math.pi / 2
-        got = [float(zyz.det(point([a, b, c])).mid) for a in (-h, h) for b in (0.0, h) for c in (-h, h)]
-        assert got == pytest.approx([-0.0864, 0.0864, 0.72, -0.72, 0.0864, -0.0864, 0.72, -0.72], abs=1e-12)
-        D, grad = r.det_gradient([(1.0, 1.0), (2.0, 2.0), (0.3, 0.3)])
-        eps = 1e-6
-        fd = (r.det(point([1.0 + eps, 2.0, 0.3])).mid - r.det(point([1.0 - eps, 2.0, 0.3])).mid) / (2 * eps)
-        assert float(grad[0].mid) == pytest.approx(float(fd.mid), rel=1e-6)
-    finally:
-        iv.prec = saved
+
+    def at(robot, p):
+        x = np.array([p], dtype=float)
+        d = robot.det(x, x)
+        assert d.hi[0] - d.lo[0] < 1e-9 * max(1.0, abs(d.lo[0]))
+        return 0.5 * (d.lo[0] + d.hi[0])
+
+    r = Robot(MODELS["planar-3rpr/1"], ex2)
+    assert at(r, [0.0, 0.0, 0.0]) == pytest.approx(28891.66058, abs=1e-5)
+    assert at(r, [10.0, 10.0, math.pi / 8]) == pytest.approx(8868.48667784, abs=1e-7)
+    tt = Robot(MODELS["spherical-3dof-tt/1"], SPHERICAL)
+    zyz = Robot(MODELS["spherical-3dof/1"], SPHERICAL)
+    assert at(tt, [0.0, math.pi / 4, 0.0]) == pytest.approx(-0.025258874503, abs=1e-11)
+    h = math.pi / 2
+    got = [at(zyz, [a, b, c]) for a in (-h, h) for b in (0.0, h) for c in (-h, h)]
+    assert got == pytest.approx([-0.0864, 0.0864, 0.72, -0.72, 0.0864, -0.0864, 0.72, -0.72], abs=1e-12)
+    x = np.array([[1.0, 2.0, 0.3]])
+    D, grad = r.det_gradient(x, x)
+    eps = 1e-6
+    fd = (at(r, [1.0 + eps, 2.0, 0.3]) - at(r, [1.0 - eps, 2.0, 0.3])) / (2 * eps)
+    assert 0.5 * (grad.lo[0, 0] + grad.hi[0, 0]) == pytest.approx(fd, rel=1e-6)
 
 
 def test_spherical_and_gough_certificates_accepted():
@@ -156,101 +154,99 @@ def test_spherical_and_gough_certificates_accepted():
         s = 1 if reference_det(model, SPHERICAL, centre) > 0 else -1
         assert abs(reference_det(model, SPHERICAL, centre)) > 0.05
         box = [[c - 0.01, c + 0.01] for c in centre]
-        c = cert(model, SPHERICAL, pose_names, [{"box": box, "status": "singularity-free", "sign": s,
-                                                   "tree": leaf(box, s)}])
-        assert proofs.check(c).ok, proofs.check(c).step
-        c["claims"][0]["sign"] = c["claims"][0]["tree"]["sign"] = -s
-        rejected(c, "claims[0].tree: leaf at path root: natural rule: det(A) has sign")
+        c = cert(model, SPHERICAL, pose_names, [{"box": box, "status": "singularity-free", "sign": s, "tree": True}],
+                 [leaf()])
+        assert c.check().ok, c.check().step
+        c.claim()["sign"] = -s
+        rejected(c, "claims[0].tree: node 0 (leaf): natural rule: det(A) has sign")
 
     centre = [10.0, -5.0, 600.0, 0.1, 0.2, 0.3]
     s = 1 if reference_det("gough-stewart/1", GOUGH, centre) > 0 else -1
     box = [[c - 0.01, c + 0.01] if i < 3 else [c - 1e-4, c + 1e-4] for i, c in enumerate(centre)]
     c = cert("gough-stewart/1", GOUGH, ["x", "y", "z", "psi", "theta", "phi"],
-             [{"box": box, "status": "singularity-free", "sign": s, "tree": leaf(box, s)}])
-    assert proofs.check(c).ok, proofs.check(c).step
-    flipped = copy.deepcopy(c)
-    flipped["claims"][0]["sign"] = flipped["claims"][0]["tree"]["sign"] = -s
-    rejected(flipped, "det(A) has sign")
+             [{"box": box, "status": "singularity-free", "sign": s, "tree": True}], [leaf()], d=6)
+    assert c.check().ok, c.check().step
+    c.claim()["sign"] = -s
+    rejected(c, "det(A) has sign")
 
 
 # ----- tampering ---------------------------------------------------------------
-def test_widened_leaf_box_rejected(planar):
-    planar["claims"][0]["tree"]["children"][1]["box"][0][1] = 5.2
-    assert rejected(planar) == "claims[0].tree: leaf at path 1: box does not match the derived box"
-
-
 def test_widened_claim_box_rejected(planar):
-    planar["claims"][0]["box"][1][1] = 6.0
-    rejected(planar, "box does not match the derived box")
+    planar.claim()["box"][0][1] = 100.0          # the cut at 5 still splits it; the upper part holds a singularity
+    rejected(planar, "claims[0].tree: node 2 (leaf): natural rule:")
 
 
 def test_flipped_sign_rejected(planar):
-    only_claim = copy.deepcopy(planar)
-    only_claim["claims"][0]["sign"] = -1
-    rejected(only_claim, "leaf at path 0: sign 1 differs from the claim's sign -1")
-    everywhere = copy.deepcopy(planar)
-    everywhere["claims"][0]["sign"] = -1
-    for child in everywhere["claims"][0]["tree"]["children"]:
-        child["sign"] = -1
-    rejected(everywhere, "claims[0].tree: leaf at path 0: natural rule: det(A) has sign 1")
+    planar.claim()["sign"] = -1
+    rejected(planar, "claims[0].tree: node 1 (leaf): natural rule: det(A) has sign 1")
 
 
 def test_removed_leaf_rejected(planar):
-    planar["claims"][0]["tree"] = planar["claims"][0]["tree"]["children"][0]
-    assert rejected(planar) == "claims[0].tree: leaf at path root: box does not match the derived box"
+    for name in ("tree.kind", "tree.code"):
+        planar.arrays[name] = planar.arrays[name][:-1]
+    assert rejected(planar) == "tree: level 1 needs 2 nodes, only 1 are left"
 
 
 def test_changed_geometry_rejected(planar):
     assert reference_det("planar-3rpr/1", {**PLANAR, "base": [["0", "7"], ["10", "0"], ["3", "10"]]},
                          [5.0, 5.0, 0.3]) < 0
-    planar["robot"]["base"][0][1] = "7"
-    rejected(planar, "leaf at path 0: natural rule: det(A) has sign -1")
+    planar.header["robot"]["base"][0][1] = "7"
+    assert rejected(planar) == "geometry_sha256: differs from the SHA-256 of the stated geometry"
+    planar.header["geometry_sha256"] = proofs.geometry_sha256(planar.header["robot"])
+    rejected(planar, "node 1 (leaf): natural rule: det(A) has sign -1")
 
 
 def test_split_outside_box_rejected(planar):
-    planar["claims"][0]["tree"]["split"] = [0, 5.3]
-    rejected(planar, "node at path root: split point 5.3 not strictly inside")
-    planar["claims"][0]["tree"]["split"] = [0, 4.89]   # lo < at is strict
+    planar.arrays["tree.cut"][0] = 5.3
+    rejected(planar, "claims[0].tree: node 0: split point 5.3 not strictly inside")
+    planar.arrays["tree.cut"][0] = 4.89            # lo < at is strict
     rejected(planar, "not strictly inside")
-    planar["claims"][0]["tree"]["split"] = [3, 5.0]
-    rejected(planar, "'split' must be [dim, at]")
+    planar.arrays["tree.cut"][0] = 5.0
+    planar.arrays["tree.code"][0] = 3
+    rejected(planar, "claims[0].tree: node 0: split dimension 3 (the boxes have 3)")
+    planar.arrays["tree.code"][0] = 1               # a swapped dimension: y cut at 5.0 instead of x
+    assert planar.check().ok                        # still a proof (det > 0 on both halves): of the same box
 
 
 def test_requested_must_lie_in_box(planar):
-    planar["claims"][0]["requested"]["x"] = ["4.9", "5.1100000000000004"]  # > the float 5.11 = 5.1100000000000003...
+    planar.claim()["requested"]["x"] = ["4.9", "5.1100000000000004"]  # > the float 5.11 = 5.1100000000000003...
     rejected(planar, "claims[0].requested.x: '5.1100000000000004' is not inside the box")
-    planar["claims"][0]["requested"]["x"] = ["4.9", "5.11000000000000031974423109204508364200592041015625"]
-    assert proofs.check(planar).ok
-    planar["claims"][0]["requested"]["phi"] = ["17deg", "17.5deg"]  # 0.2967..., 0.3054...
-    assert proofs.check(planar).ok
-    planar["claims"][0]["requested"]["phi"] = ["16deg", "17.5deg"]
+    planar.claim()["requested"]["x"] = ["4.9", "5.11000000000000031974423109204508364200592041015625"]
+    assert planar.check().ok
+    planar.claim()["requested"]["phi"] = ["17deg", "17.5deg"]  # 0.2967..., 0.3054...
+    assert planar.check().ok
+    planar.claim()["requested"]["phi"] = ["16deg", "17.5deg"]
     rejected(planar, "requested.phi: '16deg' is not inside")
-    planar["claims"][0]["requested"] = {"z": ["0", "1"]}
+    planar.claim()["requested"] = {"z": ["0", "1"]}
     rejected(planar, "unknown pose variable 'z'")
 
 
 def test_unknown_header_fields_rejected(planar):
-    for key, value, step in (("format", "other", "format:"), ("version", 2, "version:"),
+    for key, value, step in (("format", "other", "format:"), ("version", 3, "version:"),
                              ("model", "planar-3rpr/2", "model:"), ("problem", "fk", "problem:"),
                              ("pose", ["x", "phi", "y"], "pose:")):
-        c = copy.deepcopy(planar)
-        c[key] = value
+        c = planar.copy()
+        c.header[key] = value
         assert rejected(c).startswith(step)
-    c = copy.deepcopy(planar)
-    c["claims"][0]["tree"]["children"][0]["leaf"] = "undecided"
-    rejected(c, "leaf at path 0: unknown rule 'undecided'")
-    c = copy.deepcopy(planar)
-    c["claims"][0]["status"] = "free"
+    c = planar.copy()
+    c.header["version"] = 1
+    assert rejected(c).startswith("version: version 1 certificates (one JSON document) are no longer checked")
+    c = planar.copy()
+    c.arrays["tree.code"][1] = 7
+    rejected(c, "tree: node 1: unknown leaf rule code 7")
+    c = planar.copy()
+    c.claim()["status"] = "free"
     rejected(c, "claims[0].status: unknown status")
-    c = copy.deepcopy(planar)
-    c["robot"]["base"][0][0] = 0.1
+    c = planar.copy()
+    c.header["robot"]["base"][0][0] = 0.1
+    c.header["geometry_sha256"] = proofs.geometry_sha256(c.header["robot"])
     rejected(c, "robot.base[0][0]: expected an exact decimal string")
-    assert rejected([]) == "certificate: expected a JSON object"
+    assert proofs.check([]).step == "certificate: expected a JSON object"
 
 
 def test_undecided_claim_claims_nothing(planar):
-    planar["claims"].append({"box": [[0, 1]], "status": "undecided"})
-    report = proofs.check(planar)
+    planar.header["claims"].append({"box": [[0, 1]], "status": "undecided"})
+    report = planar.check()
     assert report.ok and report.checked["undecided"] == 1
     assert "1 undecided" in str(report)
 
@@ -266,17 +262,33 @@ def singular():
 
 
 def test_singular_witnesses(singular):
-    assert proofs.check(singular).ok
-    same = copy.deepcopy(singular)
-    same["claims"][0]["witnesses"]["negative"] = [5.0, 5.0, 1.0]
+    assert singular.check().ok
+    same = singular.copy()
+    same.claim()["witnesses"]["negative"] = [5.0, 5.0, 1.0]
     assert rejected(same) == "claims[0].witnesses.negative: det(A) not proved < 0"
-    swapped = copy.deepcopy(singular)
-    w = swapped["claims"][0]["witnesses"]
+    swapped = singular.copy()
+    w = swapped.claim()["witnesses"]
     w["positive"], w["negative"] = w["negative"], w["positive"]
     assert rejected(swapped) == "claims[0].witnesses.positive: det(A) not proved > 0"
-    outside = copy.deepcopy(singular)
-    outside["claims"][0]["witnesses"]["negative"] = [10.0, 10.5, 1.0]
+    outside = singular.copy()
+    outside.claim()["witnesses"]["negative"] = [10.0, 10.5, 1.0]
     assert rejected(outside) == "claims[0].witnesses.negative: pose outside the box"
+
+
+def test_witnesses_lie_in_the_exact_requested_box(singular):
+    """Issue item 5: a singular claim is about its requested box; its witnesses must lie in it, compared
+    exactly with the decimal bounds; an exact coordinate may be a decimal string (enclosed)."""
+    singular.claim()["requested"] = {"x": ["0", "10"], "y": ["0", "10"], "phi": ["0.95", "1.05"]}
+    assert singular.check().ok
+    singular.claim()["requested"]["x"] = ["5.0000000000000001", "10"]     # above the float 5.0
+    rejected(singular, "claims[0].witnesses.positive: x = 5.0 is outside the requested [5.0000000000000001, 10]")
+    singular.claim()["requested"] = {"x": ["0", "10"], "y": ["0", "10"], "phi": ["1", "1"]}
+    assert singular.check().ok
+    singular.claim()["requested"]["phi"] = ["57.29577951308232deg", "57.29577951308232deg"]   # ≈ 1 rad, not 1
+    rejected(singular, "is outside the requested")
+    for w in singular.claim()["witnesses"].values():
+        w[2] = "57.29577951308232deg"                # the exact value, enclosed: det keeps its sign there
+    assert singular.check().ok
 
 
 # ----- the other rules and the checker's own bisection --------------------------
@@ -285,37 +297,38 @@ MONO_BOX = [[1.8, 2.2], [7.8, 8.2], [0.29, 0.31]]
 
 def _single(box, node, sign=1):
     return cert("planar-3rpr/1", PLANAR, ["x", "y", "phi"],
-                [{"box": box, "status": "singularity-free", "sign": sign, "tree": node}])
+                [{"box": box, "status": "singularity-free", "sign": sign, "tree": True}], [node])
 
 
 def test_monotone_leaf():
-    from proofs import rules
     from proofs.models import MODELS, Robot
+    from proofs.singularity import _rule
     assert reference_det("planar-3rpr/1", PLANAR, [2.0, 8.0, 0.3]) > 0
-    box = [tuple(b) for b in MONO_BOX]
+    lo, hi = np.array([[b[0] for b in MONO_BOX]]), np.array([[b[1] for b in MONO_BOX]])
     robot = Robot(MODELS["planar-3rpr/1"], PLANAR)
-    assert rules.natural(robot, box, 1, None) == 0   # the natural rule alone does not decide this box
-    assert rules.monotone(robot, box, 1, [1, 0, -1]) == 1
-    report = proofs.check(_single(MONO_BOX, leaf(MONO_BOX, 1, "monotone", monotone=[1, 0, -1])))
+    one = np.array([1])
+    assert _rule(robot, 0, lo, hi, one, None)[0] == 0     # the natural rule alone does not decide this box
+    assert _rule(robot, 2, lo, hi, one, np.array([[1, 0, -1]]))[0] == 1
+    report = _single(MONO_BOX, leaf(2, [1, 0, -1])).check()
     assert report.ok and report.checked["pieces"] == 0, report
-    wrong = _single(MONO_BOX, leaf(MONO_BOX, 1, "monotone", monotone=[-1, 0, -1]))
-    rejected(wrong, "leaf at path root: monotone rule: sign 1 not proved", "after bisecting 6 levels")
-    bad = _single(MONO_BOX, leaf(MONO_BOX, 1, "monotone", monotone=[1, 0]))
-    rejected(bad, "'monotone' must be 3 values")
+    wrong = _single(MONO_BOX, leaf(2, [-1, 0, -1]))
+    rejected(wrong, "claims[0].tree: node 0 (leaf): monotone rule: sign 1 not proved", "after bisecting 6 levels")
+    bad = _single(MONO_BOX, leaf(2, [1, 0, 2]))
+    rejected(bad, "tree.flags: monotonicity flags must be -1, 0 or 1")
 
 
 def test_centred_leaf():
     box = [[7.5, 8.5], [7.5, 8.5], [0.275, 0.325]]
-    report = proofs.check(_single(box, leaf(box, 1, "centred")))
+    report = _single(box, leaf(1)).check()
     assert report.ok and report.checked["pieces"] == 0, report
 
 
 def test_checker_bisects_a_leaf_its_enclosure_does_not_decide():
     box = [[4.0, 6.0], [4.0, 6.0], [0.2, 0.4]]
-    report = proofs.check(_single(box, leaf(box, 1)))
+    report = _single(box, leaf()).check()
     assert report.ok and report.checked["pieces"] > 0, report
     singular_box = [[0.0, 10.0], [0.0, 10.0], [0.9, 1.1]]
-    rejected(_single(singular_box, leaf(singular_box, 1)), "leaf at path root: natural rule:")
+    rejected(_single(singular_box, leaf()), "claims[0].tree: node 0 (leaf): natural rule:")
 
 
 # ----- files and the command line ----------------------------------------------
@@ -325,23 +338,28 @@ def _run(*args):
 
 
 def test_cli_exit_codes(planar, tmp_path):
-    good = tmp_path / "good.json"
-    good.write_text(json.dumps(planar))
-    assert proofs.check_file(good).ok
-    r = _run(good, "--prec", "64")
-    assert r.returncode == 0 and r.stdout == "OK: 1 claims, 2 leaves re-verified\n"
+    good = planar.write(tmp_path / "good.cert")
+    assert proofs.check(good).ok
+    r = _run(good)
+    assert r.returncode == 0 and r.stdout.endswith("\nOK: 1 claims, 2 leaves re-verified\n")
+    assert r.stdout.startswith("robot: toy (planar-3rpr), geometry SHA-256 ") and "proved: 1 boxes of poses: 1 singul" in r.stdout
 
-    planar["claims"][0]["sign"] = -1
-    bad = tmp_path / "bad.json"
-    bad.write_text(json.dumps(planar))
+    planar.claim()["sign"] = -1
+    bad = planar.write(tmp_path / "bad.cert")
     r = _run(bad)
-    assert r.returncode == 1 and r.stdout.startswith("REJECTED: claims[0].tree") and r.stdout.count("\n") == 1
+    assert r.returncode == 1 and r.stdout.splitlines()[-1].startswith("REJECTED: claims[0].tree") and not r.stderr
+
+    old = tmp_path / "old.json"                       # version 1: refused with one clear line
+    old.write_text(json.dumps({"format": "certkin-certificate", "version": 1, "problem": "singularity",
+                               "robot": PLANAR, "claims": [{}]}))
+    r = _run(old)
+    assert r.returncode == 1 and "REJECTED: version: version 1 certificates" in r.stdout
 
     broken = tmp_path / "broken.json"
     broken.write_text('{"format": ')
     nan = tmp_path / "nan.json"
     nan.write_text('{"x": NaN}')
-    for path in (broken, nan, tmp_path / "missing.json"):
+    for path in (broken, nan, tmp_path / "missing.cert"):
         r = _run(path)
         assert r.returncode == 2 and r.stdout == "" and r.stderr.count("\n") == 1, r
     with pytest.raises(ValueError):

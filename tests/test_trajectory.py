@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import proofs
+from certfile import Doc
 from certkin import InputError, load_robot, plan, robot_from_dict, verify_trajectory, verify_trajectories
 from certkin.trajectory import parse_path
 
@@ -333,15 +334,15 @@ def test_planner_rejects_a_colliding_goal(mel):
 
 # ----- certificates and CLI ----------------------------------------------------------------------
 def test_tampered_trajectory_certificate_is_rejected(mel):
-    cert = verify_trajectory(mel, START, GOAL).certificate()
-    bad = copy.deepcopy(cert)
-    bad["claims"][0]["status"] = "feasible"
-    assert not proofs.check(bad).ok
-    bad = copy.deepcopy(cert)
-    states = bad["claims"][0]["leaves"]["state"]
-    k = next(i for i, s in enumerate(states) if "-" in s)
-    states[k] = states[k].replace("-", "+")
-    assert not proofs.check(bad).ok
+    cert = Doc(verify_trajectory(mel, START, GOAL).certificate())
+    bad = cert.copy()
+    bad.claim()["status"] = "feasible"
+    assert not bad.check().ok
+    bad = cert.copy()
+    states = bad.arrays["traj.state"]
+    k = int(np.nonzero(np.any(states == 2, axis=1))[0][0])     # a leaf with a '-' (2)
+    states[k] = np.where(states[k] == 2, 1, states[k])
+    assert not bad.check().ok
 
 
 def test_cli_trajectory_json_certificate_and_errors(tmp_path):

@@ -9,10 +9,12 @@ import copy
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 from mpmath import mp
 
 import proofs
+from certfile import Doc
 from certkin import load_robot
 from certkin.robots import robot_from_dict
 from certkin.trajectory import verify_trajectory
@@ -40,20 +42,20 @@ def mel():
 
 @pytest.fixture(scope="module")
 def infeasible(mel):
-    cert = verify_trajectory(mel, START, "84,92,500,85deg,10deg,0").certificate()
-    assert cert["claims"][0]["status"] == "infeasible"
+    cert = Doc(verify_trajectory(mel, START, "84,92,500,85deg,10deg,0").certificate())
+    assert cert.claim()["status"] == "infeasible"
     return cert
 
 
 @pytest.fixture(scope="module")
 def feasible(mel):
-    cert = verify_trajectory(mel, START, "7.5,21,500,85deg,10deg,0").certificate()
-    assert cert["claims"][0]["status"] == "feasible"
+    cert = Doc(verify_trajectory(mel, START, "7.5,21,500,85deg,10deg,0").certificate())
+    assert cert.claim()["status"] == "feasible"
     return cert
 
 
 def rejected(cert, *words):
-    report = proofs.check(cert)
+    report = cert.check()
     assert not report.ok, "a tampered certificate was accepted"
     for w in words:
         assert w in report.step, report.step
@@ -64,24 +66,34 @@ def column(claim, constraint, legs):
     return next(k for k, i in enumerate(claim["instances"]) if i["constraint"] == constraint and i["legs"] == legs)
 
 
+def drop_leaves(cert, rows):
+    """Leaves removed from the body (and from the claim's count)."""
+    for name in ("traj.segment", "traj.t", "traj.state"):
+        cert.arrays[name] = np.delete(cert.arrays[name], rows, axis=0)
+    cert.claim()["leaves"][1] -= len(np.atleast_1d(rows))
+    return cert
+
+
+MINUS, PLUS = 2, 1
+
+
 # ----- honest certificates ----------------------------------------------------------------
 def test_mel_certificates_accepted(feasible, infeasible):
     for cert in (feasible, infeasible):
-        report = proofs.check(cert)
+        report = cert.check()
         assert report.ok, report.step
-        assert report.checked["leaves"] == len(cert["claims"][0]["leaves"]["t"])
+        assert report.checked["leaves"] == cert.claim()["leaves"][1] == len(cert.arrays["traj.t"])
 
 
 def test_mel_infeasible_agrees_with_brute_force(infeasible):
     """At the goal legs 1 and 2 are closer than 2 + 2 mm (a '-' leaf there), computed here independently."""
-    claim = infeasible["claims"][0]
-    k = column(claim, "interference", [1, 2])
-    assert claim["leaves"]["state"][-1][k] == "-"
+    k = column(infeasible.claim(), "interference", [1, 2])
+    assert infeasible.arrays["traj.state"][-1, k] == MINUS
     with mp.workdps(30):
         R = lambda a, b, c: _rz(a) * _rx(b) * _rz(c)  # noqa: E731
         rot = R(85 * mp.pi / 180, 10 * mp.pi / 180, 0)
         C = mp.matrix([84, 92, 500])
-        robot = infeasible["robot"]
+        robot = infeasible.header["robot"]
         A = [mp.matrix([mp.mpf(c) for c in p]) for p in robot["base"]]
         B = [C + rot * mp.matrix([mp.mpf(c) for c in p]) for p in robot["platform"]]
         assert _segment_distance(A[0], B[0], A[1], B[1]) < 4
@@ -96,26 +108,26 @@ def test_spherical_and_planar_certificates_accepted():
         assert report.ok, (data["kind"], report.step)
     tt = robot_from_dict(SPHERICAL).with_angles("tilt-torsion")
     cert = verify_trajectory(tt, "30deg,60deg,30deg", "50deg,40deg,10deg").certificate()
-    assert cert["model"] == "spherical-3dof-tt/1"
-    assert proofs.check(cert, 53).ok
+    assert cert.header["model"] == "spherical-3dof-tt/1"
+    assert proofs.check(cert).ok
 
 
 def test_constraint_subset_accepted_and_order_enforced():
     robot = robot_from_dict(PLANAR)
-    cert = verify_trajectory(robot, "10,10,22.5deg", "12,8,30deg", constraints=["interference", "singularity"]).certificate()
-    assert proofs.check(cert).ok
-    bad = copy.deepcopy(cert)
-    inst = bad["claims"][0]["instances"]
+    cert = Doc(verify_trajectory(robot, "10,10,22.5deg", "12,8,30deg", constraints=["interference", "singularity"]).certificate())
+    assert cert.check().ok
+    bad = cert.copy()
+    inst = bad.claim()["instances"]
     inst[0], inst[1] = inst[1], inst[0]
     rejected(bad, "instances[1]", "canonical order")
-    bad = copy.deepcopy(cert)
-    bad["claims"][0]["instances"][0] = {"constraint": "interference", "legs": [1, 4]}
+    bad = cert.copy()
+    bad.claim()["instances"][0] = {"constraint": "interference", "legs": [1, 4]}
     rejected(bad, "instances[0]", "not implied")
 
 
 def _outward(cert):
     """The violation bounds rounded outward (what a sound writer gives when s = k + t is not a float)."""
-    for claim in cert["claims"]:
+    for claim in cert.header["claims"]:
         for v in claim["violations"]:
             if "segment" not in v:
                 v["s"] = [math.nextafter(v["s"][0], -math.inf), math.nextafter(v["s"][1], math.inf)]
@@ -124,14 +136,14 @@ def _outward(cert):
 
 @pytest.fixture(scope="module")
 def waypoints():
-    return verify_trajectory(robot_from_dict(SPHERICAL), "30deg,60deg,30deg", "50deg,40deg,10deg",
-                             waypoints=["40deg,50deg,20deg"]).certificate()
+    return Doc(verify_trajectory(robot_from_dict(SPHERICAL), "30deg,60deg,30deg", "50deg,40deg,10deg",
+                                 waypoints=["40deg,50deg,20deg"]).certificate())
 
 
 def test_polyline_certificate_accepted(waypoints):
-    cert = _outward(copy.deepcopy(waypoints))
-    assert len(cert["claims"][0]["path"]) == 3
-    report = proofs.check(cert)
+    cert = _outward(waypoints.copy())
+    assert len(cert.claim()["path"]) == 3
+    report = cert.check()
     assert report.ok, report.step
 
 
@@ -145,133 +157,122 @@ def test_polyline_certificate_as_written(mel):
 
 # ----- tampering ------------------------------------------------------------------------------
 def test_flipped_violation_rejected(infeasible):
-    cert = copy.deepcopy(infeasible)
-    claim = cert["claims"][0]
-    k = column(claim, "interference", [1, 2])
-    states = claim["leaves"]["state"]
-    minus = [i for i, s in enumerate(states) if s[k] == "-"]
+    cert = infeasible.copy()
+    k = column(cert.claim(), "interference", [1, 2])
+    minus = np.nonzero(cert.arrays["traj.state"][:, k] == MINUS)[0]
     i = minus[len(minus) // 2]
-    states[i] = states[i][:k] + "+" + states[i][k + 1:]
+    cert.arrays["traj.state"][i, k] = PLUS
     rejected(cert, f"leaves[{i}]", "'+' for interference legs 1-2", "refuted")
 
 
 def test_flipped_det_sign_rejected(feasible):
-    cert = copy.deepcopy(feasible)
-    states = cert["claims"][0]["leaves"]["state"]
-    states[:] = [s[:-1] + ("+" if s[-1] == "-" else "-") for s in states]
+    cert = feasible.copy()
+    cert.arrays["traj.state"][:, -1] = 3 - cert.arrays["traj.state"][:, -1]
     rejected(cert, "singularity", "refuted")
 
 
 def test_removed_leaf_rejected(feasible):
-    cert = copy.deepcopy(feasible)
-    leaves = cert["claims"][0]["leaves"]
-    middle = len(leaves["state"]) // 2
+    middle = len(feasible.arrays["traj.t"]) // 2
     assert middle >= 2
-    for key in leaves:
-        del leaves[key][middle]
-    rejected(cert, f"leaves[{middle}]", "do not tile")
-    cert = copy.deepcopy(feasible)
-    leaves = cert["claims"][0]["leaves"]
-    for key in leaves:
-        del leaves[key][-1]
-    rejected(cert, "leaves", "up to t = 1")
+    rejected(drop_leaves(feasible.copy(), middle), f"leaves[{middle}]", "do not tile")
+    rejected(drop_leaves(feasible.copy(), len(feasible.arrays["traj.t"]) - 1), "leaves", "up to t = 1")
 
 
 def test_widened_leaf_rejected(infeasible):
     # the last '+' leaf before legs 1-2 interfere, widened over the next two leaves
-    cert = copy.deepcopy(infeasible)
-    claim = cert["claims"][0]
-    k = column(claim, "interference", [1, 2])
-    leaves = claim["leaves"]
-    i = next(i for i, s in enumerate(leaves["state"]) if s[k] != "+") - 1
-    leaves["t"][i][1] = leaves["t"][i + 2][1]
-    for key in leaves:
-        del leaves[key][i + 1:i + 3]
-    rejected(cert, f"leaves[{i}]", "interference legs 1-2")
+    cert = infeasible.copy()
+    k = column(cert.claim(), "interference", [1, 2])
+    i = int(np.nonzero(cert.arrays["traj.state"][:, k] != PLUS)[0][0]) - 1
+    cert.arrays["traj.t"][i, 1] = cert.arrays["traj.t"][i + 2, 1]
+    rejected(drop_leaves(cert, [i + 1, i + 2]), f"leaves[{i}]", "interference legs 1-2")
     # widened without removing its neighbour: the leaves overlap
-    cert = copy.deepcopy(infeasible)
-    cert["claims"][0]["leaves"]["t"][5][1] = cert["claims"][0]["leaves"]["t"][6][1]
+    cert = infeasible.copy()
+    cert.arrays["traj.t"][5, 1] = cert.arrays["traj.t"][6, 1]
     rejected(cert, "leaves[6]", "do not tile")
 
 
 def test_status_changed_rejected(infeasible, feasible):
-    cert = copy.deepcopy(infeasible)
-    cert["claims"][0]["status"] = "feasible"
+    cert = infeasible.copy()
+    cert.claim()["status"] = "feasible"
     rejected(cert, "claims[0].status", "feasible, but")
-    cert = copy.deepcopy(feasible)
-    cert["claims"][0]["status"] = "infeasible"
+    cert = feasible.copy()
+    cert.claim()["status"] = "infeasible"
     rejected(cert, "claims[0].status", "infeasible, but")
-    cert = copy.deepcopy(infeasible)
-    cert["claims"][0]["status"] = "undecided"
-    assert proofs.check(cert).ok                     # a weaker verdict claims less
+    cert = infeasible.copy()
+    cert.claim()["status"] = "undecided"
+    assert cert.check().ok                           # a weaker verdict claims less
 
 
 def test_shrunk_violation_rejected(infeasible):
-    cert = copy.deepcopy(infeasible)
-    v = cert["claims"][0]["violations"][0]
+    cert = infeasible.copy()
+    v = cert.claim()["violations"][0]
     v["t"][0] += 1e-3
     v["s"][0] = float(v["segment"] + v["t"][0])
     rejected(cert, "claims[0].violations", "no violation interval covers it")
-    cert = copy.deepcopy(infeasible)
-    del cert["claims"][0]["violations"][-1]
+    cert = infeasible.copy()
+    del cert.claim()["violations"][-1]
     rejected(cert, "no violation interval covers it")
 
 
 def test_violation_fields_checked(infeasible, feasible):
-    cert = copy.deepcopy(infeasible)
-    cert["claims"][0]["violations"][0]["s"][0] -= 1e-3     # s no longer the rounding of segment + t
+    cert = infeasible.copy()
+    cert.claim()["violations"][0]["s"][0] -= 1e-3     # s no longer the rounding of segment + t
     rejected(cert, "violations[0]", "s must enclose segment + t")
-    cert = copy.deepcopy(feasible)
-    cert["claims"][0]["violations"] = [{"constraint": "leg-length", "legs": [1], "s": [0.0, 0.5], "certain": True}]
+    cert = feasible.copy()
+    cert.claim()["violations"] = [{"constraint": "leg-length", "legs": [1], "s": [0.0, 0.5], "certain": True}]
     rejected(cert, "violations[0]", "marked certain")
 
 
 def test_changed_pose_rejected(infeasible):
-    cert = copy.deepcopy(infeasible)
-    cert["claims"][0]["path"][1][0] = "95"
+    cert = infeasible.copy()
+    cert.claim()["path"][1][0] = "95"
     rejected(cert, "claims[0].leaves[", "refuted")
-    cert = copy.deepcopy(infeasible)
-    cert["claims"][0]["path"][1][0] = "95deg"
+    cert = infeasible.copy()
+    cert.claim()["path"][1][0] = "95deg"
     rejected(cert, "path[1].x", "only allowed for angles")
 
 
 def test_changed_limits_rejected(feasible):
-    cert = copy.deepcopy(feasible)
-    cert["robot"]["limits"]["leg_length"][0][1] = "600"
-    rejected(cert, "leaves[0]", "leg-length leg 1", "refuted")
-    cert = copy.deepcopy(feasible)
-    cert["robot"]["limits"]["leg_radius"][0] = "40"
-    rejected(cert, "interference legs 1-")
-    cert = copy.deepcopy(feasible)
-    del cert["robot"]["limits"]["leg_radius"]
-    rejected(cert, "instances[6]", "not implied")
-    cert = copy.deepcopy(feasible)
-    cert["robot"]["limits"]["leg_stiffness"] = "1"
-    rejected(cert, "robot.limits.leg_stiffness")
+    cert = feasible.copy()
+    cert.header["robot"]["limits"]["leg_length"][0][1] = "600"
+    rejected(cert, "geometry_sha256")                # the geometry's hash no longer fits, then the proofs
+    rejected(cert.robot_edited(), "leaves[0]", "leg-length leg 1", "refuted")
+    cert = feasible.copy()
+    cert.header["robot"]["limits"]["leg_radius"][0] = "40"
+    rejected(cert.robot_edited(), "interference legs 1-")
+    cert = feasible.copy()
+    del cert.header["robot"]["limits"]["leg_radius"]
+    rejected(cert.robot_edited(), "instances[6]", "not implied")
+    cert = feasible.copy()
+    cert.header["robot"]["limits"]["leg_stiffness"] = "1"
+    rejected(cert.robot_edited(), "robot.limits.leg_stiffness")
 
 
 def test_joint_limits_validated():
     data = copy.deepcopy(SPHERICAL)
-    cert = verify_trajectory(robot_from_dict(data), "30deg,60deg,30deg", "35deg,55deg,30deg").certificate()
+    cert = Doc(verify_trajectory(robot_from_dict(data), "30deg,60deg,30deg", "35deg,55deg,30deg").certificate())
     for value in ("-70deg", "350deg", "1.6"):               # the checker only knows cones up to 90deg
-        bad = copy.deepcopy(cert)
-        bad["robot"]["limits"]["base_joints"][0]["half_angle"] = value
-        rejected(bad, "base_joints[0].half_angle")
-    bad = copy.deepcopy(cert)
-    bad["robot"]["limits"]["platform_joints"][1]["normals"][0] = ["0", "0", "-1"]
-    rejected(bad, "platform facet 1")
-    planar = verify_trajectory(robot_from_dict(PLANAR), "10,10,22.5deg", "12,8,30deg").certificate()
-    planar["robot"]["limits"]["platform_joints"] = [{"normals": [["0", "0", "1"]]}] * 3
-    rejected(planar, "platform joint limits are not modelled")
+        bad = cert.copy()
+        bad.header["robot"]["limits"]["base_joints"][0]["half_angle"] = value
+        rejected(bad.robot_edited(), "base_joints[0].half_angle")
+    bad = cert.copy()
+    bad.header["robot"]["limits"]["platform_joints"][1]["normals"][0] = ["0", "0", "-1"]
+    rejected(bad.robot_edited(), "platform facet 1")
+    planar = Doc(verify_trajectory(robot_from_dict(PLANAR), "10,10,22.5deg", "12,8,30deg").certificate())
+    planar.header["robot"]["limits"]["platform_joints"] = [{"normals": [["0", "0", "1"]]}] * 3
+    rejected(planar.robot_edited(), "platform joint limits are not modelled")
 
 
 def test_header_checked(feasible):
-    cert = copy.deepcopy(feasible)
-    cert["model"] = "planar-3rpr/1"
+    cert = feasible.copy()
+    cert.header["model"] = "planar-3rpr/1"
     rejected(cert, "robot.kind")
-    cert = copy.deepcopy(feasible)
-    cert["claims"][0]["leaves"]["state"][3] += "+"
-    rejected(cert, "leaves[3]", "one of")
+    cert = feasible.copy()
+    cert.arrays["traj.state"] = np.concatenate([cert.arrays["traj.state"], cert.arrays["traj.state"][:, :1]], 1)
+    rejected(cert, "claims[0].leaves: rows")
+    cert = feasible.copy()
+    cert.arrays["traj.state"][3, 0] = 3
+    rejected(cert, "a state is not 0, 1, 2")
 
 
 # ----- independent reference (mpmath, brute force) ------------------------------------------

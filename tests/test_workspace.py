@@ -19,7 +19,8 @@ import pytest
 import sympy as sp
 
 import certkin
-import proofs as checker
+import proofs
+from certfile import Doc
 from certkin import InputError, robot_from_dict
 from certkin.engine import EXCLUDED, PROVED
 from certkin.cli.workspace import add_arguments, describe, run
@@ -62,8 +63,8 @@ def meets(iv_lo, iv_hi, text):
 
 
 def checked(result):
-    cert = json.loads(json.dumps(result.certificate()))
-    report = checker.check(cert)
+    cert = Doc(result.certificate())
+    report = cert.check()
     assert report.ok, report.step
     return cert
 
@@ -104,7 +105,7 @@ def test_section_20005_is_fast_bracketed_and_checks(micro):
     assert doc["ignored_limits"] == [] and doc["stats"]["bracket_width"] == r.outer - r.inner
     coarse = workspace_section(micro, "0,0,0", "20005", min_width=1e-2)
     cert = checked(coarse)
-    assert cert["claims"][0]["area"] == {"inner": coarse.inner, "outer": coarse.outer}
+    assert cert.claim()["area"] == {"inner": coarse.inner, "outer": coarse.outer}
 
 
 def test_twelve_and_four_arc_structures(micro):
@@ -131,7 +132,7 @@ def test_sections_outside_the_z_range_are_proved_empty(micro, z, min_width):
     assert r.status == "empty" and r.outer == 0.0 and r.inner == 0.0
     assert float(r.area.lo) == float(r.area.hi) == 0.0 and r.boundary.arcs == []
     cert = checked(r)
-    claim = cert["claims"][0]
+    claim = cert.claim()
     assert claim["area"] == {"inner": 0.0, "outer": 0.0}
 
 
@@ -245,7 +246,7 @@ def test_planar_lens_of_two_disks(phi):
 def test_planar_disjoint_disks_are_empty():
     r = workspace_section(robot_from_dict(EX2), "30deg", min_width=1e-2)
     assert r.status == "empty" and r.domain is None and float(r.area.hi) == 0.0
-    assert checked(r)["claims"][0]["domain"] == "empty"
+    assert checked(r).claim()["domain"] == "empty"
 
 
 # ----- volume ----------------------------------------------------------------------
@@ -285,30 +286,19 @@ def test_volume_certificate_checks_and_rejects_a_raised_bound(micro):
     vin, vout = v.volume()
     assert vin <= float(VOLUME) <= vout
     cert = checked(v)
-    bad = copy.deepcopy(cert)
-    bad["volume"]["inner"] = vin * 1.001
-    assert "volume.inner" in checker.check(bad).step
-    bad = copy.deepcopy(cert)
-    bad["claims"][3]["slab"][0] = np.nextafter(bad["claims"][3]["slab"][0], 0)
-    assert "does not start" in checker.check(bad).step
-    bad = copy.deepcopy(cert)
-    bad["requested"]["z"] = ["19999", "20010"]
-    assert "requested.z" in checker.check(bad).step
+    bad = cert.copy()
+    bad.header["volume"]["inner"] = vin * 1.001
+    assert "volume.inner" in bad.check().step
+    bad = cert.copy()
+    bad.claim(3)["slab"][0] = float(np.nextafter(bad.claim(3)["slab"][0], 0))
+    assert "does not start" in bad.check().step
+    bad = cert.copy()
+    bad.header["requested"]["z"] = ["19999", "20010"]
+    assert "requested.z" in bad.check().step
 
 
 # ----- tampering ---------------------------------------------------------------------
-def _leaves(node, path=()):
-    if "split" in node:
-        for k, child in enumerate(node["children"]):
-            yield from _leaves(child, path + (k,))
-    else:
-        yield path, node
-
-
-def _at(tree, path):
-    for k in path:
-        tree = tree["children"][k]
-    return tree
+INSIDE, OUTSIDE, BOUNDARY = 0, 1, 2
 
 
 @pytest.fixture(scope="module")
@@ -317,70 +307,61 @@ def section_cert(micro):
 
 
 def test_outside_box_moved_inside_is_rejected(section_cert):
-    bad = copy.deepcopy(section_cert)
-    tree = bad["claims"][0]["tree"]
-    path, leaf = next((p, l) for p, l in _leaves(tree) if l["leaf"] == "outside")
-    leaf["leaf"] = "inside"
-    leaf.pop("leg")
-    report = checker.check(bad)
-    assert not report.ok and "inside not proved" in report.step and "/".join(map(str, path)) in report.step
+    bad = section_cert.copy()
+    leaf = bad.nodes(3, OUTSIDE)[0]
+    bad.arrays["tree.index"] = np.delete(bad.arrays["tree.index"], bad.row("tree.index", leaf))
+    bad.arrays["tree.code"][leaf] = INSIDE
+    report = bad.check()
+    assert not report.ok and report.step.startswith(f"claims[0].tree: node {leaf} (inside)") and \
+        "inside not proved" in report.step
 
 
 def test_boundary_box_called_inside_or_outside_is_rejected(section_cert):
-    for kind in ("inside", "outside"):
-        bad = copy.deepcopy(section_cert)
-        leaf = next(l for _, l in _leaves(bad["claims"][0]["tree"]) if l["leaf"] == "boundary")
-        leaf["leaf"] = kind
-        if kind == "outside":
-            leaf["leg"] = 1
-        assert f"{kind} not proved" in checker.check(bad).step
+    for kind in (INSIDE, OUTSIDE):
+        bad = section_cert.copy()
+        leaf = bad.nodes(3, BOUNDARY)[0]
+        bad.arrays["tree.code"][leaf] = kind
+        if kind == OUTSIDE:
+            bad.arrays["tree.index"] = np.insert(bad.arrays["tree.index"], bad.row("tree.index", leaf), 1)
+        assert f"{('inside', 'outside')[kind]} not proved" in bad.check().step
 
 
-def test_widened_box_is_rejected(section_cert):
-    bad = copy.deepcopy(section_cert)
-    leaf = next(l for _, l in _leaves(bad["claims"][0]["tree"]) if l["leaf"] == "inside")
-    leaf["box"][0][1] += 1e-3
-    assert "box does not match the derived box" in checker.check(bad).step
-    bad = copy.deepcopy(section_cert)
-    bad["claims"][0]["domain"][0][1] += 0.5                    # a wider domain: every derived box moves
-    assert not checker.check(bad).ok
+def test_widened_domain_is_rejected(section_cert):
+    bad = section_cert.copy()
+    bad.claim()["domain"][0][1] += 0.5                        # a wider domain: every derived box moves
+    assert not bad.check().ok
 
 
 def test_cut_domain_wrong_leg_and_raised_area_are_rejected(section_cert):
-    bad = copy.deepcopy(section_cert)
-    bad["claims"][0]["domain"][1][1] = 7.0                     # cuts the section (y reaches 7.6089)
-    assert "domain: the hi bound of y may cut the section" in checker.check(bad).step
-    bad = copy.deepcopy(section_cert)
-    leaf = next(l for _, l in _leaves(bad["claims"][0]["tree"]) if l["leaf"] == "outside")
-    leaf["leg"] = leaf["leg"] % 6 + 1 if leaf["leg"] != 0 else 1
-    step = checker.check(bad).step
+    bad = section_cert.copy()
+    bad.claim()["domain"][1][1] = 7.0                          # cuts the section (y reaches 7.6089)
+    assert "domain: the hi bound of y may cut the section" in bad.check().step
+    bad = section_cert.copy()
+    row = bad.row("tree.index", bad.nodes(3, OUTSIDE)[0])
+    bad.arrays["tree.index"][row] = bad.arrays["tree.index"][row] % 6 + 1
+    step = bad.check().step
     assert "outside not proved" in step or not step     # another leg may exclude it too: then it is still true
-    bad = copy.deepcopy(section_cert)
-    bad["claims"][0]["area"]["inner"] += 1.0
-    assert "area.inner" in checker.check(bad).step
-    bad = copy.deepcopy(section_cert)
-    bad["claims"][0]["area"]["outer"] -= 1.0
-    assert "area.outer" in checker.check(bad).step
+    bad = section_cert.copy()
+    bad.claim()["area"]["inner"] += 1.0
+    assert "area.inner" in bad.check().step
+    bad = section_cert.copy()
+    bad.claim()["area"]["outer"] -= 1.0
+    assert "area.outer" in bad.check().step
 
 
 def test_removed_leaf_and_changed_geometry_are_rejected(section_cert):
-    bad = copy.deepcopy(section_cert)
-    tree = bad["claims"][0]["tree"]
-    path, _ = next((p, l) for p, l in _leaves(tree) if len(p) > 2)
-    parent = _at(tree, path[:-1])
-    keep = parent["children"][0]
-    parent.clear()
-    parent.update(keep)                                        # one half of a split disappears
-    assert not checker.check(bad).ok
-    bad = copy.deepcopy(section_cert)
-    bad["robot"]["limits"]["leg_length"][2] = ["23004.2", "23012.0"]
-    assert not checker.check(bad).ok
-    bad = copy.deepcopy(section_cert)
-    bad["orientation"]["psi"] = "1deg"
-    assert not checker.check(bad).ok
-    bad = copy.deepcopy(section_cert)
-    bad["claims"][0]["z"] = "20004"
-    assert not checker.check(bad).ok
+    bad = section_cert.copy()
+    leaf = bad.nodes(3, BOUNDARY)[-1]                         # one leaf disappears
+    for name in ("tree.kind", "tree.code"):
+        bad.arrays[name] = np.delete(bad.arrays[name], leaf)
+    assert not bad.check().ok
+    for edit in (lambda h: h["robot"]["limits"]["leg_length"].__setitem__(2, ["23004.2", "23012.0"]),
+                 lambda h: h["orientation"].__setitem__("psi", "1deg"),
+                 lambda h: h["claims"][0].__setitem__("z", "20004")):
+        bad = section_cert.copy()
+        edit(bad.header)
+        bad.header["geometry_sha256"] = proofs.geometry_sha256(bad.header["robot"])
+        assert not bad.check().ok
 
 
 # ----- input, CLI hooks, outputs -------------------------------------------------------
@@ -427,13 +408,13 @@ def test_api_input_errors(micro):
 def test_run_prints_json_writes_certificate_and_plot(tmp_path, micro):
     import io
     out = io.StringIO()
-    cert, png = tmp_path / "w.json", tmp_path / "w.png"
+    cert, png = tmp_path / "w.cert", tmp_path / "w.png"
     args = parse([MICRO, "--orientation", "0,0,0", "--z", "20005", "--json", "--min-width", "0.01",
                   "--certificate", str(cert), "--plot", str(png)])
     assert run(args, out) == 0
     doc = json.loads(out.getvalue())
     assert doc["status"] == "non-empty" and doc["area"]["exact"][0] <= 190.795788303254 <= doc["area"]["exact"][1]
-    assert checker.check(json.loads(cert.read_text())).ok
+    assert proofs.check(cert).ok
     pytest.importorskip("matplotlib")
     assert png.read_bytes()[:4] == b"\x89PNG"
     out = io.StringIO()

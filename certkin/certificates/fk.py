@@ -1,82 +1,174 @@
-"""Forward-kinematics certificates: per set of leg lengths, the domain, every solution box with its
-Krawczyk matrix, and the search tree with the evidence of each leaf and contraction
-(``proofs.fk`` re-checks them)."""
+"""Forward-kinematics certificates (``docs/certificates.md``): per set of leg lengths, the domain, the
+regions (each proved root box R with its Krawczyk matrix, X* = R), the solutions among them, and the
+search tree with the evidence of each leaf and contraction (``proofs.fk`` re-checks them).
+
+Preconditioners that the checker rebuilds from its own enclosures (codes + 64: the Gauss-Seidel P
+and the C of emptiness and contraction steps) are not stored; the uniqueness proofs keep theirs.
+"""
 from __future__ import annotations
 
 import numpy as np
 
-from ..engine import EXCLUDED, PROVED
-from .writing import FORMAT, VERSION, box_json
+from ..engine import CONTRACTED, EXCLUDED, PROVED, SPLIT, UNDECIDED
+from .forest import Forest, Rules
+from .writing import Array, Document, box_json, header, one, outward_boxes
+
+REBUILT = 64
+LEAVES = {"equation": 0, "hc4-empty": 1, "position-empty": 2 + REBUILT, "krawczyk-empty": 3 + REBUILT,
+          "slope-empty": 4 + REBUILT, "slope-gs-empty": 5 + REBUILT}
+CONTRACTIONS = {"hc4": 0, "position": 2 + REBUILT, "krawczyk": 3 + REBUILT, "slope": 4 + REBUILT,
+                "slope-gs": 5 + REBUILT}
+UNIQUE, OUTSIDE, UNDECIDED_LEAF, HC4_POSITION = 6, 7, 10, 1 + REBUILT
+RULE_NAMES = {**{c: n for n, c in LEAVES.items()}, UNIQUE: "krawczyk-unique", OUTSIDE: "krawczyk-outside",
+              UNDECIDED_LEAF: "undecided"}
 
 
-def fk_certificate(results) -> dict:
-    """Certificate for one FKResult or a list of them (one claim per set of leg lengths)."""
-    if not isinstance(results, (list, tuple)):
-        results = [results]
-    r0 = results[0]
-    cert = {"format": FORMAT, "version": VERSION, "problem": "forward-kinematics", "robot": r0.robot.to_dict(),
-            "model": r0.system.model_name, "unknowns": list(r0.system.unknowns)}
-    cert["claims"] = [fk_claim(r) for r in results]
-    return cert
+class _Leaf:
+    """A one-node tree (a tracked posture's single Krawczyk proof, or a search that did not run)."""
+
+    def __init__(self, lo, hi):
+        self.lo, self.hi = np.asarray(lo, float)[None], np.asarray(hi, float)[None]
+        self.kind = np.array([PROVED], np.int8)
+        self.first_child = self.split_dim = self.reason = np.zeros(1, np.int32)
+        self.split_at = np.zeros(1)
 
 
-def fk_claim(result) -> dict:
-    """The claim of one FK result: domain, solutions with their Krawczyk matrices, and the search tree."""
-    if np.any(result.domain[0] > result.domain[1]):  # the leg-length balls do not meet: no posture at all
-        return {"lengths": list(result.lengths), "domain": "empty", "covers": "all-postures", "complete": True,
-                "solutions": [], "tree": None}
-    claim = {"lengths": list(result.lengths), "domain": box_json(*result.domain),
-             "covers": "box" if result.user_domain or result.tracked else "all-postures",
-             "complete": bool(result.complete)}
-    sols = result.all_solutions
-    claim["solutions"] = [{"box": box_json(s["box"].lo, s["box"].hi), "C": np.asarray(s["C"]).tolist()} for s in sols]
-    if result.tracked:  # one Krawczyk proof on the whole box: exactly one posture there
-        claim["tree"] = {"leaf": "krawczyk-unique", "box": claim["domain"], "C": np.asarray(result.track_C).tolist(),
-                         "solution": 0}
-        return claim
-    if result.tree is None:
-        claim["tree"] = {"leaf": "undecided", "box": claim["domain"]}
-        return claim
-    tree = result.tree
+class _Proved:
+    """The proved leaves of one tree as arrays sorted by node: their rule (unique, outside or undecided)
+    and evidence (X*, region and twin; the outside root box and its C), from the results' proofs."""
 
-    def leaf(i):
-        box = box_json(tree.lo[i], tree.hi[i])
-        if tree.kind[i] == EXCLUDED:
-            name = tree.reason_name(i)
-            out = {"leaf": name, "box": box}
-            if name == "equation":
-                out["equation"] = int(tree.evidence_of(i, ("equation",))["equation"])
-            elif name in ("krawczyk-empty", "slope-empty", "slope-gs-empty"):
-                out["C"] = tree.evidence_of(i, ("C",))["C"]
-            elif name == "hc4-empty":
-                pass                          # no evidence: the checker repeats the contraction
-            else:
-                out["P"] = tree.evidence_of(i, ("P",))["P"]
-            return out
-        if tree.kind[i] == PROVED:
-            proof = result.leaf_proofs.get(int(i), {"undecided": True})
-            if proof.get("undecided"):
-                return {"leaf": "undecided", "box": box}
-            out = {"leaf": "krawczyk-unique", "box": box, "C": tree.evidence_of(i, ("C",))["C"]}
-            star = proof["star"]
-            if np.any(star[0] != tree.lo[i]) or np.any(star[1] != tree.hi[i]):
-                out["star"] = box_json(*star)
-            if "outside" in proof:
-                olo, ohi, oC = proof["outside"]
-                out["outside"] = {"box": box_json(olo, ohi), "C": np.asarray(oC).tolist()}
-            else:
-                out["solution"] = int(proof["solution"])
-                if proof["twin"]:
-                    out["twin"] = True
-            return out
-        return {"leaf": "undecided", "box": box}
+    def __init__(self, n, proofs):
+        items = sorted(proofs.items())
+        self.node = np.array([i for i, _ in items], np.int64)
+        self.code = np.array([UNDECIDED_LEAF if p.get("undecided") else OUTSIDE if "outside" in p else UNIQUE
+                              for _, p in items], np.int64)
+        zero, zeros = np.zeros(n), np.zeros((n, n))
+        pick = lambda f, shape, dt=float: np.array([f(p) for _, p in items], dt).reshape((-1,) + shape)  # noqa: E731
+        self.star = np.swapaxes(pick(lambda p: p.get("star", (zero, zero)), (2, n)), -1, -2)
+        self.index = pick(lambda p: (p.get("solution", 0), int(bool(p.get("twin")))), (2,), np.int32)
+        self.root = np.swapaxes(pick(lambda p: p["outside"][:2] if "outside" in p else (zero, zero), (2, n)), -1, -2)
+        self.root_C = pick(lambda p: p["outside"][2] if "outside" in p else zeros, (n, n))
+        self.C = pick(lambda p: p.get("C", zeros), (n, n))
 
-    def contraction(i):
-        name = tree.reason_name(i)
-        child = int(tree.first_child[i])
-        out = {"contract": name, "box": box_json(tree.lo[child], tree.hi[child])}
-        out.update(tree.evidence_of(i, ("C",) if name in ("krawczyk", "slope", "slope-gs") else ("P",)))
+    def at(self, ids):
+        """Rows of the proved leaves ``ids``."""
+        return np.searchsorted(self.node, ids)
+
+
+def _rules(tree, proved, n):
+    """The rules of a tree: the engine's (``proved``: its ``_Proved``), or a ``_Leaf``'s."""
+    names = getattr(tree, "reasons", ())
+    leaf_lut = np.array([LEAVES.get(x, 255) for x in names] or [255], np.int64)
+    con_lut = np.array([CONTRACTIONS.get(x, 255) for x in names] or [255], np.int64)
+    has_p = getattr(tree, "evidence_rows", {}).get("P")
+    own_C = not isinstance(tree, _Leaf)          # a search leaf's C is its evidence; a tracked proof's, its own
+
+    def code(t, ids):
+        kind, reason = t.kind[ids], np.clip(t.reason[ids], 0, None)
+        out = np.full(len(ids), UNDECIDED_LEAF, np.int64)
+        out[kind == EXCLUDED] = leaf_lut[reason[kind == EXCLUDED]]
+        c = kind == CONTRACTED
+        out[c] = con_lut[reason[c]]
+        if has_p is not None:                      # an hc4 contraction followed by the position sweep
+            out[c & (out == 0) & (has_p[ids] >= 0)] = HC4_POSITION
+        p = kind == PROVED
+        out[p] = proved.code[proved.at(ids[p])] if p.any() else []
+        out[kind == UNDECIDED] = UNDECIDED_LEAF
         return out
 
-    claim["tree"] = tree.nested(result.node, leaf, contraction)
-    return claim
+    def leaves(t, ids, c, *codes):
+        return (t.kind[ids] != CONTRACTED) & (t.kind[ids] != SPLIT) & np.isin(c, codes)
+
+    def rows(counts, dtype, tail):
+        first = np.cumsum(counts) - counts
+        return np.zeros((int(counts.sum()),) + tail, dtype), first
+
+    def index(t, ids, c):
+        eq, uq = leaves(t, ids, c, 0), leaves(t, ids, c, UNIQUE)
+        out, first = rows(eq * 1 + uq * 2, np.int32, ())
+        if eq.any():
+            out[first[eq]] = t.evidence_values("equation", ids[eq])
+        k = proved.at(ids[uq])
+        out[first[uq]], out[first[uq] + 1] = proved.index[k, 0], proved.index[k, 1]
+        return out
+
+    def matrices(t, ids, c):
+        uq, ou = leaves(t, ids, c, UNIQUE, OUTSIDE), leaves(t, ids, c, OUTSIDE)
+        out, first = rows(uq * 1 + ou * 1, np.float32, (n, n))
+        if uq.any():
+            out[first[uq]] = t.evidence_values("C", ids[uq]) if own_C else proved.C[proved.at(ids[uq])]
+        out[first[ou] + 1] = proved.root_C[proved.at(ids[ou])]
+        return out
+
+    def boxes(which):
+        def get(t, ids, c):
+            sel = leaves(t, ids, c, UNIQUE, OUTSIDE) if which == "star" else leaves(t, ids, c, OUTSIDE)
+            k = proved.at(ids[sel])
+            return proved.star[k] if which == "star" else proved.root[k]
+        return get
+
+    return Rules(code, {"tree.index": ("<i4", (), index), "tree.C": ("<f4", (n, n), matrices),
+                        "tree.star": ("<f8", (n, 2), boxes("star")), "tree.rootbox": ("<f8", (n, 2), boxes("root"))})
+
+
+def fk_certificate(results) -> Document:
+    """The certificate of one FKResult or a list of them (one claim per set of leg lengths)."""
+    results = results if isinstance(results, (list, tuple)) else [results]
+    r0 = results[0]
+    n = r0.system.n
+    claims, roots, regions, shared = [], [], [], {}
+    for r in results:                            # one rules object per engine tree shared by the results
+        if r.tree is not None and not r.tracked:
+            shared.setdefault(id(r.tree), []).append(r)
+    rules = {key: _rules(rs[0].tree, _Proved(n, {i: p for r in rs for i, p in r.leaf_proofs.items()}), n)
+             for key, rs in shared.items()}
+    for r in results:
+        claim = {"lengths": list(r.lengths)}
+        if np.any(r.domain[0] > r.domain[1]):       # the leg-length balls do not meet: no posture at all
+            claims.append({**claim, "domain": "empty", "covers": "all-postures", "complete": True,
+                           "solutions": [], "tree": None})
+            continue
+        first = len(regions)
+        regions += r.all_solutions
+        dlo, dhi = np.asarray(r.domain[0], float), np.asarray(r.domain[1], float)
+        blo = np.array([s["box"].lo for s in r.all_solutions]).reshape(-1, n)
+        bhi = np.array([s["box"].hi for s in r.all_solutions]).reshape(-1, n)
+        inside = np.nonzero(np.all((blo >= dlo) & (bhi <= dhi), axis=1))[0]
+        claim.update(domain=box_json(dlo, dhi), covers="box" if r.user_domain or r.tracked else "all-postures",
+                     complete=bool(r.complete), tree=True, regions=[first, len(r.all_solutions)],
+                     solutions=[{"region": int(j), "box": box} for j, box in zip(inside, outward_boxes(blo[inside], bhi[inside]))])
+        claims.append(claim)
+        if r.tree is not None and not r.tracked:
+            roots.append((r.tree, r.node, rules[id(r.tree)]))
+        else:
+            leaf = _Leaf(dlo, dhi)
+            proof = {"star": (dlo, dhi), "solution": 0, "twin": False, "C": r.track_C} if r.tracked else {"undecided": True}
+            roots.append((leaf, 0, _rules(leaf, _Proved(n, {0: proof}), n)))
+    forest = Forest(roots, n)
+    _figures(claims, forest)
+    R = np.stack([np.array([s["box"].lo for s in regions]).reshape(-1, n),
+                  np.array([s["box"].hi for s in regions]).reshape(-1, n)], -1)
+    C = np.array([np.asarray(s["C"], float) for s in regions]).reshape(-1, n, n)
+    body = forest.arrays() + [Array("fk.region.box", "<f8", (n, 2), one(R)),      # X* = R: no fk.region.star
+                              Array("fk.region.box_C", "<f8", (n, n), one(C))]
+    hdr = header(r0.robot, "forward-kinematics", r0.system.model_name, unknowns=list(r0.system.unknowns), claims=claims)
+    return Document(hdr, body)
+
+
+def _figures(claims, forest):
+    """Per claim with a tree: the number of solutions, of regions, and of leaves by rule."""
+    with_tree = iter([c for c in claims if c.get("tree")])
+    for part, ((tree, nodes, rules), levels) in enumerate(zip(forest.roots, forest.levels)):
+        ids = np.concatenate(levels)
+        codes = np.concatenate([seg[3] for seg in forest.segments if seg[0] == part]).astype(np.int64)
+        is_leaf = (tree.kind[ids] != CONTRACTED) & (tree.kind[ids] != SPLIT)
+        leaves, codes = ids[is_leaf], codes[is_leaf]
+        root = tree.root[leaves].astype(np.int64) if hasattr(tree, "root") else np.zeros(len(leaves), np.int64)
+        pairs, counts = np.unique(root * 256 + codes, return_counts=True)     # (root, rule) -> leaves
+        by_root = {}
+        for pair, k in zip(pairs.tolist(), counts.tolist()):
+            by_root.setdefault(pair // 256, {})[RULE_NAMES.get(pair % 256, str(pair % 256))] = k
+        for node in nodes:                       # the leaves of each claim: those of its root
+            claim = next(with_tree)
+            counts = by_root.get(int(tree.root[node]) if hasattr(tree, "root") else 0, {})
+            claim["figures"] = {"solutions": len(claim["solutions"]), "regions": claim["regions"][1], "leaves": counts}

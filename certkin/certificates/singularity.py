@@ -1,40 +1,49 @@
-"""Singularity certificates: per box, the search tree with the rule and sign of each leaf, or two
-witness poses of opposite certified signs (``proofs.singularity`` re-checks them)."""
+"""Singularity certificates (``docs/certificates.md``): per box, the exact requested box and either the
+search tree whose every leaf proves the sign of det(A) (rule and monotonicity flags), or two witness
+poses of opposite certified signs inside the requested box (``proofs.singularity`` re-checks them)."""
 from __future__ import annotations
 
+import numpy as np
+
 from ..engine import PROVED
-from .writing import floats, pose_certificate
+from .forest import Forest, Rules
+from .writing import Document, box_json, header
+
+CODES = {"natural": 0, "centred": 1, "monotone": 2}
 
 
-def singularity_tree(result) -> dict:
-    """The search tree of one singularity result as nested certificate nodes."""
-    tree = result.tree
+def _rules(tree, d):
+    lut = np.array([CODES.get(name, 255) for name in tree.reasons], np.int64)
 
-    def leaf(i):
-        out = {"leaf": tree.reason_name(i) if tree.kind[i] == PROVED else "undecided",
-               "box": [[float(a), float(b)] for a, b in zip(tree.lo[i], tree.hi[i])]}
-        if tree.kind[i] == PROVED:
-            ev = tree.evidence_of(i)
-            out["sign"] = int(ev["sign"])
-            if out["leaf"] == "monotone":
-                out["monotone"] = [int(v) for v in ev["monotone"]]
-        return out
+    def code(t, ids):
+        return np.where(t.kind[ids] == PROVED, lut[np.clip(t.reason[ids], 0, None)], 255)
 
-    return tree.nested(result.node, leaf)
+    def flags(t, ids, c):
+        m = ids[(t.kind[ids] == PROVED) & (c == CODES["monotone"])]
+        return t.evidence_values("monotone", m).astype(np.int8) if len(m) else np.zeros((0, d), np.int8)
+
+    return Rules(code, {"tree.flags": ("|i1", (d,), flags)})
 
 
 def singularity_claim(result) -> dict:
-    claim = {"box": [[float(a), float(b)] for a, b in zip(result.lo, result.hi)], "status": result.status}
+    claim = {"box": box_json(result.lo, result.hi), "status": result.status}
     if result.box and all(isinstance(v, list) for v in result.box.values()):
         claim["requested"] = {k: [str(a), str(b)] for k, (a, b) in result.box.items()}
     if result.status == "singularity-free":
-        claim["sign"] = int(result.sign)
-        claim["tree"] = singularity_tree(result)
+        claim.update(sign=int(result.sign), tree=True)
     elif result.status == "singular":
-        claim["witnesses"] = {k: floats(v) for k, v in result.witnesses.items()}
+        names = result.robot.pose_names        # a coordinate with an exact irrational value is written as its text
+        claim["witnesses"] = {k: [result.exact_values.get(n, float(v)) for n, v in zip(names, w)]
+                              for k, w in result.witnesses.items()}
     return claim
 
 
-def singularity_certificate(results) -> dict:
-    """Certificate for one SingularityResult or a list of them (cells)."""
-    return pose_certificate("singularity", results, singularity_claim)
+def singularity_certificate(results) -> Document:
+    """The certificate of one SingularityResult or a list of them (cells)."""
+    results = results if isinstance(results, (list, tuple)) else [results]
+    robot, d = results[0].robot, len(results[0].robot.pose_names)
+    free = [r for r in results if r.status == "singularity-free"]
+    rules = {id(r.tree): _rules(r.tree, d) for r in free}          # one per engine tree: cells share theirs
+    forest = Forest([(r.tree, r.node, rules[id(r.tree)]) for r in free], d)
+    hdr = header(robot, "singularity", pose=list(robot.pose_names), claims=[singularity_claim(r) for r in results])
+    return Document(hdr, forest.arrays())

@@ -1,34 +1,34 @@
-"""Trajectory certificates: per path, its exact poses, the constraint instances and the leaves of
-the search with one state character per instance (``proofs.trajectory`` re-checks them)."""
+"""Trajectory certificates (``docs/certificates.md``): per path, its exact poses, the constraint
+instances, the verdict and violations (header), and the leaves of the search as body arrays: segment,
+t-interval and one state per instance (0 nothing claimed, 1 satisfied — det(A) > 0 for the
+singularity instance —, 2 violated — det(A) < 0) (``proofs.trajectory`` re-checks them)."""
 from __future__ import annotations
 
-from .writing import pose_certificate
+import numpy as np
 
-_STATE_CHARS = {1: "+", -1: "-", 0: "?"}
-
-
-def trajectory_claim(result) -> dict:
-    """One path: its exact poses, the constraint instances, the leaves with one state character
-    per instance ('+' proved satisfied, '-' proved violated, '?' not decided; for the singularity
-    instance '+'/'-' is the proved sign of det(A)), the verdict and the violations."""
-    c = result.constraints
-    L = result.leaves
-    dcol = c.det_column
-    states = []
-    for row, lo, hi in zip(L["state"], L["mlo"], L["mhi"]):
-        chars = [_STATE_CHARS[int(v)] for v in row]
-        if dcol is not None:
-            chars[dcol] = "+" if lo[dcol] > 0 else "-" if hi[dcol] < 0 else "?"
-        states.append("".join(chars))
-    return {"path": [list(t) for t in result.path.texts],
-            "instances": [i.to_json() for i in c.instances],
-            "status": result.status,
-            "violations": result.violations,
-            "leaves": {"segment": [int(s) for s in L["segment"]],
-                       "t": [[float(a), float(b)] for a, b in zip(L["tlo"], L["thi"])],
-                       "state": states}}
+from .writing import Array, Document, header
 
 
-def trajectory_certificate(results) -> dict:
-    """Certificate for one TrajectoryResult or a list of them (one claim per path)."""
-    return pose_certificate("trajectory", results, trajectory_claim)
+def _states(result):
+    L, dcol = result.leaves, result.constraints.det_column
+    s = np.asarray(L["state"], np.int64)
+    out = np.where(s == 1, 1, np.where(s == -1, 2, 0)).astype(np.uint8).reshape(len(s), -1)
+    if dcol is not None:
+        lo, hi = np.asarray(L["mlo"])[:, dcol], np.asarray(L["mhi"])[:, dcol]
+        out[:, dcol] = np.where(lo > 0, 1, np.where(hi < 0, 2, 0))
+    return out
+
+
+def trajectory_certificate(results) -> Document:
+    """The certificate of one TrajectoryResult or a list of them (one claim per path)."""
+    results = results if isinstance(results, (list, tuple)) else [results]
+    robot, claims, first = results[0].robot, [], 0
+    for r in results:
+        count = len(r.leaves["segment"])
+        claims.append({"path": [list(t) for t in r.path.texts], "instances": [i.to_json() for i in r.constraints.instances],
+                       "status": r.status, "violations": r.violations, "leaves": [first, count]})
+        first += count
+    body = [Array("traj.segment", "<i4", (), lambda: (np.asarray(r.leaves["segment"]) for r in results)),
+            Array("traj.t", "<f8", (2,), lambda: (np.stack([r.leaves["tlo"], r.leaves["thi"]], -1) for r in results)),
+            Array("traj.state", "|u1", (len(results[0].constraints.instances),), lambda: (_states(r) for r in results))]
+    return Document(header(robot, "trajectory", pose=list(robot.pose_names), claims=claims), body)

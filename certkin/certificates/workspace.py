@@ -1,65 +1,61 @@
-"""Workspace certificates: per section (or z-slab), the domain, the paving tree with the verdict of
-each leaf (inside, outside with the excluding leg, boundary) and the area bracket; for a volume,
-its slabs and bracket (``proofs.workspace`` re-checks them)."""
+"""Workspace certificates (``docs/certificates.md``): per section (or z-slab), the domain, the area
+bracket (header) and the paving tree with the verdict of each leaf: 0 inside, 1 outside (the
+excluding leg, 1-based, in ``tree.index``), 2 boundary; for a volume, its slabs and bracket
+(``proofs.workspace`` re-checks them)."""
 from __future__ import annotations
 
+import numpy as np
+
 from ..engine import EXCLUDED, PROVED
-from .writing import header
+from .forest import Forest, Rules
+from .writing import Document, header
 
 MODEL = {"gough-stewart": "gough-stewart-workspace/1", "planar-3rpr": "planar-3rpr-workspace/1"}
 
 
-def _header(result, problem):
-    cert = header(result.robot, problem, MODEL[result.robot.kind])
+def _code(t, ids):
+    return np.where(t.kind[ids] == PROVED, 0, np.where(t.kind[ids] == EXCLUDED, 1, 2))
+
+
+def _legs(t, ids, c):
+    m = ids[(t.kind[ids] == EXCLUDED)]
+    return (t.evidence_values("leg", m).astype(np.int32) + 1) if len(m) else np.zeros(0, np.int32)
+
+
+RULES = Rules(_code, {"tree.index": ("<i4", (), _legs)})
+
+
+def _claim(domain, paving, inner, outer):
+    if domain is None:
+        return {"domain": "empty", "tree": None, "area": {"inner": 0.0, "outer": 0.0}}
+    return {"domain": [[float(domain[0][k]), float(domain[1][k])] for k in range(2)], "tree": True,
+            "area": {"inner": inner, "outer": outer}}
+
+
+def _document(result, problem, claims, roots, **fields):
     names = [n for n in result.robot.pose_names if n in result.robot.angle_names]
-    cert["orientation"] = dict(zip(names, result.orientation))
-    return cert
+    hdr = header(result.robot, problem, MODEL[result.robot.kind], orientation=dict(zip(names, result.orientation)),
+                 claims=claims, **fields)
+    return Document(hdr, Forest([(p.tree, p.root, RULES) for p in roots], 2).arrays())
 
 
-def paving_tree(paving) -> dict:
-    """The search tree of one paving (one root of the search) as nested certificate nodes."""
-    t = paving.tree
-
-    def leaf(i):
-        box = [[float(t.lo[i, 0]), float(t.hi[i, 0])], [float(t.lo[i, 1]), float(t.hi[i, 1])]]
-        if t.kind[i] == PROVED:
-            return {"leaf": "inside", "box": box}
-        if t.kind[i] == EXCLUDED:
-            return {"leaf": "outside", "leg": int(t.evidence_of(i, ("leg",))["leg"]) + 1, "box": box}
-        return {"leaf": "boundary", "box": box}
-
-    return t.nested(paving.root, leaf)
-
-
-def section_certificate(result) -> dict:
-    """Certificate of one workspace section (``workspace.SectionResult``)."""
-    cert = _header(result, "workspace-section")
+def section_certificate(result) -> Document:
+    """The certificate of one workspace section (``workspace.SectionResult``)."""
     claim = {} if result.z is None else {"z": result.z}
-    if result.domain is None:
-        claim.update({"domain": "empty", "tree": None, "area": {"inner": 0.0, "outer": 0.0}})
-    else:
-        claim.update({"domain": [[float(result.domain[0][k]), float(result.domain[1][k])] for k in range(2)],
-                      "tree": paving_tree(result.paving),
-                      "area": {"inner": result.inner, "outer": result.outer}})
-    cert["claims"] = [claim]
-    return cert
+    claim.update(_claim(result.domain, result.paving, result.inner, result.outer))
+    return _document(result, "workspace-section", [claim], [result.paving] if result.domain is not None else [])
 
 
-def volume_certificate(result) -> dict:
-    """Certificate of a workspace volume bracket (``workspace.VolumeResult``): one claim per slab."""
-    cert = _header(result, "workspace-volume")
-    cert["requested"] = {"z": list(result.z_range)}
-    claims = []
+def volume_certificate(result) -> Document:
+    """The certificate of a workspace volume bracket (``workspace.VolumeResult``): one claim per slab."""
+    claims, roots = [], []
     for k, (dom, pav) in enumerate(zip(result.domains, result.pavings)):
         claim = {"slab": [float(result.bounds[k]), float(result.bounds[k + 1])]}
-        if dom is None:
-            claim.update({"domain": "empty", "tree": None, "area": {"inner": 0.0, "outer": 0.0}})
-        else:
-            claim.update({"domain": [[float(dom[0][j]), float(dom[1][j])] for j in range(2)],
-                          "tree": paving_tree(pav),
-                          "area": {"inner": pav.inner_area(), "outer": pav.outer_area()}})
+        claim.update(_claim(dom, pav, pav.inner_area() if dom is not None else 0.0,
+                            pav.outer_area() if dom is not None else 0.0))
         claims.append(claim)
-    cert["claims"] = claims
+        if dom is not None:
+            roots.append(pav)
     vin, vout = result.volume()
-    cert["volume"] = {"inner": vin, "outer": vout}
-    return cert
+    return _document(result, "workspace-volume", claims, roots, requested={"z": list(result.z_range)},
+                     volume={"inner": vin, "outer": vout})

@@ -1,54 +1,116 @@
-"""Writing certificates: the common header, boxes as JSON, and atomic files (``docs/certificates.md``).
+"""Writing certificates, format version 2 (``docs/certificates.md``): a ZIP archive whose first member is
+the JSON header (stored, readable with ``unzip -p FILE header.json``), then one deflated member per
+body array (raw little-endian bytes), each listed in the header with its dtype, shape and SHA-256.
 
-A certificate states the robot (exact decimals), the model equations by name, the claimed boxes
-and, for each, the evidence: the search tree with the rule that decided each leaf, or two witness
-poses.  One module per capability builds its claims (``singularity``, ``fk``, ``trajectory``,
-``workspace``); the checker in ``proofs`` re-verifies them without using certkin.
+A ``Document`` holds the header and the body arrays as *producers*: functions that yield an array
+chunk by chunk from the engine's own arrays.  ``Document.write`` streams them twice, once to hash
+them (the header, which lists the hashes, comes first in the file) and once to compress them into a
+temporary file renamed into place, so no second copy of a search tree is ever held in memory and
+nothing half-written is left behind.  ``Document.arrays`` gives them whole (in memory, for tests and
+for ``proofs.check(document)``).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+from fractions import Fraction
+import hashlib
 import json
 import os
 from pathlib import Path
 import tempfile
+import zipfile
+
+import numpy as np
 
 FORMAT = "certkin-certificate"
-VERSION = 1
+VERSION = 2
+CHUNK = 1 << 16          # rows per chunk when streaming the engine's arrays
+LEVEL = 1                # deflate level: the body is mostly floats; level 1 is fast and nearly as small
 
 
-def floats(a) -> list:
-    return [float(v) for v in a]
+@dataclass
+class Array:
+    """A body array: its name, dtype, shape after the first axis, and ``chunks()``, a function that
+    yields its rows in order (callable more than once)."""
+
+    name: str
+    dtype: str
+    tail: tuple
+    chunks: object
+
+    def _raw(self):
+        dt = np.dtype(self.dtype).newbyteorder("<")
+        for chunk in self.chunks():
+            chunk = np.asarray(chunk)
+            if chunk.size:
+                yield len(chunk), np.ascontiguousarray(chunk.reshape((-1,) + tuple(self.tail)), dtype=dt).tobytes()
 
 
-def box_json(lo, hi) -> list:
-    """[[lo, hi], ...] of a float box."""
-    return [[float(a), float(b)] for a, b in zip(lo, hi)]
+class Document:
+    """A certificate: ``header`` (a dict without the body entries) and ``body``, a list of ``Array``."""
+
+    def __init__(self, header: dict, body: list):
+        self.header_fields, self.body = header, [a for a in body if a is not None]
+        self._arrays = None
+
+    def _entries(self):
+        entries, total = {}, hashlib.sha256()
+        for a in self.body:
+            h, rows = hashlib.sha256(), 0
+            for n, raw in a._raw():
+                h.update(raw)
+                total.update(raw)
+                rows += n
+            entries[a.name] = {"dtype": np.dtype(a.dtype).newbyteorder("<").str, "shape": [rows, *a.tail],
+                               "sha256": h.hexdigest()}
+        return {**self.header_fields, "geometry_sha256": geometry_sha256(self.header_fields["robot"]),
+                "arrays": entries, "body_sha256": total.hexdigest()}
+
+    @property
+    def header(self) -> dict:
+        return self._entries()
+
+    @property
+    def arrays(self) -> dict:
+        """The body arrays, whole (in memory)."""
+        if self._arrays is None:
+            self._arrays = {}
+            for a in self.body:
+                parts = [np.frombuffer(raw, dtype=np.dtype(a.dtype).newbyteorder("<")) for _, raw in a._raw()]
+                flat = np.concatenate(parts) if parts else np.zeros(0, np.dtype(a.dtype))
+                self._arrays[a.name] = flat.reshape((-1,) + tuple(a.tail))
+        return self._arrays
+
+    def write(self, path) -> None:
+        """Write the archive atomically (a temporary file renamed into place)."""
+        path = Path(path)
+        header = self._entries()
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+        os.close(fd)
+        try:
+            with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED, allowZip64=True, compresslevel=LEVEL) as z:
+                z.writestr(zipfile.ZipInfo("header.json"), json.dumps(header, separators=(",", ":"), ensure_ascii=False),
+                           compress_type=zipfile.ZIP_STORED)
+                for a in self.body:
+                    with z.open(a.name + ".bin", "w", force_zip64=True) as fh:
+                        for _, raw in a._raw():
+                            fh.write(raw)
+            os.chmod(tmp, 0o666 & ~_umask())        # mkstemp's 0600 → what a plain open() would give
+            os.replace(tmp, path)
+        except BaseException:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise
 
 
-def header(robot, problem: str, model: str | None = None) -> dict:
-    """The first fields of every certificate: format, version, problem, robot and model."""
-    return {"format": FORMAT, "version": VERSION, "problem": problem,
-            "robot": robot.to_dict(), "model": f"{robot.model_name}/1" if model is None else model}
-
-
-def pose_certificate(problem: str, results, claim) -> dict:
-    """A certificate about poses of the robot's model (singularity, trajectory): the header, the
-    pose variables and one claim per result (``results``: one result or a list of them)."""
-    if not isinstance(results, (list, tuple)):
-        results = [results]
-    cert = header(results[0].robot, problem)
-    cert["pose"] = list(results[0].robot.pose_names)
-    cert["claims"] = [claim(r) for r in results]
-    return cert
-
-
-def write_json(path, document) -> None:
-    """Write a JSON file atomically: nothing half-written is left on failure."""
-    write_text(path, json.dumps(document, separators=(",", ":")) + "\n")
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def write_text(path, text: str) -> None:
-    """Write a text file atomically (a temporary file renamed into place)."""
+    """Write a text file atomically (a temporary file renamed into place; missing directories made)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
@@ -60,3 +122,58 @@ def write_text(path, text: str) -> None:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
+
+
+def header(robot, problem: str, model: str | None = None, **fields) -> dict:
+    """The first fields of every certificate: format, version, problem, robot and model."""
+    return {"format": FORMAT, "version": VERSION, "problem": problem, "robot": robot.to_dict(),
+            "model": f"{robot.model_name}/1" if model is None else model, **fields}
+
+
+def canonical_decimal(value) -> str:
+    """The canonical text of an exact decimal: no exponent, no trailing zeros (``3.780`` → ``3.78``)."""
+    text = str(value).strip()
+    suffix = "deg" if text.lower().endswith("deg") else ""
+    q = Fraction(text[:-3] if suffix else text)
+    sign, q = ("-" if q < 0 else ""), abs(q)
+    whole, rest = divmod(q.numerator, q.denominator)
+    digits = ""
+    while rest:
+        rest *= 10
+        d, rest = divmod(rest, q.denominator)
+        digits += str(d)
+    return sign + str(whole) + ("." + digits if digits else "") + suffix
+
+
+def geometry_sha256(robot: dict) -> str:
+    """SHA-256 of the canonical geometry text: JSON (sorted keys, no spaces) of kind, base, platform and
+    limits with every decimal in its canonical form (``docs/certificates.md``)."""
+    def canon(v):
+        if isinstance(v, dict):
+            return {str(k): canon(x) for k, x in v.items()}
+        if isinstance(v, (list, tuple)):
+            return [canon(x) for x in v]
+        if isinstance(v, bool) or v is None:
+            return v
+        try:
+            return canonical_decimal(v)
+        except (ValueError, ArithmeticError, TypeError):
+            return str(v)
+    geo = {k: canon(robot[k]) for k in ("kind", "base", "platform", "limits") if k in robot}
+    return hashlib.sha256(json.dumps(geo, sort_keys=True, separators=(",", ":"), ensure_ascii=False).encode()).hexdigest()
+
+
+def outward_boxes(lo, hi) -> list:
+    """Boxes (lo, hi: arrays (k, d)) as [[[lo', hi'], ...], ...]: each bound the next float outward, so that
+    its JSON text (the shortest decimal that rounds to it) lies outside the box too: for people."""
+    return np.stack([np.nextafter(lo, -np.inf), np.nextafter(hi, np.inf)], -1).tolist()
+
+
+def box_json(lo, hi) -> list:
+    """[[lo, hi], ...] of a float box (JSON floats: exact binary values)."""
+    return [[float(a), float(b)] for a, b in zip(lo, hi)]
+
+
+def one(array) -> object:
+    """A producer of one whole array (for small arrays the writer has anyway)."""
+    return lambda: [array]

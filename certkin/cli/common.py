@@ -10,11 +10,11 @@ from __future__ import annotations
 import argparse
 from contextlib import contextmanager
 import json
+import os
 import sys
 
 from tqdm import tqdm
 
-from ..certificates import write_json
 from ..engine import Budget
 from ..errors import InputError
 
@@ -80,11 +80,22 @@ def with_angles(robot, angles):
     return robot.with_angles(angles)
 
 
+def write_certificate(path, document):
+    """Write ``--certificate`` (atomically: nothing half-written); a directory or an unwritable path is
+    bad input (exit 2, one line)."""
+    if os.path.isdir(path):
+        raise InputError("--certificate", "", f"{path} is a directory")
+    try:
+        document.write(path)
+    except OSError as exc:
+        raise InputError("--certificate", "", f"cannot write {path}: {exc.strerror or exc}") from None
+
+
 def answer(args, robot, result, certificate, report, describe):
     """Write ``--certificate`` and ``--report`` of one result, then print its JSON document
     (``--json``) or its description."""
     if args.certificate:
-        write_json(args.certificate, certificate(result))
+        write_certificate(args.certificate, certificate(result))
     if args.report:
         report(robot, result, args.report)
     print(json.dumps(result.to_json()) if args.json else describe(robot, result))

@@ -3,11 +3,10 @@ from __future__ import annotations
 
 import json
 
-from ..certificates import write_json
 from ..engine import budgets
 from ..robots import load_robot
 from ..trajectory import plan
-from .common import constraint_list, options
+from .common import constraint_list, options, write_certificate
 
 OPTIONS = {"start": "--from", "goal": "--to", "constraints": "--constraints"}
 
@@ -30,7 +29,7 @@ def run(args):
         result = plan(robot, args.start, args.goal, constraints=constraint_list(args.constraints),
                       divisions=args.divisions, max_seconds=args.max_seconds)
         if args.certificate and result.segments:
-            write_json(args.certificate, result.certificate())
+            write_certificate(args.certificate, result.certificate())
     if args.json:
         print(json.dumps(result.to_json()))
     else:

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import json
 
-from ..certificates import singularity_certificate, write_json
+from ..certificates import singularity_certificate
 from ..engine import budgets
 from ..errors import InputError
 from ..plots import plot_cells
@@ -11,7 +11,7 @@ from ..report import singularity_report
 from ..robots import load_robot
 from ..robots.poses import parse_box
 from ..singularity import classify_cells, largest_free_box
-from .common import add_budget, add_outputs, budget, options, progress, with_angles
+from .common import add_budget, add_outputs, budget, options, progress, with_angles, write_certificate
 
 OPTIONS = {"box": "--box", "pose": "--around", "scale": "--scale", "plot": "--plot"}
 
@@ -42,7 +42,7 @@ def run(args):
                 raise InputError("--cells", "", "expected a positive number of cells per side")
             results = classify_cells(robot, box, args.cells or 1, budget(args), progress(args.progress))
         if args.certificate:
-            write_json(args.certificate, singularity_certificate(results))
+            write_certificate(args.certificate, singularity_certificate(results))
         if args.plot:
             plot_cells(robot, results, args.plot)
         if args.report:

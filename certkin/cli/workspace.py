@@ -4,7 +4,6 @@ from __future__ import annotations
 import json
 import sys
 
-from ..certificates import write_json
 from ..engine import budgets
 from ..errors import InputError
 from ..plots import plot_section, plot_volume
@@ -13,7 +12,7 @@ from ..workspace import VolumeResult, workspace_section, workspace_volume
 from ..workspace.annuli import ORIENTATION, check_robot
 from ..workspace.section import ignored_limits
 from ..workspace.volume import DEFAULT_SLABS
-from .common import options, progress
+from .common import options, progress, write_certificate
 
 OPTIONS = {"orientation": "--orientation", "z": "--z", "z_range": "--z-range", "slabs": "--slabs",
            "max_boxes": "--max-boxes", "min_width": "--min-width", "max_seconds": "--max-seconds", "plot": "--plot"}
@@ -50,7 +49,7 @@ def run(args, out=None) -> int:
     with options(OPTIONS):
         result = _solve(args)
         if args.certificate:
-            write_json(args.certificate, result.certificate())
+            write_certificate(args.certificate, result.certificate())
         if args.plot:
             (plot_volume if isinstance(result, VolumeResult) else plot_section)(result, args.plot)
     if args.json:

@@ -49,7 +49,8 @@ class FKResult:
             out["tracked"] = True
         return out
 
-    def certificate(self) -> dict:
+    def certificate(self):
+        """The certificate (``certificates.Document``: ``.write(path)``, or ``proofs.check`` it in memory)."""
         return fk_certificate(self)
 
 

@@ -148,6 +148,22 @@ def parse_box(spec, robot, parameter="box") -> tuple[Interval, dict]:
     return Interval.from_bounds(np.array(lo), np.array(hi)), texts
 
 
+def inner_box(texts: dict, robot):
+    """Float bounds inside the exact box ``texts`` ({name: [lo, hi]}): per variable, the least float at or
+    above lo and the greatest at or below hi, so a witness there lies in the box the user asked about.
+    Where no float lies inside (a fixed irrational value such as 45deg), the enclosure of lo and
+    ``exact`` True: a witness takes that exact value, enclosed.  Returns (lo, hi, exact) arrays."""
+    lo, hi, exact = [], [], []
+    for name in robot.pose_names:
+        a, _ = _value(texts[name][0], robot, name, "box")
+        b, _ = _value(texts[name][1], robot, name, "box")
+        inside = float(a.hi) <= float(b.lo)
+        lo.append(float(a.hi) if inside else float(a.lo))
+        hi.append(float(b.lo) if inside else float(a.hi))
+        exact.append(not inside)
+    return np.array(lo), np.array(hi), np.array(exact)
+
+
 # ----------------------------------------------------------------- leg lengths
 def parse_lengths(robot, lengths, parameter="lengths"):
     """(rows of enclosures, rows of exact texts, whether the input was a batch) of one set of leg

@@ -53,7 +53,8 @@ class PlanResult:
             out["endpoint"] = self.endpoint
         return out
 
-    def certificate(self) -> dict:
+    def certificate(self):
+        """The certificate (``certificates.Document``: ``.write(path)``, or ``proofs.check`` it in memory)."""
         if not self.segments:
             raise ValueError("no path: nothing to certify")
         return trajectory_certificate(self.segments)

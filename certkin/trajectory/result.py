@@ -47,7 +47,8 @@ class TrajectoryResult:
             out["indices"] = self.indices
         return out
 
-    def certificate(self) -> dict:
+    def certificate(self):
+        """The certificate (``certificates.Document``: ``.write(path)``, or ``proofs.check`` it in memory)."""
         return trajectory_certificate([self])
 
 

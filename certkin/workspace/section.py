@@ -84,7 +84,8 @@ class SectionResult:
             doc["exact_undecided"] = b.reason
         return doc
 
-    def certificate(self) -> dict:
+    def certificate(self):
+        """The certificate (``certificates.Document``: ``.write(path)``, or ``proofs.check`` it in memory)."""
         return section_certificate(self)
 
 

@@ -70,7 +70,8 @@ class VolumeResult:
                              for k, (a, b) in enumerate(self.areas())],
                 "paving": self.counts(), "stats": dict(self.stats, bracket_width=vout - vin)}
 
-    def certificate(self) -> dict:
+    def certificate(self):
+        """The certificate (``certificates.Document``: ``.write(path)``, or ``proofs.check`` it in memory)."""
         return volume_certificate(self)
 
 

@@ -1,0 +1,158 @@
+"""Reading a certificate file: a ZIP archive (version 2); a JSON document is read only to refuse it
+(version 1, no longer checked).
+
+Version 2 (docs/certificates.md): the first member ``header.json`` (UTF-8
+JSON, stored uncompressed), then one member per array ``<name>.bin``: the
+raw little-endian bytes of the array.  The header lists each array under
+``arrays`` with ``dtype``, ``shape`` and ``sha256`` (of the raw bytes), and
+``body_sha256``: the SHA-256 of the raw bytes of every array, concatenated in
+the order of ``arrays``.  A body array is read only when a step needs it
+and is then checked against its entry, so a flipped bit, a truncated member
+or an edited hash is rejected with the array named.
+
+``Unreadable`` (exit code 2) is raised only when the file is not a
+certificate at all; every other defect is ``Rejected`` (exit code 1).
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import zipfile
+import zlib
+
+import numpy as np
+
+from .report import Rejected, Unreadable
+
+MAX_HEADER = 64 << 20            # bytes of header.json
+MAX_JSON = 1 << 30               # bytes of a JSON document (read to say which version it is)
+MAX_ARRAY = 2 << 30              # bytes of one array
+DTYPES = ("<f8", "<f4", "<i4", "<i8", "<u8", "|i1", "|u1")
+MAX_DEPTH = 10_000               # nesting of a JSON document
+
+
+class Certificate:
+    """A parsed header (``dict``) and its body arrays, read on demand (``array``)."""
+
+    def __init__(self, header, arrays=None, archive=None):
+        self.header = header
+        self._arrays = dict(arrays or {})
+        self._archive = archive
+        self._read = {}
+
+    @property
+    def version(self):
+        return self.header.get("version") if isinstance(self.header, dict) else None
+
+    def array(self, name: str, dtypes=None, shape_tail=None) -> np.ndarray:
+        """The body array ``name`` (checked against its header entry), as stored."""
+        if name not in self._read:
+            self._read[name] = self._arrays[name] if name in self._arrays else self._load(name)
+        a = self._read[name]
+        if dtypes is not None and not any(a.dtype == np.dtype(t) for t in dtypes):
+            raise Rejected(f"body: array {name}: dtype {a.dtype.str}, expected one of {', '.join(dtypes)}")
+        if shape_tail is not None and tuple(a.shape[1:]) != tuple(shape_tail):
+            raise Rejected(f"body: array {name}: shape {list(a.shape)}, expected [*, {', '.join(map(str, shape_tail))}]")
+        return a
+
+    def has(self, name: str) -> bool:
+        return name in self._arrays or name in self._entries()
+
+    def _entries(self) -> dict:
+        e = self.header.get("arrays", {}) if self._archive is not None else {}
+        return e if isinstance(e, dict) else {}
+
+    def _load(self, name):
+        entry = self._entries().get(name)
+        if not isinstance(entry, dict):
+            raise Rejected(f"body: array {name} is missing (not listed in the header)")
+        dtype, shape, digest = entry.get("dtype"), entry.get("shape"), entry.get("sha256")
+        if dtype not in DTYPES or not isinstance(shape, list) or not all(
+                type(s) is int and 0 <= s < 2 ** 40 for s in shape) or not isinstance(digest, str):
+            raise Rejected(f"body: array {name}: bad entry (dtype one of {', '.join(DTYPES)}, shape, sha256)")
+        size = int(np.prod(shape, dtype=object)) * np.dtype(dtype).itemsize
+        if size > MAX_ARRAY:
+            raise Rejected(f"body: array {name}: {size} bytes is too large")
+        data = _member(self._archive, name + ".bin", size)
+        if hashlib.sha256(data).hexdigest() != digest:
+            raise Rejected(f"body: array {name}: SHA-256 differs from the header's")
+        return np.frombuffer(data, dtype=dtype).reshape(shape)
+
+    def verify_body(self) -> None:
+        """Every listed array matches its hash, ``body_sha256`` matches, and no member is unlisted."""
+        if self._archive is None:
+            return
+        entries = self.header.get("arrays")
+        if not isinstance(entries, dict):
+            raise Rejected("header.arrays: expected an object {name: {dtype, shape, sha256}}")
+        names = [i.filename for i in self._archive.infolist()[1:]]
+        extra = sorted(set(names) - {n + ".bin" for n in entries})
+        if extra or len(names) != len(set(names)):
+            raise Rejected(f"body: unexpected or repeated member {(extra or names)[0]!r}")
+        body = hashlib.sha256()
+        for name in entries:
+            body.update(np.ascontiguousarray(self.array(name)).tobytes())
+        if body.hexdigest() != self.header.get("body_sha256"):
+            raise Rejected("header.body_sha256: differs from the SHA-256 of the body")
+
+
+def _member(archive, member, size) -> bytes:
+    try:
+        with archive.open(member) as fh:
+            data = fh.read(size + 1)
+    except KeyError:
+        raise Rejected(f"body: member {member} is missing") from None
+    except (zipfile.BadZipFile, zlib.error, OSError, EOFError, ValueError) as exc:
+        raise Rejected(f"body: member {member} cannot be read ({exc})") from None
+    if len(data) != size:
+        raise Rejected(f"body: member {member} has {len(data)} bytes, its header entry says {size}")
+    return data
+
+
+def _json(text, where):
+    try:
+        value = json.loads(text, parse_constant=_no_constant)
+    except RecursionError:
+        raise Unreadable(f"{where}: JSON nested too deeply") from None
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise Unreadable(f"{where}: not valid JSON ({str(exc)[:120]})") from None
+    if not isinstance(value, dict):
+        raise Unreadable(f"{where}: expected a JSON object")
+    return value
+
+
+def _no_constant(name):
+    raise ValueError(f"invalid JSON constant {name}")
+
+
+def read(path) -> Certificate:
+    """Open a certificate file (a ZIP archive; a JSON document is read for its version); raises ``Unreadable``."""
+    try:
+        with open(path, "rb") as fh:
+            magic = fh.read(4)
+    except OSError as exc:
+        raise Unreadable(f"cannot open: {exc.strerror or exc}") from None
+    if magic.startswith(b"PK"):
+        try:
+            archive = zipfile.ZipFile(path)
+            first = archive.infolist()[0] if archive.infolist() else None
+            if first is None or first.filename != "header.json":
+                raise Unreadable("the first member of the archive is not header.json")
+            if first.file_size > MAX_HEADER:
+                raise Unreadable("header.json is too large")
+            with archive.open(first) as fh:
+                text = fh.read(MAX_HEADER + 1)
+        except (zipfile.BadZipFile, zlib.error, OSError, EOFError, ValueError, RuntimeError) as exc:
+            raise Unreadable(f"not a readable ZIP archive ({exc})") from None
+        header = _json(text, "header.json")
+        if first.compress_type != zipfile.ZIP_STORED:
+            raise Unreadable("header.json must be stored uncompressed")
+        return Certificate(header, archive=archive)
+    try:
+        with open(path, "rb") as fh:
+            text = fh.read(MAX_JSON + 1)
+    except OSError as exc:
+        raise Unreadable(f"cannot read: {exc.strerror or exc}") from None
+    if len(text) > MAX_JSON:
+        raise Unreadable(f"a JSON certificate larger than {MAX_JSON >> 20} MB (version 2 files are ZIP archives)")
+    return Certificate(_json(text, "certificate"))
