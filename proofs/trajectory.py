@@ -187,7 +187,9 @@ class Spans:
                 continue
             g = y.g[..., 0]
             up, down = g.lo >= 0, g.hi <= 0
-            form = lift(mid[k]).v + g * (self.T - self.mid)
+            h = self.T - self.mid
+            extra = (1,) * (g.lo.ndim - 1)
+            form = lift(mid[k]).v + g * Iv(h.lo.reshape(h.lo.shape + extra), h.hi.reshape(h.hi.shape + extra))
             a, b, m = lift(lo[k]).v, lift(hi[k]).v, nat.meet(form)
             out.append(Iv(np.where(up, a.lo, np.where(down, b.lo, m.lo)), np.where(up, b.hi, np.where(down, a.hi, m.hi))))
         return out
@@ -239,7 +241,11 @@ class Instance:
                       + (f" ({detail})" if detail else ""))
 
     def prove(self, spans, ch):
-        sat, viol = getattr(self, "_" + self.constraint.replace("-", "_"))(spans, ch)
+        return self.verdict(*getattr(self, "_" + self.constraint.replace("-", "_"))(spans, ch), ch)
+
+    @staticmethod
+    def verdict(sat, viol, ch):
+        """1 where the state ``ch`` (1 '+', 2 '-') is proved, −1 where the other one is, else 0."""
         want = ch == 1
         return np.where((sat & want) | (viol & ~want), 1, np.where(sat | viol, -1, 0))
 
@@ -260,51 +266,8 @@ class Instance:
         return np.all([v.lo >= 0 for v in vals], 0), np.any([v.hi < 0 for v in vals], 0)
 
     def _interference(self, sp, ch):
-        i, j, zero, r2, w0 = self.data
-        N = len(sp.lo)
-        if zero:
-            return np.ones(N, bool), np.zeros(N, bool)          # a distance is never < 0
-
-        def line(fr):
-            cr = cross(fr.legs[i], fr.legs[j])
-            delta = _norm2(cr)
-            d = _dot(w0, cr)
-            return [d * d - delta * r2, delta]
-
-        E, delta = sp.enclose(line)
-        if np.all(E.pos()):                 # the line distance settles every leaf
-            return np.ones(N, bool), np.zeros(N, bool)
-
-        def feet(fr):
-            u, v = fr.legs[i], fr.legs[j]
-            a, b, c = fr.leg_sq(i), _dot(u, v), fr.leg_sq(j)
-            d, e = _dot(u, w0), _dot(v, w0)
-            dl = a * c - b * b
-            s_num, t_num = b * e - c * d, a * e - b * d
-            return [s_num, s_num - dl, t_num, t_num - dl]
-
-        s0, s1, t0, t1 = sp.enclose(feet)
-        feet_in = (s0.lo >= 0) & (s1.hi <= 0) & (t0.lo >= 0) & (t1.hi <= 0) & delta.pos()
-        feet_out = s0.neg() | s1.pos() | t0.neg() | t1.pos()
-
-        def ends(fr):
-            u, v, w = fr.legs[i], fr.legs[j], w0
-            out = []
-            for q, sg, n2 in ((w, v, fr.leg_sq(j)), (tuple(w[k] + u[k] for k in range(3)), v, fr.leg_sq(j)),
-                              (tuple(-w[k] for k in range(3)), u, fr.leg_sq(i)),
-                              (tuple(v[k] - w[k] for k in range(3)), u, fr.leg_sq(i))):
-                tau = _dot(q, sg)
-                out += [tau, tau - n2, n2, _norm2(cross(q, sg)) - n2 * r2,
-                        _norm2(q) - r2, _norm2(tuple(q[k] - sg[k] for k in range(3))) - r2]
-            return out
-
-        vals = sp.enclose(ends)
-        lower, witness = np.ones(N, bool), np.zeros(N, bool)
-        for p in range(4):
-            tau, tau1, n2, eps, f0, f1 = vals[6 * p:6 * p + 6]
-            lower &= ((tau.hi <= 0) & (f0.lo >= 0)) | ((tau1.lo >= 0) & (f1.lo >= 0)) | (n2.pos() & (eps.lo >= 0))
-            witness |= f0.neg() | f1.neg() | ((tau.lo >= 0) & (tau1.hi <= 0) & n2.pos() & eps.neg())
-        return E.pos() | (feet_out & lower), (feet_in & E.neg()) | witness
+        sat, viol = interference(sp, [self])
+        return sat[:, 0], viol[:, 0]
 
     def _singularity(self, sp, ch):
         fr = sp.frame("T")
@@ -312,6 +275,67 @@ class Instance:
         rows = lambda f: f.geo.model.rows(f.pose, f.geo.base2, f.geo.platform)  # noqa: E731
         (D,) = sp.enclose(lambda f: [det(rows(f)) if f is fr else det_interval(rows(f))], natural=[D])
         return D.pos(), D.neg()
+
+
+def interference(sp, insts):
+    """(proved >= r, proved < r) per span and instance (N, P) for the interference instances ``insts``,
+    every pair at once (the quantities of the module docstring, on arrays of pairs)."""
+    I, J = [x.data[0] for x in insts], [x.data[1] for x in insts]
+    zero = np.array([x.data[2] for x in insts])
+    r2 = Iv(np.array([x.data[3].lo for x in insts]), np.array([x.data[3].hi for x in insts]))
+    w0 = tuple(Iv(np.array([x.data[4][k].lo for x in insts]), np.array([x.data[4][k].hi for x in insts]))
+               for k in range(3))
+    legs = lambda fr, idx: tuple(_stack([fr.legs[i][k] for i in idx]) for k in range(3))  # noqa: E731
+    sq = lambda fr, idx: _stack([fr.leg_sq(i) for i in idx])  # noqa: E731
+
+    def line(fr):
+        cr = cross(legs(fr, I), legs(fr, J))
+        d = _dot(w0, cr)
+        return [d * d - _norm2(cr) * r2, _norm2(cr)]
+
+    def feet(fr):
+        u, v = legs(fr, I), legs(fr, J)
+        a, b, c = sq(fr, I), _dot(u, v), sq(fr, J)
+        d, e = _dot(u, w0), _dot(v, w0)
+        dl = a * c - b * b
+        s_num, t_num = b * e - c * d, a * e - b * d
+        return [s_num, s_num - dl, t_num, t_num - dl]
+
+    def ends(fr):
+        u, v, w, nu, nv = legs(fr, I), legs(fr, J), w0, sq(fr, I), sq(fr, J)
+        out = []
+        for q, sg, n2 in ((w, v, nv), (tuple(w[k] + u[k] for k in range(3)), v, nv),
+                          (tuple(-w[k] for k in range(3)), u, nu), (tuple(v[k] - w[k] for k in range(3)), u, nu)):
+            tau = _dot(q, sg)
+            out += [tau, tau - n2, n2, _norm2(cross(q, sg)) - n2 * r2,
+                    _norm2(q) - r2, _norm2(tuple(q[k] - sg[k] for k in range(3))) - r2]
+        return out
+
+    E, delta = sp.enclose(line)
+    sat, viol = E.pos() | zero, np.zeros(E.lo.shape, bool)   # a zero radius: a distance is never < 0
+    if sat.all():                                             # the line distance settles every span
+        return sat, viol
+    s0, s1, t0, t1 = sp.enclose(feet)
+    feet_in = (s0.lo >= 0) & (s1.hi <= 0) & (t0.lo >= 0) & (t1.hi <= 0) & delta.pos()
+    feet_out = s0.neg() | s1.pos() | t0.neg() | t1.pos()
+    vals = sp.enclose(ends)
+    lower, witness = np.ones(E.lo.shape, bool), np.zeros(E.lo.shape, bool)
+    for p in range(4):
+        tau, tau1, n2, eps, f0, f1 = vals[6 * p:6 * p + 6]
+        lower &= ((tau.hi <= 0) & (f0.lo >= 0)) | ((tau1.lo >= 0) & (f1.lo >= 0)) | (n2.pos() & (eps.lo >= 0))
+        witness |= f0.neg() | f1.neg() | ((tau.lo >= 0) & (tau1.hi <= 0) & n2.pos() & eps.neg())
+    return sat | (feet_out & lower), ~zero & ((feet_in & E.neg()) | witness)
+
+
+def _stack(values):
+    """Per-leg values (Iv or Dual, each (N,)) as one (N, P) value."""
+    if isinstance(values[0], Dual):
+        g = [v.g for v in values]
+        return Dual(_stack([v.v for v in values]), None if any(x is None for x in g) else
+                    Iv(np.stack([x.lo for x in g], 1), np.stack([x.hi for x in g], 1)))
+    values = [lift(v).v if isinstance(v, Dual) else v for v in values]
+    return Iv(np.stack([np.broadcast_to(v.lo, values[0].lo.shape) for v in values], -1),
+              np.stack([np.broadcast_to(v.hi, values[0].lo.shape) for v in values], -1))
 
 
 # ----- claims -------------------------------------------------------------------------------
@@ -332,8 +356,11 @@ def check(cert, report) -> None:
         _verdict(insts, states, status, f"{where}.status")
         _violations(insts, seg, lo, hi, states, claim.get("violations"), f"{where}.violations")
         spans = Spans(geo, P, D, seg, lo, hi)          # the leaves' frames, shared by the instances
+        pairs = [k for k, inst in enumerate(insts) if inst.constraint == "interference"]
+        both = interference(spans, [insts[k] for k in pairs]) if pairs else None   # every pair at once
         for k, inst in enumerate(insts):
-            counts["pieces"] += _prove(geo, P, D, inst, spans, states[:, k], where)
+            first = None if k not in pairs else inst.verdict(*(x[:, pairs.index(k)] for x in both), states[:, k])
+            counts["pieces"] += _prove(geo, P, D, inst, spans, states[:, k], where, first)
         counts["leaves"] += len(seg)
         counts["undecided"] += status == "undecided"
         verdicts[status] = verdicts.get(status, 0) + 1
@@ -480,9 +507,10 @@ def _violations(insts, seg, lo, hi, states, value, where):
                 raise Rejected(f"{where}[{v}]: marked certain, but no leaf in its interval proves it")
 
 
-def _prove(geo, P, D, inst, spans, ch, where):
-    """Prove the character of every leaf for one instance; bisect undecided ones. Returns extra pieces."""
-    got = inst.prove(spans, ch)
+def _prove(geo, P, D, inst, spans, ch, where, got=None):
+    """Prove the character of every leaf for one instance (``got``: already evaluated on the leaves);
+    bisect undecided ones.  Returns the extra pieces used."""
+    got = inst.prove(spans, ch) if got is None else got
     todo = np.nonzero((ch != 0) & (got != 1))[0]
     leaf, s, a, b, depth, pieces = todo, spans.seg[todo], spans.lo[todo], spans.hi[todo], 0, 0
     count = np.zeros(len(ch), dtype=np.int64)

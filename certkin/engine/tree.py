@@ -2,8 +2,8 @@
 
 ``Store`` holds the growing columns while the search runs, ``Evidence`` the evidence rows of the
 nodes that have some; ``Tree`` is the finished record that results and certificates read: every
-box of the domain ends in exactly one leaf (``PROVED``, ``EXCLUDED`` or ``UNDECIDED``), and
-``Tree.nested`` gives the subtree of a root as nested dicts.
+box of the domain ends in exactly one leaf (``PROVED``, ``EXCLUDED`` or ``UNDECIDED``);
+``certificates.forest`` writes it breadth-first as arrays.
 """
 from __future__ import annotations
 
@@ -142,44 +142,9 @@ class Tree:
             m &= self.root == root
         return np.nonzero(m)[0]
 
-    def evidence_of(self, i: int, keys=None) -> dict:
-        """The evidence of a node as plain Python values (``keys``: a subset of the names)."""
-        out = {}
-        for name, index in self.evidence_rows.items():
-            if (keys is None or name in keys) and index[i] >= 0:
-                out[name] = self.evidence[name][index[i]].tolist()
-        return out
-
     def evidence_values(self, name: str, ids) -> np.ndarray:
         """Evidence ``name`` of the nodes ``ids`` (which must all have it)."""
         rows = self.evidence_rows[name][ids]
         if np.any(rows < 0):
             raise KeyError(f"some nodes have no evidence {name!r}")
         return self.evidence[name][rows]
-
-    def nested(self, i: int, leaf, contraction=None) -> dict:
-        """The subtree at node ``i`` as nested dicts (for certificates).
-
-        Splits become ``{"split": [dim, at], "children": [lower, upper]}``,
-        leaves ``leaf(id)``, contractions ``contraction(id)`` updated with
-        ``{"child": ...}``.  Iterative: deep trees do not hit the recursion limit.
-        """
-        out: dict = {}
-        stack = [(i, out)]
-        while stack:
-            j, slot = stack.pop()
-            k = self.kind[j]
-            if k == SPLIT:
-                a, b = {}, {}
-                slot.update({"split": [int(self.split_dim[j]), float(self.split_at[j])], "children": [a, b]})
-                c = int(self.first_child[j])
-                stack.append((c + 1, b))
-                stack.append((c, a))
-            elif k == CONTRACTED:
-                child: dict = {}
-                slot.update(contraction(j))
-                slot["child"] = child
-                stack.append((int(self.first_child[j]), child))
-            else:
-                slot.update(leaf(j))
-        return out
