@@ -342,7 +342,7 @@ def _stack(values):
 def check(cert, report) -> None:
     h = cert.header
     model = header_model(h, MODELS, lambda m: m.kind, "pose", lambda m: m.pose)
-    geo, counts, verdicts = Geometry(model, h["robot"]), report.checked, {}
+    geo, counts, verdicts, groups = Geometry(model, h["robot"]), report.checked, {}, {}
     for c, claim in enumerate(h["claims"]):
         where = f"claims[{c}]"
         if not isinstance(claim, dict):
@@ -355,15 +355,25 @@ def check(cert, report) -> None:
         seg, lo, hi, states = _leaves(cert, claim.get("leaves"), P.shape[0] + 1, len(insts), f"{where}.leaves")
         _verdict(insts, states, status, f"{where}.status")
         _violations(insts, seg, lo, hi, states, claim.get("violations"), f"{where}.violations")
-        spans = Spans(geo, P, D, seg, lo, hi)          # the leaves' frames, shared by the instances
-        pairs = [k for k, inst in enumerate(insts) if inst.constraint == "interference"]
-        both = interference(spans, [insts[k] for k in pairs]) if pairs else None   # every pair at once
-        for k, inst in enumerate(insts):
-            first = None if k not in pairs else inst.verdict(*(x[:, pairs.index(k)] for x in both), states[:, k])
-            counts["pieces"] += _prove(geo, P, D, inst, spans, states[:, k], where, first)
+        groups.setdefault(tuple(map(id, insts)), (insts, []))[1].append((c, P, D, seg, lo, hi, states))
         counts["leaves"] += len(seg)
         counts["undecided"] += status == "undecided"
         verdicts[status] = verdicts.get(status, 0) + 1
+    for insts, members in groups.values():      # the claims with one instance list: their leaves together
+        c, P, D, seg, lo, hi, states = zip(*members)
+        sizes, offset = [len(x) for x in seg], np.cumsum([0] + [x.shape[0] for x in P])
+        member = np.repeat(np.arange(len(members)), sizes)
+        first = np.repeat(np.cumsum([0] + sizes)[:-1], sizes)
+        local = np.concatenate(seg)                     # segment numbers within each path
+        P, D = (Iv(np.concatenate([x.lo for x in v]), np.concatenate([x.hi for x in v])) for v in (P, D))
+        lo, hi, states = (np.concatenate(v) for v in (lo, hi, states))
+        name = lambda i: f"claims[{c[member[i]]}].leaves[{i - first[i]}]"  # noqa: E731
+        spans = Spans(geo, P, D, local + offset[member], lo, hi)   # the leaves' frames, shared by the instances
+        pairs = [k for k, inst in enumerate(insts) if inst.constraint == "interference"]
+        both = interference(spans, [insts[k] for k in pairs]) if pairs else None   # every pair at once
+        for k, inst in enumerate(insts):
+            got = None if k not in pairs else inst.verdict(*(x[:, pairs.index(k)] for x in both), states[:, k])
+            counts["pieces"] += _prove(geo, P, D, inst, spans, states[:, k], name, got, local)
     first = h["claims"][0]
     report.about["question"] = (f"{len(h['claims'])} path(s); first: {' -> '.join(','.join(p) for p in first['path'])}, "
                                 f"constraints: {', '.join(sorted({i['constraint'] for i in first['instances']}))}")
@@ -507,9 +517,10 @@ def _violations(insts, seg, lo, hi, states, value, where):
                 raise Rejected(f"{where}[{v}]: marked certain, but no leaf in its interval proves it")
 
 
-def _prove(geo, P, D, inst, spans, ch, where, got=None):
-    """Prove the character of every leaf for one instance (``got``: already evaluated on the leaves);
-    bisect undecided ones.  Returns the extra pieces used."""
+def _prove(geo, P, D, inst, spans, ch, name, got, local):
+    """Prove the character of every leaf for one instance (``got``: already evaluated on the leaves, or
+    None); bisect undecided ones; ``name(i)``, ``local[i]``: leaf i's name and segment.  Returns the extra
+    pieces used."""
     got = inst.prove(spans, ch) if got is None else got
     todo = np.nonzero((ch != 0) & (got != 1))[0]
     leaf, s, a, b, depth, pieces = todo, spans.seg[todo], spans.lo[todo], spans.hi[todo], 0, 0
@@ -520,8 +531,8 @@ def _prove(geo, P, D, inst, spans, ch, where, got=None):
         if bad.any():
             i = np.nonzero(bad)[0][0]
             what = "refuted" if got[i] == -1 else "not proved (undecided after bisecting)"
-            raise Rejected(f"{where}.leaves[{leaf[i]}]: '{'?+-'[ch[leaf[i]]]}' for {inst.label} {what} "
-                           f"on segment {s[i]}, t in [{float(a[i])!r}, {float(b[i])!r}]")
+            raise Rejected(f"{name(leaf[i])}: '{'?+-'[ch[leaf[i]]]}' for {inst.label} {what} "
+                           f"on segment {local[leaf[i]]}, t in [{float(a[i])!r}, {float(b[i])!r}]")
         open_ = got == 0
         leaf, s, a, b = leaf[open_], s[open_], a[open_], b[open_]
         m = 0.5 * a + 0.5 * b

@@ -165,6 +165,21 @@ def test_flipped_violation_rejected(infeasible):
     rejected(cert, f"leaves[{i}]", "'+' for interference legs 1-2", "refuted")
 
 
+def test_batch_checked_together_and_named_per_claim(mel):
+    """Two paths in one file (their leaves are checked together): a flipped state in the second one is
+    named by its claim and its own leaf number."""
+    from certkin.certificates import trajectory_certificate
+    results = [verify_trajectory(mel, START, goal) for goal in ("7.5,21,500,85deg,10deg,0", "84,92,500,85deg,10deg,0")]
+    cert = Doc(trajectory_certificate(results))
+    report = cert.check()
+    assert report.ok and "1 path feasible, 1 path infeasible" in " ".join(report.proved), report.step
+    first, count = cert.claim(1)["leaves"]
+    k = column(cert.claim(1), "interference", [1, 2])
+    minus = np.nonzero(cert.arrays["traj.state"][first:first + count, k] == MINUS)[0]
+    cert.arrays["traj.state"][first + minus[0], k] = PLUS
+    rejected(cert, f"claims[1].leaves[{minus[0]}]", "'+' for interference legs 1-2", "refuted")
+
+
 def test_flipped_det_sign_rejected(feasible):
     cert = feasible.copy()
     cert.arrays["traj.state"][:, -1] = 3 - cert.arrays["traj.state"][:, -1]
