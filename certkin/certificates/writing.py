@@ -1,6 +1,7 @@
 """Writing certificates, format version 2 (``docs/certificates.md``): a ZIP archive whose first member is
-the JSON header (stored, readable with ``unzip -p FILE header.json``), then one deflated member per
-body array (raw little-endian bytes), each listed in the header with its dtype, shape and SHA-256.
+the JSON header (stored, readable with ``unzip -p FILE header.json``), then one member per
+body array (raw little-endian bytes; deflated, or stored when a sample of it does not compress), each
+listed in the header with its dtype, shape and SHA-256.
 
 A ``Document`` holds the header and the body arrays as *producers*: functions that yield an array
 chunk by chunk from the engine's own arrays.  ``Document.write`` streams them twice, once to hash
@@ -19,6 +20,7 @@ import os
 from pathlib import Path
 import tempfile
 import zipfile
+import zlib
 
 import numpy as np
 
@@ -26,6 +28,7 @@ FORMAT = "certkin-certificate"
 VERSION = 2
 CHUNK = 1 << 16          # rows per chunk when streaming the engine's arrays
 LEVEL = 1                # deflate level: the body is mostly floats; level 1 is fast and nearly as small
+SAMPLE = 1 << 18         # bytes of an array's first chunk compressed to decide whether to deflate it
 
 
 @dataclass
@@ -54,10 +57,12 @@ class Document:
         self._arrays = None
 
     def _entries(self):
-        entries, total = {}, hashlib.sha256()
+        entries, total, self._stored = {}, hashlib.sha256(), set()
         for a in self.body:
             h, rows = hashlib.sha256(), 0
             for n, raw in a._raw():
+                if not rows and len(zlib.compress(raw[:SAMPLE], LEVEL)) > 0.9 * len(raw[:SAMPLE]):
+                    self._stored.add(a.name)        # nearly incompressible (matrices of floats): stored
                 h.update(raw)
                 total.update(raw)
                 rows += n
@@ -92,7 +97,11 @@ class Document:
                 z.writestr(zipfile.ZipInfo("header.json"), json.dumps(header, separators=(",", ":"), ensure_ascii=False),
                            compress_type=zipfile.ZIP_STORED)
                 for a in self.body:
-                    with z.open(a.name + ".bin", "w", force_zip64=True) as fh:
+                    info = a.name + ".bin"                 # deflated at LEVEL (the archive's default)
+                    if a.name in self._stored:
+                        info = zipfile.ZipInfo(info)
+                        info.compress_type = zipfile.ZIP_STORED
+                    with z.open(info, "w", force_zip64=True) as fh:
                         for _, raw in a._raw():
                             fh.write(raw)
             os.chmod(tmp, 0o666 & ~_umask())        # mkstemp's 0600 → what a plain open() would give
