@@ -22,11 +22,11 @@ its accuracy.
 """
 from __future__ import annotations
 
+import importlib
 from typing import NamedTuple
 
 import numpy as np
 
-from . import native
 from .determinant import det, hadamard_bound, laplace_det
 from .interval import Interval, as_interval, div
 from .matrix import accumulate, identity, matmul, matvec, operand, point, product_bounds
@@ -251,10 +251,16 @@ def hansen_sengupta(f, J, x, c, C):
         N, n = x.lo.shape
         f64 = lambda a, shape: np.ascontiguousarray(np.broadcast_to(a, shape), dtype=np.float64)   # noqa: E731
         vec, mat = (N, n), (N, n, n)
-        lo, hi, empty = native.hansen_sengupta(f64(f.lo, vec), f64(f.hi, vec), f64(J.lo, mat), f64(J.hi, mat),
+        lo, hi, empty = native().hansen_sengupta(f64(f.lo, vec), f64(f.hi, vec), f64(J.lo, mat), f64(J.hi, mat),
                                                f64(x.lo, vec), f64(x.hi, vec), f64(c, vec), f64(C, mat))
         return Interval.from_bounds(lo, hi), empty
     return _hansen_sengupta_numpy(f, J, x, c, C)
+
+
+def native():
+    """The machine-code kernels (``intervals.native``), imported on first use: importing numba costs
+    about half a second, which only the searches that call a kernel pay."""
+    return importlib.import_module("intervals.native")
 
 
 def _hansen_sengupta_numpy(f, J, x, c, C):

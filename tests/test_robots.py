@@ -2,6 +2,8 @@
 from decimal import Decimal
 from fractions import Fraction
 from pathlib import Path
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -213,3 +215,40 @@ def test_every_bundled_robot_loads_and_round_trips():
         # exact decimals survive: each enclosure contains the decimal text
         for t, iv in zip(robot.geometry_texts(), robot.parameters):
             assert Fraction(float(iv.lo)) <= Fraction(t) <= Fraction(float(iv.hi))
+
+
+@pytest.mark.parametrize("path", sorted(Path(__file__).resolve().parents[1].glob("examples/robots/*.toml")))
+def test_float_helpers_match_the_symbolic_model(path):
+    """The numpy float formulas (leg vectors, A, rotation) agree with the sympy model lambdified."""
+    robots = [load_robot(path)]
+    if robots[0].kind == "spherical-3dof":
+        robots.append(robots[0].with_angles("tilt-torsion"))
+    rng = np.random.default_rng(1)
+    for robot in robots:
+        pose_syms, geom_syms = robot.symbols()
+        model = robot.symbolic_model()
+        g = [float(Fraction(t)) for t in robot.geometry_texts()]
+        poses = rng.uniform(-1, 1, size=(5, len(robot.pose_names)))
+        args = list(pose_syms) + list(geom_syms)
+        legs = sp.lambdify(args, [list(leg) for leg in model["legs"]], "math")
+        A = sp.lambdify(args, model["A"].tolist(), "math")
+        for pose in poses:
+            values = list(pose) + g
+            np.testing.assert_allclose(robot.leg_vectors_float(pose), np.array(legs(*values), dtype=float),
+                                       rtol=1e-12, atol=1e-9)
+            np.testing.assert_allclose(robot.jacobian_float(pose), np.array(A(*values), dtype=float),
+                                       rtol=1e-12, atol=1e-9 * max(1.0, np.max(np.abs(g))) ** 2)
+            if "R" in model:
+                R = sp.lambdify(args, model["R"].tolist(), "math")
+                np.testing.assert_allclose(robot.rotation_float(pose), np.array(R(*values), dtype=float), atol=1e-14)
+        assert robot.leg_lengths_float(poses).shape == (5, robot.n_legs)
+
+
+def test_loading_a_robot_does_not_import_sympy():
+    """Robot files, poses and forward kinematics need no symbolic model (sympy costs ~0.5 s a process)."""
+    code = ("import sys, certkin; r = certkin.load_robot('examples/robots/seed003-planar-example-2.toml'); "
+            "r.det_float([[0.0, 0.0, 0.1]]); print('sympy' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=Path(__file__).resolve().parents[1])
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "False"

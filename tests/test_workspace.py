@@ -11,7 +11,6 @@ import copy
 from fractions import Fraction
 import json
 import random
-import time
 
 import mpmath
 import numpy as np
@@ -87,12 +86,9 @@ def test_micro_section_matches_the_reference_table(micro, z):
     assert doc["area"]["exact"] == [float(a.lo), float(a.hi)] and doc["perimeter"] == [float(p.lo), float(p.hi)]
 
 
-def test_section_20005_is_fast_bracketed_and_checks(micro):
-    workspace_section(micro, "0,0,0", "20005")                     # warm-up (numpy, caches)
-    t0 = time.perf_counter()
+def test_section_20005_is_small_bracketed_and_checks(micro):
     r = workspace_section(micro, "0,0,0", "20005")
-    elapsed = time.perf_counter() - t0
-    assert elapsed < 1.0, elapsed
+    assert r.stats["boxes"] < 40_000 and not r.stats["exhausted"]   # the work, not the time (benchmarks time it)
     assert r.inner <= 190.795788303254 <= r.outer and r.outer - r.inner < 1.0
     # bounding box of the exact arcs (spec §6.4): X in [-8.73699, 8.35859], Y in [-7.60889, 7.60889]
     (xlo, ylo), (xhi, yhi) = r.domain

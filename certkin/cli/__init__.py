@@ -9,36 +9,44 @@ renames the library's parameters to options in errors).
 """
 from __future__ import annotations
 
+import importlib
 import sys
 
 from ..errors import InputError
-from . import check, demo, fk, plan, singular, trajectory, workspace
 from .common import Parser, join_pose_values
 
-COMMANDS = (
-    ("singular", singular, "prove a box of poses singularity-free, or find a singularity in it"),
-    ("fk", fk, "every real assembly mode for given leg lengths, each proved unique"),
-    ("trajectory", trajectory, "certify a straight (or polyline) motion, or find where it fails"),
-    ("plan", plan, "a path whose every segment is certified feasible"),
-    ("workspace", workspace, "constant-orientation workspace: section (exact arcs, area) or volume bracket"),
-    ("check", check, "re-verify a certificate with the independent checker"),
-    ("demo", demo, "run the seed examples on the bundled robots"),
-)
+# command -> (module of its options and its run, help); a command's module (and the capability it
+# uses) is imported only when that command runs, so `certkin check` does not load the FK kernels
+COMMANDS = {
+    "singular": ("certkin.cli.singular", "prove a box of poses singularity-free, or find a singularity in it"),
+    "fk": ("certkin.cli.fk", "every real assembly mode for given leg lengths, each proved unique"),
+    "trajectory": ("certkin.cli.trajectory", "certify a straight (or polyline) motion, or find where it fails"),
+    "plan": ("certkin.cli.plan", "a path whose every segment is certified feasible"),
+    "workspace": ("certkin.cli.workspace",
+                  "constant-orientation workspace: section (exact arcs, area) or volume bracket"),
+    "check": ("certkin.cli.check", "re-verify a certificate with the independent checker"),
+    "demo": ("certkin.cli.demo", "run the seed examples on the bundled robots"),
+}
 
 
-def build_parser():
+def build_parser(only: str | None = None):
+    """The parser of every command (``only``: the options of that command alone are loaded)."""
     p = Parser(prog="certkin", description="Certified answers about parallel robots.")
     sub = p.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for name, module, help_text in COMMANDS:
+    for name, (module_name, help_text) in COMMANDS.items():
         s = sub.add_parser(name, help=help_text)
-        module.add_arguments(s)
-        s.set_defaults(func=module.run)
+        if only is None or name == only:
+            module = importlib.import_module(module_name)
+            module.add_arguments(s)
+            s.set_defaults(func=module.run)
     return p
 
 
 def main(argv=None):
-    parser = build_parser()
-    args = parser.parse_args(join_pose_values(list(sys.argv[1:] if argv is None else argv)))
+    argv = join_pose_values(list(sys.argv[1:] if argv is None else argv))
+    command = next((a for a in argv if not a.startswith("-")), None)
+    parser = build_parser(command if command in COMMANDS else "")
+    args = parser.parse_args(argv)
     try:
         return args.func(args)
     except InputError as exc:

@@ -1,37 +1,36 @@
-"""What every robot model shares: exact geometry, symbolic model, compiled evaluators.
+"""What every robot model shares: exact geometry, symbolic model, compiled evaluators, float helpers.
 
-A model is written once with sympy (leg vectors, Jacobians A and B in the
-seed 003 form A ṫ + B ρ̇ = 0, det(A)) with the geometry as *symbols*; the
-expressions are compiled once per kind by ``intervals.compiler`` and then
-evaluated on batches of boxes with the robot's exact geometry enclosed as
-parameter intervals.
+A model is written once with sympy (``robots.symbolic``: leg vectors,
+Jacobians A and B in the seed 003 form A ṫ + B ρ̇ = 0, det(A)) with the
+geometry as *symbols*; the expressions are compiled once per kind by
+``intervals.compiler`` and then evaluated on batches of boxes with the
+robot's exact geometry enclosed as parameter intervals.  The symbolic
+module is loaded on first use (``symbolic()``): reading a robot file,
+forward kinematics and poses do not import sympy.
+
+The float helpers (``leg_lengths_float``, ``jacobian_float``,
+``rotation_float``) are plain numpy formulas of each kind, for guesses,
+sampling and input checks, never for proofs; tests compare them with the
+symbolic model.
 """
 from __future__ import annotations
 
 from fractions import Fraction
 from functools import cached_property
+import importlib
 
 import numpy as np
-import sympy as sp
 
 from intervals import Interval, linalg, sqrt
 from intervals.autodiff import Dual
-from intervals.compiler import compile_exprs
 
 from .poses import parse_number
 
-_COMPILED: dict = {}  # (kind, n_legs, what) -> CompiledExprs, shared by robots of one kind
 
-
-def det3(M):
-    """Cofactor expansion of a 3x3 sympy matrix, left unexpanded.
-
-    Keeping the products of the (short) entries instead of the expanded
-    polynomial makes far fewer interval operations and tighter enclosures.
-    """
-    return (M[0, 0] * (M[1, 1] * M[2, 2] - M[1, 2] * M[2, 1])
-            - M[0, 1] * (M[1, 0] * M[2, 2] - M[1, 2] * M[2, 0])
-            + M[0, 2] * (M[1, 0] * M[2, 1] - M[1, 1] * M[2, 0]))
+def symbolic():
+    """The module of symbolic models (``robots.symbolic``), imported on first use: it imports sympy
+    (about half a second), which only det(A), trajectories and workspaces need."""
+    return importlib.import_module("certkin.robots.symbolic")
 
 
 class Robot:
@@ -47,6 +46,8 @@ class Robot:
     dim = 0
     pose_names: tuple[str, ...] = ()
     angle_names: frozenset = frozenset()
+    geometry_letters = ("a", "b")           # symbol prefixes of the base and platform coordinates
+    symbolic_det = False                    # whether the model has a short symbolic det(A) (else A only)
 
     def __init__(self, name, base, platform, limits=None, home=None, source=""):
         self.name = name
@@ -56,16 +57,24 @@ class Robot:
         self.home = list(home) if home is not None else None
         self.source = source
 
-    # ----- symbolic model (written by each kind) -----------------------------
+    # ----- symbolic model (robots.symbolic) -----------------------------------
+    @classmethod
+    def geometry_names(cls) -> tuple[str, ...]:
+        """Names of the geometry parameters, base points then platform points (``a1x a1y ...``)."""
+        coords = "xyz"[:cls.dim]
+        return tuple(f"{which}{i}{c}" for which in cls.geometry_letters for i in range(1, cls.n_legs + 1)
+                     for c in coords)
+
     @classmethod
     def symbols(cls):
         """(pose symbols, geometry symbols) of the symbolic model of this kind."""
-        raise NotImplementedError
+        return symbolic().symbols(cls)
 
     @classmethod
     def symbolic_model(cls) -> dict:
-        """Sympy expressions: ``legs`` (leg vectors), ``A``, ``B`` (matrices), ``points`` (world B_i)."""
-        raise NotImplementedError
+        """Sympy expressions: ``legs`` (leg vectors), ``A``, ``B`` (matrices), ``points`` (world B_i),
+        ``det`` and ``R`` where the kind has them."""
+        return symbolic().model(cls)
 
     # ----- exact data ------------------------------------------------------
     def geometry_texts(self) -> list[str]:
@@ -92,48 +101,13 @@ class Robot:
 
     @classmethod
     def compiled(cls, what: str):
-        key = (cls.__name__, what)
-        if key not in _COMPILED:
-            pose, geom = cls.symbols()
-            model = cls.symbolic_model()
-            if what == "det":
-                exprs = [model["det"]]
-            elif what == "A":
-                exprs = list(model["A"])
-            elif what == "legs_sq":
-                exprs = [sum(c ** 2 for c in leg) for leg in model["legs"]]
-            elif what == "R":
-                exprs = list(model["R"])
-            elif what == "points":
-                exprs = [c for p in model["points"] for c in p]
-            elif what == "leg_vectors":   # l_i padded to 3 coordinates, then R row by row if modelled
-                exprs = [c for leg in model["legs"] for c in (list(leg) + [0] * (3 - len(leg)))]
-                if "R" in model:
-                    exprs += list(model["R"])
-            else:
-                raise KeyError(what)
-            _COMPILED[key] = compile_exprs(exprs, pose, geom)
-        return _COMPILED[key]
+        """The compiled interval evaluator of ``what``: det, A, legs_sq, R, points, leg_vectors."""
+        return symbolic().compiled(cls, what)
 
     @classmethod
     def rigid_legs(cls) -> bool:
-        """Whether the model's leg vectors are l_i = C + R b_i − a_i (C the position variables,
-        a_i, b_i the base and platform geometry), checked symbolically once per kind."""
-        key = (cls.__name__, "rigid_legs")
-        if key not in _COMPILED:
-            pose, geom = cls.symbols()
-            model = cls.symbolic_model()
-            ok = "R" in model and cls.dim == 3
-            if ok:
-                R = sp.Matrix(model["R"]).reshape(3, 3)
-                C = [v for v in pose if str(v) not in cls.angle_names]
-                C = sp.Matrix(C + [0] * (3 - len(C)))
-                n = cls.n_legs
-                for i, leg in enumerate(model["legs"]):
-                    a, b = sp.Matrix(geom[3 * i:3 * i + 3]), sp.Matrix(geom[3 * n + 3 * i:3 * n + 3 * i + 3])
-                    ok = ok and all(sp.expand(x - y) == 0 for x, y in zip(leg, C + R * b - a))
-            _COMPILED[key] = bool(ok)
-        return _COMPILED[key]
+        """Whether the model's leg vectors are l_i = C + R b_i − a_i (checked symbolically)."""
+        return symbolic().rigid_legs(cls)
 
     def _box(self, boxes) -> Interval:
         b = boxes if isinstance(boxes, Interval) else Interval(np.asarray(boxes, dtype=np.float64))
@@ -144,7 +118,7 @@ class Robot:
     def det_enclosure(self, boxes) -> Interval:
         """Enclosure of det(A) over each box of a batch (..., d) -> (...)."""
         b = self._box(boxes)
-        if "det" in self.symbolic_model():
+        if self.symbolic_det:
             return self.compiled("det")(b, self.parameters)[..., 0]
         A = self.compiled("A")(b, self.parameters)
         n = self.n_legs
@@ -158,7 +132,7 @@ class Robot:
         numbers (``linalg.laplace_det``).
         """
         b = self._box(boxes)
-        if "det" in self.symbolic_model():
+        if self.symbolic_det:
             v, j = self.compiled("det").jacobian(b, self.parameters)
             return v[..., 0], j[..., 0, :]
         vals, jac = self.compiled("A").jacobian(b, self.parameters)
@@ -185,35 +159,29 @@ class Robot:
         a = self.compiled("A")(self._box(boxes), self.parameters)
         return a.reshape(*a.shape[:-1], self.n_legs, len(self.pose_names))
 
-    # ----- float helpers (not rigorous: for sampling and display) ------------
-    @property
-    def _float_funcs(self):
-        """(squared leg lengths, A) as float functions of (pose, geometry): lambdified once per kind."""
-        key = (type(self).__name__, "float")
-        if key not in _COMPILED:
-            pose, geom = self.symbols()
-            model = self.symbolic_model()
-            legs = sp.lambdify(list(pose) + list(geom), [sum(c ** 2 for c in l) for l in model["legs"]], "numpy")
-            A = sp.lambdify(list(pose) + list(geom), model["A"].tolist(), "numpy")
-            _COMPILED[key] = (legs, A)
-        return _COMPILED[key]
+    # ----- float helpers (not rigorous: for guesses, sampling and input checks) ------------
+    @cached_property
+    def float_geometry(self) -> tuple[np.ndarray, np.ndarray]:
+        """(base, platform) points as floats (n_legs, dim): the nearest floats of the exact decimals."""
+        return (np.array([[float(Fraction(c)) for c in p] for p in self.base]),
+                np.array([[float(Fraction(c)) for c in p] for p in self.platform]))
+
+    def rotation_float(self, pose) -> np.ndarray:
+        """The platform rotation at float poses (..., d) -> (..., dim, dim) (not certified)."""
+        raise NotImplementedError
+
+    def leg_vectors_float(self, pose) -> np.ndarray:
+        """Leg vectors l_i = B_i − A_i at float poses (..., d) -> (..., n, dim) (not certified)."""
+        raise NotImplementedError
 
     def leg_lengths_float(self, pose) -> np.ndarray:
         """Leg lengths at float poses (..., d) -> (..., n) by plain float arithmetic (not certified)."""
-        pose = np.asarray(pose, dtype=np.float64)
-        g = [float(Fraction(t)) for t in self.geometry_texts()]
-        legs, _ = self._float_funcs
-        vals = legs(*np.moveaxis(pose, -1, 0), *g)
-        return np.sqrt(np.stack(np.broadcast_arrays(*vals), axis=-1))
+        legs = self.leg_vectors_float(np.asarray(pose, dtype=np.float64))
+        return np.sqrt(np.sum(legs * legs, axis=-1))
 
     def jacobian_float(self, pose) -> np.ndarray:
         """The matrix A at float poses (..., d) -> (..., n, d) (not certified)."""
-        pose = np.asarray(pose, dtype=np.float64)
-        g = [float(Fraction(t)) for t in self.geometry_texts()]
-        _, A = self._float_funcs
-        entries = A(*np.moveaxis(pose, -1, 0), *g)
-        M = np.array([[np.broadcast_to(np.asarray(e, dtype=np.float64), pose.shape[:-1]) for e in row] for row in entries])
-        return np.moveaxis(M, (0, 1), (-2, -1))
+        raise NotImplementedError
 
     def det_float(self, pose) -> np.ndarray:
         """det(A) at float poses (not certified)."""

@@ -10,16 +10,15 @@ x, phi about the new z).  Leg i: l_i = C + R b_i − a_i.  With
 (the Plücker lines of the legs scaled by ρ_i > 0, so the sign of det A is
 that of the unit-line determinant).  6-3 and 3-3 designs are the same model
 with coincident joints.  det A is enclosed from the compiled entries of A by
-``intervals.linalg.det``.
+``intervals.linalg.det``.  The symbolic model is in ``robots.symbolic``; the
+float helpers below are the same formulas.
 """
 from __future__ import annotations
 
-from functools import lru_cache
-
-import sympy as sp
+import numpy as np
 
 from .base import Robot
-from .spherical import rot_x, rot_z
+from .spherical import rotation_float
 
 
 class GoughStewart(Robot):
@@ -29,28 +28,18 @@ class GoughStewart(Robot):
     pose_names = ("x", "y", "z", "psi", "theta", "phi")
     angle_names = frozenset({"psi", "theta", "phi"})
 
-    @classmethod
-    @lru_cache(maxsize=None)
-    def symbols(cls):
-        pose = sp.symbols("x y z psi theta phi", real=True)
-        geom = sp.symbols(" ".join(f"a{i}{c}" for i in range(1, 7) for c in "xyz") + " "
-                          + " ".join(f"b{i}{c}" for i in range(1, 7) for c in "xyz"), real=True)
-        return pose, geom
+    def rotation_float(self, pose) -> np.ndarray:
+        return rotation_float(self.kind, pose)
 
-    @classmethod
-    @lru_cache(maxsize=None)
-    def symbolic_model(cls):
-        (x, y, z, psi, theta, phi), g = cls.symbols()
-        R = rot_z(psi) * rot_x(theta) * rot_z(phi)
-        C = sp.Matrix([x, y, z])
-        rows, legs, points = [], [], []
-        for i in range(6):
-            a = sp.Matrix(g[3 * i:3 * i + 3])
-            rb = R * sp.Matrix(g[18 + 3 * i:18 + 3 * i + 3])
-            l = C + rb - a
-            legs.append(tuple(l))
-            points.append(tuple(C + rb))
-            rows.append(list(l) + list(rb.cross(l)))
-        A = sp.Matrix(rows)
-        rho = [sp.sqrt(sum(c ** 2 for c in leg)) for leg in legs]
-        return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho), "R": R}
+    def _arms_and_legs(self, pose):
+        pose = np.asarray(pose, dtype=np.float64)
+        base, platform = self.float_geometry
+        rb = platform @ np.swapaxes(self.rotation_float(pose), -1, -2)        # (..., 6, 3): R b_i
+        return rb, pose[..., None, :3] + rb - base
+
+    def leg_vectors_float(self, pose) -> np.ndarray:
+        return self._arms_and_legs(pose)[1]
+
+    def jacobian_float(self, pose) -> np.ndarray:
+        rb, legs = self._arms_and_legs(pose)
+        return np.concatenate([legs, np.cross(rb, legs)], -1)

@@ -9,15 +9,14 @@ fixes the sign of det A):
     B = −diag(ρ_i)
 
 and u_iᵀ E q_i simplifies to (y − b_iy) q_ix − (x − b_ix) q_iy (the q_ix q_iy
-terms cancel), which keeps interval enclosures tight.
+terms cancel), which keeps interval enclosures tight.  The symbolic model is
+in ``robots.symbolic``; the float helpers below are the same formulas.
 """
 from __future__ import annotations
 
-from functools import lru_cache
+import numpy as np
 
-import sympy as sp
-
-from .base import Robot, det3
+from .base import Robot
 
 
 class Planar3RPR(Robot):
@@ -26,28 +25,27 @@ class Planar3RPR(Robot):
     dim = 2
     pose_names = ("x", "y", "phi")
     angle_names = frozenset({"phi"})
+    geometry_letters = ("b", "p")
+    symbolic_det = True
 
-    @classmethod
-    @lru_cache(maxsize=None)
-    def symbols(cls):
-        pose = sp.symbols("x y phi", real=True)
-        geom = sp.symbols("b1x b1y b2x b2y b3x b3y p1x p1y p2x p2y p3x p3y", real=True)
-        return pose, geom
+    def rotation_float(self, pose) -> np.ndarray:
+        phi = np.asarray(pose, dtype=np.float64)[..., 2]
+        c, s = np.cos(phi), np.sin(phi)
+        return np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)
 
-    @classmethod
-    @lru_cache(maxsize=None)
-    def symbolic_model(cls):
-        (x, y, phi), g = cls.symbols()
-        b = [(g[0], g[1]), (g[2], g[3]), (g[4], g[5])]
-        p = [(g[6], g[7]), (g[8], g[9]), (g[10], g[11])]
-        c, s = sp.cos(phi), sp.sin(phi)
-        rows, legs, points = [], [], []
-        for (bx, by), (px, py) in zip(b, p):
-            qx, qy = c * px - s * py, s * px + c * py
-            ux, uy = x + qx - bx, y + qy - by
-            legs.append((ux, uy))
-            points.append((x + qx, y + qy))
-            rows.append([(y - by) * qx - (x - bx) * qy, ux, uy])
-        A = sp.Matrix(rows)
-        rho = [sp.sqrt(ux ** 2 + uy ** 2) for ux, uy in legs]
-        return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho), "det": det3(A)}
+    def _q_and_u(self, pose):
+        pose = np.asarray(pose, dtype=np.float64)
+        base, platform = self.float_geometry
+        q = platform @ np.swapaxes(self.rotation_float(pose), -1, -2)          # (..., 3, 2): Q p'_i
+        return q, pose[..., None, :2] + q - base
+
+    def leg_vectors_float(self, pose) -> np.ndarray:
+        return self._q_and_u(pose)[1]
+
+    def jacobian_float(self, pose) -> np.ndarray:
+        pose = np.asarray(pose, dtype=np.float64)
+        base, _ = self.float_geometry
+        q, u = self._q_and_u(pose)
+        x, y = pose[..., None, 0], pose[..., None, 1]
+        first = (y - base[:, 1]) * q[..., 0] - (x - base[:, 0]) * q[..., 1]
+        return np.concatenate([first[..., None], u], -1)

@@ -9,30 +9,14 @@ Q = Rz(phi1) Ry(phi2) Rz(phi3) (seed 003 eq. 4.12–4.13).  With
     row i of A = (a_i × b_i)ᵀ,   B = −diag(ρ_i).
 
 Tilt-and-torsion angles (phi1, phi2, sigma) are Euler (phi1, phi2, sigma − phi1).
+The symbolic model is in ``robots.symbolic``; the float helpers below are the
+same formulas.
 """
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
-import sympy as sp
 
-from .base import Robot, det3
-
-
-def rot_z(a):
-    c, s = sp.cos(a), sp.sin(a)
-    return sp.Matrix([[c, -s, 0], [s, c, 0], [0, 0, 1]])
-
-
-def rot_y(a):
-    c, s = sp.cos(a), sp.sin(a)
-    return sp.Matrix([[c, 0, s], [0, 1, 0], [-s, 0, c]])
-
-
-def rot_x(a):
-    c, s = sp.cos(a), sp.sin(a)
-    return sp.Matrix([[1, 0, 0], [0, c, -s], [0, s, c]])
+from .base import Robot
 
 
 class Spherical3DOF(Robot):
@@ -41,20 +25,7 @@ class Spherical3DOF(Robot):
     dim = 3
     pose_names = ("phi1", "phi2", "phi3")
     angle_names = frozenset(pose_names)
-
-    @classmethod
-    @lru_cache(maxsize=None)
-    def symbols(cls):
-        pose = sp.symbols("phi1 phi2 phi3", real=True)
-        geom = sp.symbols(" ".join(f"a{i}{c}" for i in (1, 2, 3) for c in "xyz") + " "
-                          + " ".join(f"b{i}{c}" for i in (1, 2, 3) for c in "xyz"), real=True)
-        return pose, geom
-
-    @classmethod
-    @lru_cache(maxsize=None)
-    def symbolic_model(cls):
-        (p1, p2, p3), g = cls.symbols()
-        return _model(rot_z(p1) * rot_y(p2) * rot_z(p3), g)
+    symbolic_det = True
 
     def with_angles(self, angles: str):
         """The same robot with pose angles ``zyz`` (Euler) or ``tilt-torsion``."""
@@ -63,18 +34,21 @@ class Spherical3DOF(Robot):
             raise ValueError(f"unknown angles {angles!r} (zyz or tilt-torsion)")
         return cls(self.name, self.base, self.platform, self.limits, self.home if cls is type(self) else None, self.source)
 
+    def rotation_float(self, pose) -> np.ndarray:
+        pose = np.asarray(pose, dtype=np.float64)
+        return rot_z(pose[..., 0]) @ rot_y(pose[..., 1]) @ rot_z(pose[..., 2])
 
-def _model(Q, g):
-    rows, legs, points = [], [], []
-    for i in range(3):
-        a = sp.Matrix(g[3 * i:3 * i + 3])
-        b = Q * sp.Matrix(g[9 + 3 * i:9 + 3 * i + 3])
-        legs.append(tuple(b - a))
-        points.append(tuple(b))
-        rows.append(list(a.cross(b)))
-    A = sp.Matrix(rows)
-    rho = [sp.sqrt(sum(c ** 2 for c in leg)) for leg in legs]
-    return {"legs": legs, "points": points, "A": A, "B": -sp.diag(*rho), "det": det3(A), "R": Q}
+    def _points(self, pose):
+        base, platform = self.float_geometry
+        return platform @ np.swapaxes(self.rotation_float(pose), -1, -2), base    # (..., 3, 3): b_i = Q b'_i
+
+    def leg_vectors_float(self, pose) -> np.ndarray:
+        b, a = self._points(pose)
+        return b - a
+
+    def jacobian_float(self, pose) -> np.ndarray:
+        b, a = self._points(pose)
+        return np.cross(np.broadcast_to(a, b.shape), b)
 
 
 class Spherical3DOFTiltTorsion(Spherical3DOF):
@@ -87,17 +61,9 @@ class Spherical3DOFTiltTorsion(Spherical3DOF):
     angle_names = frozenset(pose_names)
     model_name = "spherical-3dof-tt"
 
-    @classmethod
-    @lru_cache(maxsize=None)
-    def symbols(cls):
-        pose = sp.symbols("phi1 phi2 sigma", real=True)
-        return pose, Spherical3DOF.symbols()[1]
-
-    @classmethod
-    @lru_cache(maxsize=None)
-    def symbolic_model(cls):
-        (p1, p2, sg), g = cls.symbols()
-        return _model(rot_z(p1) * rot_y(p2) * rot_z(sg - p1), g)
+    def rotation_float(self, pose) -> np.ndarray:
+        pose = np.asarray(pose, dtype=np.float64)
+        return rot_z(pose[..., 0]) @ rot_y(pose[..., 1]) @ rot_z(pose[..., 2] - pose[..., 0])
 
 
 def rotation_float(kind: str, pose) -> np.ndarray:
@@ -108,22 +74,23 @@ def rotation_float(kind: str, pose) -> np.ndarray:
     """
     pose = np.asarray(pose, dtype=np.float64)
     if kind == "gough-stewart":
-        a, b, c = pose[..., 3], pose[..., 4], pose[..., 5]
-        return _rz(a) @ _rx(b) @ _rz(c)
-    a, b, c = pose[..., 0], pose[..., 1], pose[..., 2]
-    return _rz(a) @ _ry(b) @ _rz(c)
+        return rot_z(pose[..., 3]) @ rot_x(pose[..., 4]) @ rot_z(pose[..., 5])
+    return rot_z(pose[..., 0]) @ rot_y(pose[..., 1]) @ rot_z(pose[..., 2])
 
 
-def _rz(t):
+def rot_z(t):
+    """Rz(t) for float angles (...) -> (..., 3, 3)."""
     c, s, z, o = np.cos(t), np.sin(t), np.zeros_like(t), np.ones_like(t)
     return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1), np.stack([z, z, o], -1)], -2)
 
 
-def _ry(t):
+def rot_y(t):
+    """Ry(t) for float angles (...) -> (..., 3, 3)."""
     c, s, z, o = np.cos(t), np.sin(t), np.zeros_like(t), np.ones_like(t)
     return np.stack([np.stack([c, z, s], -1), np.stack([z, o, z], -1), np.stack([-s, z, c], -1)], -2)
 
 
-def _rx(t):
+def rot_x(t):
+    """Rx(t) for float angles (...) -> (..., 3, 3)."""
     c, s, z, o = np.cos(t), np.sin(t), np.zeros_like(t), np.ones_like(t)
     return np.stack([np.stack([o, z, z], -1), np.stack([z, c, -s], -1), np.stack([z, s, c], -1)], -2)
