@@ -11,7 +11,9 @@ stated in the certificate (models ``planar-3rpr-fk/1``,
           [2(q1 q2 + q0 q3), 1 − 2(q1² + q3²), 2(q2 q3 − q0 q1)],
           [2(q1 q3 − q0 q2), 2(q2 q3 + q0 q1), 1 − 2(q1² + q2²)]],
   R = [[c, −s], [s, c]] in the plane;
-- equations: leg i, Σ_k (p_k + (R b_i)_k − a_ik)² − ρ_i² (i = 1..legs),
+- equations: leg i, Σ_k (p_k + (R b_i)_k − a_ik)² − ρ_i² (i = 1..legs; a length given as a
+  range "lo:hi" makes ρ_i an interval: every step then holds for every length in the ranges,
+  a Krawczyk box holds exactly one root for each length vector),
   then c² + s² − 1 or |q|² − 1;
 - position system (for ``position`` contractions): D p = g with, for i ≥ 2,
   D_i = 2((R b_i − R b_1) − (a_i − a_1)),
@@ -21,7 +23,9 @@ A claim lists ``solutions`` (boxes R_j of unknowns, each with a float
 matrix C_j such that the Krawczyk image K(R_j) lies in the interior of R_j:
 exactly one root in R_j), pairwise disjoint, inside the ``domain``; and a
 ``tree`` covering the domain whose leaves are excluded (``equation``,
-``krawczyk-empty``, ``slope-empty``, ``slope-gs-empty``, ``position-empty``, ``hc4-empty``) or proved
+``krawczyk-empty``, ``slope-empty``, ``slope-gs-empty``, ``position-empty``, ``hc4-empty``), left in
+a listed cluster region (``cluster``: nothing is proved about the leaf; the claim's ``clusters`` are
+regions that may hold any number of postures), or proved
 (``krawczyk-unique``:
 K(X*) ⊂ int X* for X* ⊇ leaf, and the solution it names lies in X*, so the
 leaf's only possible root is that solution — or, with ``twin``, the
@@ -34,8 +38,8 @@ K(X) ∩ X, ``slope``: the same with slope matrices in place of the Jacobian
 slope matrices (``System.slope_gauss_seidel``), ``position``: one Gauss-Seidel sweep of
 (P D) p = P g, ``hc4``:
 one forward-backward pass, ``System.hc4``, then the sweep if P is given) must
-land inside the child box.  With ``complete`` true, no leaf is undecided, so the
-solutions are all the roots in the domain; with ``covers`` =
+land inside the child box.  With ``complete`` true, no leaf is undecided, so every root in the
+domain lies in a solution box (exactly one root each) or in a cluster box; with ``covers`` =
 ``all-postures`` the domain is checked to hold every real posture.  The
 Krawczyk midpoint c is the float fl(0.5 lo + 0.5 hi) of each box.
 """
@@ -71,10 +75,8 @@ class System:
         self.b = _points(robot, "platform", legs, dim)
         if not isinstance(lengths, list) or len(lengths) != legs:
             raise Rejected(f"lengths: expected {legs} exact decimals")
-        rho = [enclose(v, f"lengths[{i}]") for i, v in enumerate(lengths)]
-        if any(exact(v, f"lengths[{i}]") < 0 for i, v in enumerate(lengths)):
-            raise Rejected("lengths: a leg length cannot be negative")
-        self.rho = rho
+        self.rho = [_length(v, f"lengths[{i}]") for i, v in enumerate(lengths)]
+        rho = self.rho
         self.L = [r ** 2 for r in rho]
         self.norm_a2 = [sum((c ** 2 for c in p), iv.mpf(0)) for p in self.a]
         self.norm_b2 = [sum((c ** 2 for c in p), iv.mpf(0)) for p in self.b]
@@ -424,6 +426,18 @@ def _meet(x, y):
     return iv.mpf([lo, hi])
 
 
+def _length(value, where):
+    """A leg length: an exact decimal, or a range "lo:hi" of exact decimals (0 <= lo <= hi), enclosed
+    outward; every claim about the range holds for every length in it."""
+    parts = value.split(":") if isinstance(value, str) else [value]
+    if len(parts) > 2:
+        raise Rejected(f"{where}: expected a decimal or 'lo:hi'")
+    lo, hi = parts[0], parts[-1]
+    if exact(lo, where) < 0 or exact(lo, where) > exact(hi, where):
+        raise Rejected(f"{where}: a leg length (range) must satisfy 0 <= lo <= hi")
+    return iv.mpf([enclose(lo, where).a, enclose(hi, where).b])
+
+
 def _points(robot, key, count, dim):
     pts = robot.get(key)
     if not isinstance(pts, list) or len(pts) != count:
@@ -490,7 +504,11 @@ def _claim(model, robot, claim, where, counts):
                                "the postures are not proved distinct")
         boxes.append(box)
         counts["solutions"] = counts.get("solutions", 0) + 1
-    _tree(system, claim.get("tree"), domain, boxes, complete, f"{where}.tree", counts)
+    clusters = claim.get("clusters", [])
+    if not isinstance(clusters, list):
+        raise Rejected(f"{where}.clusters: expected a list of boxes")
+    clusters = [read_box(c, n, f"{where}.clusters[{j}]") for j, c in enumerate(clusters)]
+    _tree(system, claim.get("tree"), domain, boxes, complete, f"{where}.tree", counts, clusters)
 
 
 def _covers_all(system, domain, where):
@@ -545,7 +563,7 @@ def _negated(system, box):
     return [b if k < p else (-b[1], -b[0]) for k, b in enumerate(box)]
 
 
-def _tree(system, root, domain, solutions, complete, where, counts):
+def _tree(system, root, domain, solutions, complete, where, counts, clusters=()):
     n = system.n
     stack = [(root, domain, ())]
     while stack:
@@ -565,7 +583,7 @@ def _tree(system, root, domain, solutions, complete, where, counts):
         elif "leaf" in node:
             if read_box(node.get("box"), n, f"{at}: box") != box:
                 raise Rejected(f"{at}: box does not match the derived box")
-            _leaf(system, node, box, solutions, complete, at)
+            _leaf(system, node, box, solutions, complete, at, clusters, counts)
             counts["leaves"] += 1
         else:
             raise Rejected(f"{at}: neither a split, a contraction nor a leaf")
@@ -619,12 +637,21 @@ def _contraction(system, node, box, child, at):
         raise Rejected(f"{at}: unknown contraction {rule!r} (known: krawczyk, slope, slope-gs, position, hc4)")
 
 
-def _leaf(system, node, box, solutions, complete, at):
+def _leaf(system, node, box, solutions, complete, at, clusters=(), counts=None):
     rule = node.get("leaf")
     n = system.n
     if rule == "undecided":
         if complete:
             raise Rejected(f"{at}: undecided leaf in a claim that says complete")
+        return
+    if rule == "cluster":   # nothing proved about the leaf: it lies in a region the claim lists as a cluster
+        j = node.get("cluster")
+        if isinstance(j, bool) or not isinstance(j, int) or not 0 <= j < len(clusters):
+            raise Rejected(f"{at}: 'cluster' must name one of the {len(clusters)} clusters")
+        if not _inside(box, clusters[j]):
+            raise Rejected(f"{at}: box not inside clusters[{j}]")
+        if counts is not None:
+            counts["clusters"] = counts.get("clusters", 0) + 1
         return
     if rule == "equation":
         k = node.get("equation")

@@ -1,6 +1,6 @@
 """Forward-kinematics certificates: per set of leg lengths, the domain, every solution box with its
-Krawczyk matrix, and the search tree with the evidence of each leaf and contraction
-(``proofs.fk`` re-checks them)."""
+Krawczyk matrix, the clusters (regions of unresolved postures), and the search tree with the
+evidence of each leaf and contraction (``proofs.fk`` re-checks them)."""
 from __future__ import annotations
 
 import numpy as np
@@ -30,6 +30,8 @@ def fk_claim(result) -> dict:
              "complete": bool(result.complete)}
     sols = result.all_solutions
     claim["solutions"] = [{"box": box_json(s["box"].lo, s["box"].hi), "C": np.asarray(s["C"]).tolist()} for s in sols]
+    if result.clusters:
+        claim["clusters"] = [box_json(c["box"].lo, c["box"].hi) for c in result.clusters]
     if result.tracked:  # one Krawczyk proof on the whole box: exactly one posture there
         claim["tree"] = {"leaf": "krawczyk-unique", "box": claim["domain"], "C": np.asarray(result.track_C).tolist(),
                          "solution": 0}
@@ -69,6 +71,8 @@ def fk_claim(result) -> dict:
                 if proof["twin"]:
                     out["twin"] = True
             return out
+        if int(i) in result.cluster_of:      # nothing proved: the leaf lies in a region the claim lists
+            return {"leaf": "cluster", "box": box, "cluster": result.cluster_of[int(i)]}
         return {"leaf": "undecided", "box": box}
 
     def contraction(i):

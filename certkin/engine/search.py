@@ -8,8 +8,8 @@ bisection, the budgets and the record of the search tree:
         def decide(self, lo, hi, roots) -> Decisions
             # lo, hi: float arrays (N, d); roots: (N,) index of the initial box of each
 
-``Decisions`` gives, per box, a status (``PROVED``, ``EXCLUDED`` or
-``OPEN``), a reason code, and evidence as a dict of arrays with one row per
+``Decisions`` gives, per box, a status (``PROVED``, ``EXCLUDED``, ``OPEN``, or
+``UNDECIDED``: given up, an undecided leaf with the problem's reason), a reason code, and evidence as a dict of arrays with one row per
 box (read only for decided boxes), and optionally contracted boxes (with
 their own reason and evidence): a contracted box becomes the child of the
 box it came from, and the status is about the contracted box.  Open boxes are bisected
@@ -49,7 +49,8 @@ SPLIT_RATIO = 0.4921875  # off-centre bisection ratio (exact in binary)
 class Decisions:
     """What a problem says about a batch of N boxes."""
 
-    status: np.ndarray                      # (N,) int8: OPEN | PROVED | EXCLUDED
+    status: np.ndarray                      # (N,) int8: OPEN | PROVED | EXCLUDED, or UNDECIDED: given up
+                                            # (a leaf with the problem's reason; nothing claimed about it)
     reason: np.ndarray                      # (N,) int: index into problem.reasons (decided boxes)
     evidence: dict = field(default_factory=dict)   # name -> array (N, ...), rows of decided boxes
     contracted: tuple | list | None = None  # optional (lo, hi) (N, d): the boxes after contraction (or a
@@ -146,7 +147,8 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
                     blo, bhi = clo, chi
         status = np.asarray(dec.status)
         decided = status != OPEN
-        store.kind[ids[decided]] = np.where(status[decided] == PROVED, PROVED, EXCLUDED)
+        store.kind[ids[decided]] = np.where(status[decided] == PROVED, PROVED,
+                                            np.where(status[decided] == UNDECIDED, UNDECIDED, EXCLUDED))
         store.reason[ids[decided]] = np.asarray(dec.reason)[decided]
         evidence.add(ids[decided], dec.evidence, np.nonzero(decided)[0])
         if dec.finished is not None and len(dec.finished):
