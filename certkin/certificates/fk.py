@@ -13,6 +13,8 @@ def fk_certificate(results) -> dict:
     """Certificate for one FKResult or a list of them (one claim per set of leg lengths)."""
     if not isinstance(results, (list, tuple)):
         results = [results]
+    # a search too large to keep whole forgot its excluded leaves: the same query again, tree kept
+    results = [r if getattr(r, "recorded", None) is None else r.recorded() for r in results]
     r0 = results[0]
     cert = {"format": FORMAT, "version": VERSION, "problem": "forward-kinematics", "robot": r0.robot.to_dict(),
             "model": r0.system.model_name, "unknowns": list(r0.system.unknowns)}

@@ -26,7 +26,8 @@ def run(args):
     with options(OPTIONS):
         robot = with_angles(load_robot(args.robot), args.angles)
         result = forward_kinematics(robot, args.lengths, domain=args.domain, budget=budget(args),
-                                    progress=progress(args.progress), track=args.track)
+                                    progress=progress(args.progress), track=args.track,
+                                    record=bool(args.certificate))
         answer(args, robot, result, fk_certificate, fk_report, describe)
     return 0
 

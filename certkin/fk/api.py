@@ -30,7 +30,8 @@ from .system import fk_system
 from .tracking import track_one, track_rows
 
 
-def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None, track=None):
+def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None, track=None,
+                       record: bool = False):
     """All real FK postures for the leg lengths ``lengths``.
 
     ``lengths``: one set (sequence or "l1,l2,..." text), or a 2-D array with
@@ -42,7 +43,9 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     else the full search runs; with a 2-D ``lengths`` the rows are a
     sequence, tracked one after another from ``track`` (``track_sequence``).
     Each solution is proved unique in its box; ``complete`` means the rest of
-    the domain is proved empty.
+    the domain is proved empty.  ``record``: keep the whole search tree however large (for a
+    certificate); by default a search past ``budgets.FK_RECORD_NODES`` nodes forgets its excluded
+    leaves and ``result.certificate()`` runs it again with ``record``.
     """
     if track is not None and not isinstance(lengths, str) and np.asarray(lengths, dtype=object).ndim == 2:
         return track_sequence(robot, lengths, track, budget=budget)
@@ -64,11 +67,13 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
                                                                           budgets.FK_BOXES_PER_INSTANCE * M)})
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
-    res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], budget,
-                           progress) if len(idx) else None
+    res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], budget, progress,
+                           None if record else budgets.FK_RECORD_NODES) if len(idx) else None
     out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter)
-    for r in out:
+    for k, r in enumerate(out):
         r.user_domain = domain is not None
+        if res is not None and not res.tree.complete_record:    # a certificate needs the search again
+            r.recorded = lambda k=k: _again(robot, lengths, domain, budget, k)
     seconds = time.perf_counter() - t0
     for r in out:
         r.seconds = seconds / M
@@ -76,6 +81,12 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
         out[0].boxes = res.boxes if res else 0
         return out[0]
     return out
+
+
+def _again(robot, lengths, domain, budget, k):
+    """The k-th result of the same query, its search tree kept whole."""
+    out = forward_kinematics(robot, lengths, domain=domain, budget=budget, record=True)
+    return out[k] if isinstance(out, list) else out
 
 
 def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budget: Budget | None = None):
@@ -121,7 +132,7 @@ def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
     else:
         rlo, rhi, rC = slo, shi, np.zeros((0, system.n, system.n))
     undecided = tree.leaves(kind=UNDECIDED)
-    nodes = np.bincount(tree.root, minlength=len(idx))
+    nodes = tree.nodes_per_root()
     by_root = np.argsort(tree.root[proved], kind="stable")
     starts = np.searchsorted(tree.root[proved][by_root], np.arange(len(idx) + 1))
     und_sorted = undecided[np.argsort(tree.root[undecided], kind="stable")]

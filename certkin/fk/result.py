@@ -35,6 +35,8 @@ class FKResult:
     cluster_leaves: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     cluster_of: dict = field(default_factory=dict)      # cluster leaf -> its cluster
     message: str = ""                                   # what the search could not settle, in words
+    recorded: object = None                             # set when the tree was not kept whole: gives the
+                                                        # same query's result with its whole tree
 
     @property
     def status(self) -> str:
@@ -58,6 +60,7 @@ class FKResult:
         return out
 
     def certificate(self) -> dict:
+        """The certificate (``certificates.fk``; a search too large to keep whole is run again first)."""
         return fk_certificate(self)
 
 

@@ -63,7 +63,7 @@ GAP = 0.5                # a gap between the two branches of an HC4 square root 
 SPREAD_INFLATE = 2.0     # uncertain lengths: ε-inflation once every side is within this times the root's spread
 
 
-def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None):
+def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None, record_limit=None):
     """One engine search over the domains [lo, hi] (M, n) of M instances, squared leg lengths L
     (M, legs): the engine's ``SearchResult`` (its tree holds one root per instance).
 
@@ -86,7 +86,7 @@ def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None)
         scale[system.n_pos:] = 2.0
     problem = FKProblem(system, L, scale, slopes=system.kind != "planar-3rpr")
     return search(problem, lo, hi, scale=scale, budget=budget, batch=max(8192, 256 * len(lo)), progress=progress,
-                  initial_splits=INITIAL_SPLITS)
+                  initial_splits=INITIAL_SPLITS, record_limit=record_limit)
 
 
 class _Batch:
