@@ -289,6 +289,10 @@ def _finish(result, system, pending, angle_filter, computed=None):
                                       "platform_points": [[pts[j, i, c] for c in range(pts.shape[2])]
                                                           for i in range(pts.shape[1])]})
         result.complete = False
+        if len(result.clusters) > 1 and not result.message:
+            result.message = (f"the budget ran out after the search reached the resolution limit in "
+                              f"{len(result.clusters)} separate places without proving a posture there: the "
+                              "postures may form a continuum (a self-motion) or be singular")
     result.solutions.sort(key=lambda s: [float(v.lo) for v in s["pose"].values()])
 
 
