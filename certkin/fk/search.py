@@ -385,17 +385,22 @@ class FKProblem:
         x = 0.5 * (lo + hi)
         J = system.jacobian(Interval.from_bounds(lo, hi))
         C, _ = linalg.float_inverse(J.mid())
-        for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
+        with np.errstate(all="ignore"):   # near a singular root Newton may run away: a guess only
+            for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
+                f = system.equations(Interval.from_bounds(x, x.copy()), L)
+                x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
+            lost = ~np.all(np.isfinite(x), axis=1) | np.any(np.abs(x - 0.5 * (lo + hi)) > 1e3 * (hi - lo + self.scale), axis=1)
+            x[lost] = 0.5 * (lo[lost] + hi[lost])
             f = system.equations(Interval.from_bounds(x, x.copy()), L)
-            x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
         spread = np.einsum("nij,nj->ni", np.abs(C), 0.5 * (f.hi - f.lo))
         base = np.maximum(np.abs(x - 0.5 * (lo + hi)), hi - lo) + 1e-12 * self.scale
         best = None
         for factor in ((3.0, 2.0) if self.uncertain else (0.0,)):
             r = np.maximum(base, factor * spread)
             slo, shi = np.minimum(lo, x - r), np.maximum(hi, x + r)
-            K, Cs = krawczyk_boxes(system, Interval.from_bounds(slo, shi), L, compact=True)
-            ok = unique_in(K, slo, shi)
+            with np.errstate(all="ignore"):    # a non-finite image proves nothing: the test fails
+                K, Cs = krawczyk_boxes(system, Interval.from_bounds(slo, shi), L, compact=True)
+                ok = unique_in(K, slo, shi)
             if best is None:
                 best = [ok, slo, shi, Cs]
             else:                           # the rows the wider box did not prove
