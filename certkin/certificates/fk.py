@@ -1,6 +1,8 @@
 """Forward-kinematics certificates (``docs/certificates.md``): per set of leg lengths, the domain, the
 regions (each proved root box R with its Krawczyk matrix, X* = R), the solutions among them, and the
 search tree with the evidence of each leaf and contraction (``proofs.fk`` re-checks them).
+Leaves left in a cluster (``FKResult.clusters``: nothing proved there but the name) are
+``in-cluster`` leaves; a length range ``"lo:hi"`` is written as ``length_ranges``.
 
 Preconditioners that the checker rebuilds from its own enclosures (codes + 64: the Gauss-Seidel P
 and the C of emptiness and contraction steps) are not stored; the uniqueness proofs keep theirs.
@@ -18,9 +20,9 @@ LEAVES = {"equation": 0, "hc4-empty": 1, "position-empty": 2 + REBUILT, "krawczy
           "slope-empty": 4 + REBUILT, "slope-gs-empty": 5 + REBUILT}
 CONTRACTIONS = {"hc4": 0, "position": 2 + REBUILT, "krawczyk": 3 + REBUILT, "slope": 4 + REBUILT,
                 "slope-gs": 5 + REBUILT}
-UNIQUE, OUTSIDE, UNDECIDED_LEAF, HC4_POSITION = 6, 7, 10, 1 + REBUILT
+UNIQUE, OUTSIDE, IN_CLUSTER, UNDECIDED_LEAF, HC4_POSITION = 6, 7, 9, 10, 1 + REBUILT
 RULE_NAMES = {**{c: n for n, c in LEAVES.items()}, UNIQUE: "krawczyk-unique", OUTSIDE: "krawczyk-outside",
-              UNDECIDED_LEAF: "undecided"}
+              IN_CLUSTER: "in-cluster", UNDECIDED_LEAF: "undecided"}
 
 
 class _Leaf:
@@ -55,8 +57,12 @@ class _Proved:
         return np.searchsorted(self.node, ids)
 
 
-def _rules(tree, proved, n):
-    """The rules of a tree: the engine's (``proved``: its ``_Proved``), or a ``_Leaf``'s."""
+def _rules(tree, proved, n, cluster_of=None):
+    """The rules of a tree: the engine's (``proved``: its ``_Proved``; ``cluster_of``: undecided
+    leaf -> its cluster in the claim), or a ``_Leaf``'s."""
+    cluster_of = cluster_of or {}
+    in_cluster = np.array(sorted(cluster_of), np.int64)
+    cluster = np.array([cluster_of[i] for i in in_cluster.tolist()], np.int32)
     names = getattr(tree, "reasons", ())
     leaf_lut = np.array([LEAVES.get(x, 255) for x in names] or [255], np.int64)
     con_lut = np.array([CONTRACTIONS.get(x, 255) for x in names] or [255], np.int64)
@@ -73,7 +79,8 @@ def _rules(tree, proved, n):
             out[c & (out == 0) & (has_p[ids] >= 0)] = HC4_POSITION
         p = kind == PROVED
         out[p] = proved.code[proved.at(ids[p])] if p.any() else []
-        out[kind == UNDECIDED] = UNDECIDED_LEAF
+        u = kind == UNDECIDED
+        out[u] = np.where(np.isin(ids[u], in_cluster), IN_CLUSTER, UNDECIDED_LEAF)
         return out
 
     def leaves(t, ids, c, *codes):
@@ -84,8 +91,10 @@ def _rules(tree, proved, n):
         return np.zeros((int(counts.sum()),) + tail, dtype), first
 
     def index(t, ids, c):
-        eq, uq = leaves(t, ids, c, 0), leaves(t, ids, c, UNIQUE)
-        out, first = rows(eq * 1 + uq * 2, np.int32, ())
+        eq, uq, cl = leaves(t, ids, c, 0), leaves(t, ids, c, UNIQUE), leaves(t, ids, c, IN_CLUSTER)
+        out, first = rows(eq * 1 + uq * 2 + cl * 1, np.int32, ())
+        if cl.any():
+            out[first[cl]] = cluster[np.searchsorted(in_cluster, ids[cl])]
         if eq.any():
             out[first[eq]] = t.evidence_values("equation", ids[eq])
         k = proved.at(ids[uq])
@@ -114,16 +123,19 @@ def _rules(tree, proved, n):
 def fk_certificate(results) -> Document:
     """The certificate of one FKResult or a list of them (one claim per set of leg lengths)."""
     results = results if isinstance(results, (list, tuple)) else [results]
+    # a search too large to keep whole forgot its excluded leaves: the same query again, tree kept
+    results = [r if getattr(r, "recorded", None) is None else r.recorded() for r in results]
     r0 = results[0]
     n = r0.system.n
     claims, roots, regions, shared = [], [], [], {}
     for r in results:                            # one rules object per engine tree shared by the results
         if r.tree is not None and not r.tracked:
             shared.setdefault(id(r.tree), []).append(r)
-    rules = {key: _rules(rs[0].tree, _Proved(n, {i: p for r in rs for i, p in r.leaf_proofs.items()}), n)
+    rules = {key: _rules(rs[0].tree, _Proved(n, {i: p for r in rs for i, p in r.leaf_proofs.items()}), n,
+                         {i: c for r in rs for i, c in r.cluster_of.items()})
              for key, rs in shared.items()}
     for r in results:
-        claim = {"lengths": list(r.lengths)}
+        claim = _lengths(r.lengths)
         if np.any(r.domain[0] > r.domain[1]):       # the leg-length balls do not meet: no posture at all
             claims.append({**claim, "domain": "empty", "covers": "all-postures", "complete": True,
                            "solutions": [], "tree": None})
@@ -137,6 +149,9 @@ def fk_certificate(results) -> Document:
         claim.update(domain=box_json(dlo, dhi), covers="box" if r.user_domain or r.tracked else "all-postures",
                      complete=bool(r.complete), tree=True, regions=[first, len(r.all_solutions)],
                      solutions=[{"region": int(j), "box": box} for j, box in zip(inside, outward_boxes(blo[inside], bhi[inside]))])
+        if r.clusters:
+            claim["clusters"] = outward_boxes(np.array([c["box"].lo for c in r.clusters]).reshape(-1, n),
+                                              np.array([c["box"].hi for c in r.clusters]).reshape(-1, n))
         claims.append(claim)
         if r.tree is not None and not r.tracked:
             roots.append((r.tree, r.node, rules[id(r.tree)]))
@@ -153,6 +168,14 @@ def fk_certificate(results) -> Document:
                               Array("fk.region.box_C", "<f8", (n, n), one(C))]
     hdr = header(r0.robot, "forward-kinematics", r0.system.model_name, unknowns=list(r0.system.unknowns), claims=claims)
     return Document(hdr, body)
+
+
+def _lengths(texts) -> dict:
+    """``lengths`` (exact decimals), or ``length_ranges`` when one of them is a range ``"lo:hi"``."""
+    texts = [str(t) for t in texts]
+    if not any(":" in t for t in texts):
+        return {"lengths": texts}
+    return {"length_ranges": [t.split(":") if ":" in t else [t, t] for t in texts]}
 
 
 def _figures(claims, forest):

@@ -1,7 +1,7 @@
 """The one branch-and-bound engine used by every solver (``search``), its budgets and its tree."""
 from .budgets import Budget
 from .search import Decisions, SearchResult, search
-from .tree import CONTRACTED, EXCLUDED, OPEN, PROVED, SPLIT, UNDECIDED, Tree
+from .tree import BUDGET, CONTRACTED, EXCLUDED, OPEN, PROVED, RESOLUTION, SPLIT, UNDECIDED, Tree
 
 __all__ = ["search", "Budget", "Decisions", "SearchResult", "Tree", "OPEN", "PROVED", "EXCLUDED", "UNDECIDED",
-           "SPLIT", "CONTRACTED"]
+           "SPLIT", "CONTRACTED", "BUDGET", "RESOLUTION"]

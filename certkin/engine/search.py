@@ -8,8 +8,8 @@ bisection, the budgets and the record of the search tree:
         def decide(self, lo, hi, roots) -> Decisions
             # lo, hi: float arrays (N, d); roots: (N,) index of the initial box of each
 
-``Decisions`` gives, per box, a status (``PROVED``, ``EXCLUDED`` or
-``OPEN``), a reason code, and evidence as a dict of arrays with one row per
+``Decisions`` gives, per box, a status (``PROVED``, ``EXCLUDED``, ``OPEN``, or
+``UNDECIDED``: given up, an undecided leaf with the problem's reason), a reason code, and evidence as a dict of arrays with one row per
 box (read only for decided boxes), and optionally contracted boxes (with
 their own reason and evidence): a contracted box becomes the child of the
 box it came from, and the status is about the contracted box.  Open boxes are bisected
@@ -49,7 +49,8 @@ SPLIT_RATIO = 0.4921875  # off-centre bisection ratio (exact in binary)
 class Decisions:
     """What a problem says about a batch of N boxes."""
 
-    status: np.ndarray                      # (N,) int8: OPEN | PROVED | EXCLUDED
+    status: np.ndarray                      # (N,) int8: OPEN | PROVED | EXCLUDED, or UNDECIDED: given up
+                                            # (a leaf with the problem's reason; nothing claimed about it)
     reason: np.ndarray                      # (N,) int: index into problem.reasons (decided boxes)
     evidence: dict = field(default_factory=dict)   # name -> array (N, ...), rows of decided boxes
     contracted: tuple | list | None = None  # optional (lo, hi) (N, d): the boxes after contraction (or a
@@ -81,7 +82,7 @@ def choose_split(lo, hi, scale):
 
 def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int = 4096,
            progress=None, min_batch: int = 256, max_rounds: int | None = None,
-           initial_splits: int = 0) -> SearchResult:
+           initial_splits: int = 0, record_limit: int | None = None) -> SearchResult:
     """Branch and bound from the boxes ``[lo, hi]`` (arrays (M, d), one per root).
 
     ``progress(processed_boxes, frontier_size)`` is called after each batch.
@@ -90,6 +91,10 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     ``initial_splits``: each root box wide enough is first halved this many
     times without being decided (a root box of a search that needs
     bisection anyway costs one batch less).
+    ``record_limit``: once the tree holds more nodes than this, it stops being a full record:
+    excluded leaves and inner nodes are forgotten (``Store.compact``), only open, proved and
+    undecided nodes are kept, and ``Tree.complete_record`` is false (the answer is the same; a
+    certificate needs the search run again with no limit).  Memory then stays bounded.
     """
     budget = budget or Budget()
     lo = np.atleast_2d(np.asarray(lo, dtype=np.float64))
@@ -98,7 +103,8 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     if scale is None:
         scale = np.where(hi[0] > lo[0], hi[0] - lo[0], 1.0)
     scale = np.asarray(scale, dtype=np.float64)
-    store = Store(d, max(1024, 4 * m))
+    store = Store(d, max(1024, 4 * m), m)
+    compacted = False
     evidence = Evidence()
     roots = store.add(lo, hi, np.arange(m), np.full(m, -1))
     frontier = [roots[::-1]]                # a stack of id arrays; the end is processed first
@@ -146,7 +152,8 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
                     blo, bhi = clo, chi
         status = np.asarray(dec.status)
         decided = status != OPEN
-        store.kind[ids[decided]] = np.where(status[decided] == PROVED, PROVED, EXCLUDED)
+        store.kind[ids[decided]] = np.where(status[decided] == PROVED, PROVED,
+                                            np.where(status[decided] == UNDECIDED, UNDECIDED, EXCLUDED))
         store.reason[ids[decided]] = np.asarray(dec.reason)[decided]
         evidence.add(ids[decided], dec.evidence, np.nonzero(decided)[0])
         if dec.finished is not None and len(dec.finished):
@@ -166,14 +173,27 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
                     evidence.add(oids[narrow], dec.evidence, np.nonzero(open_)[0][narrow])
             if len(new):
                 frontier.append(new[::-1])
+        if record_limit is not None and store.n > record_limit:
+            frontier, compacted = _compact(store, evidence, frontier), True
         if progress:
             progress(processed, sum(len(f) for f in frontier))
     for ids in frontier:
         store.kind[ids] = UNDECIDED
         store.reason[ids] = BUDGET
     ev, rows = evidence.finish(store.n)
-    tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows)
+    tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows, complete_record=not compacted)
     return SearchResult(tree, processed, time.perf_counter() - t0, exhausted)
+
+
+def _compact(store, evidence, frontier):
+    """Forget the excluded leaves and inner nodes; returns the frontier with the new ids."""
+    kind = store.kind[:store.n]
+    keep = np.zeros(store.n, dtype=bool)
+    keep[(kind == PROVED) | (kind == UNDECIDED)] = True
+    for ids in frontier:
+        keep[ids] = True
+    new = store.compact(np.nonzero(keep)[0], evidence)
+    return [new[ids] for ids in frontier]
 
 
 def _pop(frontier, batch):

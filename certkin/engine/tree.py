@@ -31,8 +31,9 @@ class Store:
     -1..-3); the boxes and split points stay float64.  16 d + 33 bytes per node.
     """
 
-    def __init__(self, d: int, capacity: int = 1024):
+    def __init__(self, d: int, capacity: int = 1024, n_roots: int = 1):
         self.n = 0
+        self.forgotten = np.zeros(n_roots, dtype=np.int64)   # nodes dropped by ``compact``, per root
         self.lo = np.empty((capacity, d))
         self.hi = np.empty((capacity, d))
         self.root = np.empty(capacity, dtype=np.int32)
@@ -64,6 +65,32 @@ class Store:
         self.first_child[ids] = -1
         self.n += k
         return ids
+
+
+    def compact(self, keep, evidence) -> np.ndarray:
+        """Keep only the nodes ``keep`` (sorted ids): the others are forgotten (counted per root in
+        ``forgotten``) with their evidence; the kept nodes lose their parent and child links.
+        Returns the new id of every old node (−1: forgotten)."""
+        new = np.full(self.n, -1, dtype=np.int64)
+        new[keep] = np.arange(len(keep))
+        dropped = np.ones(self.n, dtype=bool)
+        dropped[keep] = False
+        self.forgotten += np.bincount(self.root[:self.n][dropped], minlength=len(self.forgotten))
+        for name in COLUMNS:
+            col = getattr(self, name)
+            col[:len(keep)] = col[keep]
+        self.parent[:len(keep)] = -1
+        self.first_child[:len(keep)] = -1
+        self.n = len(keep)
+        for name, parts in evidence.parts.items():
+            kept = []
+            for ids, rows in parts:
+                ids = new[ids]
+                mask = ids >= 0
+                if mask.any():
+                    kept.append((ids[mask], rows[mask]))
+            evidence.parts[name] = kept
+        return new
 
 
 class Evidence:
@@ -116,14 +143,20 @@ class Tree:
     (row -1: node ``i`` has no such evidence).
     """
 
-    def __init__(self, store: Store, n_roots: int, reasons, evidence, evidence_rows):
+    def __init__(self, store: Store, n_roots: int, reasons, evidence, evidence_rows, complete_record: bool = True):
         n = store.n
         for name in COLUMNS:
             setattr(self, name, getattr(store, name)[:n])
         self.n_roots = n_roots
+        self.complete_record = complete_record   # False: only open, proved and undecided nodes were kept
+        self.forgotten = store.forgotten.copy()  # nodes dropped per root (``Store.compact``)
         self.reasons = tuple(reasons)
         self.evidence = evidence
         self.evidence_rows = evidence_rows
+
+    def nodes_per_root(self) -> np.ndarray:
+        """How many nodes each root's search made (kept or forgotten)."""
+        return np.bincount(self.root, minlength=len(self.forgotten)) + self.forgotten
 
     def __len__(self):
         return len(self.kind)

@@ -5,9 +5,13 @@ With a previous pose (``track=``), tracking (``fk.tracking``) proves the posture
 what it could not prove goes to the branch-and-bound search (``fk.search``), never to a guess.
 The proved leaves of the search are then turned into distinct roots (``_merge``: boxes proved
 unique whose root boxes lie in one another's uniqueness box share their root; for a quaternion,
-q and −q are one posture, a *twin*); undecided boxes are grouped into ``unresolved`` clusters,
-never reported as two roots nor as none.  ``complete`` is true only when every box of the domain
-was excluded or proved and every root's box lies inside the domain.
+q and −q are one posture, a *twin*); each root is a *region*: a uniqueness box X* and a root
+box R inside it.  Leaves left at the resolution limit, or given up inside a root's spread over
+uncertain leg lengths, are grouped into *clusters* (status ``cluster``: any number of postures,
+none proved; near-singular roots, double roots); other undecided boxes (a budget ran out) into
+``unresolved`` regions.  Neither is ever reported as two roots nor as none.  ``complete`` is
+true when every box of the domain was excluded, proved or left in a cluster, and every root's
+box lies inside the domain or outside it: every posture is then in a solution box or a cluster.
 """
 from __future__ import annotations
 
@@ -17,16 +21,17 @@ import numpy as np
 
 from intervals import Interval, sqr
 
-from ..engine import PROVED, UNDECIDED, Budget, budgets
+from ..engine import PROVED, RESOLUTION, UNDECIDED, Budget, budgets
 from ..robots.poses import length_enclosures, parse_box
 from .result import FKResult, robot_pose
-from .search import search_instances
+from .search import FKProblem, search_instances
 from .step import root_boxes
 from .system import fk_system
 from .tracking import track_one, track_rows
 
 
-def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None, track=None):
+def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None, track=None,
+                       record: bool = False):
     """All real FK postures for the leg lengths ``lengths``.
 
     ``lengths``: one set (sequence or "l1,l2,..." text), or a 2-D array with
@@ -38,7 +43,9 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     else the full search runs; with a 2-D ``lengths`` the rows are a
     sequence, tracked one after another from ``track`` (``track_sequence``).
     Each solution is proved unique in its box; ``complete`` means the rest of
-    the domain is proved empty.
+    the domain is proved empty.  ``record``: keep the whole search tree however large (for a
+    certificate); by default a search past ``budgets.FK_RECORD_NODES`` nodes forgets its excluded
+    leaves and ``result.certificate()`` runs it again with ``record``.
     """
     if track is not None and not isinstance(lengths, str) and np.asarray(lengths, dtype=object).ndim == 2:
         return track_sequence(robot, lengths, track, budget=budget)
@@ -60,11 +67,13 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
                                                                           budgets.FK_BOXES_PER_INSTANCE * M)})
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
-    res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], budget,
-                           progress) if len(idx) else None
+    res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], budget, progress,
+                           None if record else budgets.FK_RECORD_NODES) if len(idx) else None
     out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter)
-    for r in out:
+    for k, r in enumerate(out):
         r.user_domain = domain is not None
+        if res is not None and not res.tree.complete_record:    # a certificate needs the search again
+            r.recorded = lambda k=k: _again(robot, lengths, domain, budget, k)
     seconds = time.perf_counter() - t0
     for r in out:
         r.seconds = seconds / M
@@ -72,6 +81,12 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
         out[0].boxes = res.boxes if res else 0
         return out[0]
     return out
+
+
+def _again(robot, lengths, domain, budget, k):
+    """The k-th result of the same query, its search tree kept whole."""
+    out = forward_kinematics(robot, lengths, domain=domain, budget=budget, record=True)
+    return out[k] if isinstance(out, list) else out
 
 
 def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budget: Budget | None = None):
@@ -117,18 +132,23 @@ def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
     else:
         rlo, rhi, rC = slo, shi, np.zeros((0, system.n, system.n))
     undecided = tree.leaves(kind=UNDECIDED)
-    nodes = np.bincount(tree.root, minlength=len(idx))
+    nodes = tree.nodes_per_root()
     by_root = np.argsort(tree.root[proved], kind="stable")
     starts = np.searchsorted(tree.root[proved][by_root], np.arange(len(idx) + 1))
     und_sorted = undecided[np.argsort(tree.root[undecided], kind="stable")]
     und_starts = np.searchsorted(tree.root[und_sorted], np.arange(len(idx) + 1))
+    at_limit = (tree.reason[und_sorted] == RESOLUTION) | (tree.reason[und_sorted] == FKProblem.CLUSTER)
+    star_C = tree.evidence_values("C", proved) if len(proved) else np.zeros((0, system.n, system.n))
     pendings = []
     for k, i in enumerate(idx):
         r = results[i]
         r.tree, r.node, r.boxes = tree, k, int(nodes[k])
         sel = by_root[starts[k]:starts[k + 1]]
-        pending = [(tree.lo[j], tree.hi[j]) for j in und_sorted[und_starts[k]:und_starts[k + 1]]]
-        _merge(r, system, proved[sel], slo[sel], shi[sel], rlo[sel], rhi[sel], rC[sel], lo[i], hi[i], pending)
+        mine = slice(und_starts[k], und_starts[k + 1])
+        r.cluster_leaves = und_sorted[mine][at_limit[mine]]
+        pending = [(tree.lo[j], tree.hi[j]) for j in und_sorted[mine][~at_limit[mine]]]
+        _merge(r, system, proved[sel], (slo[sel], shi[sel], star_C[sel]), rlo[sel], rhi[sel], rC[sel], lo[i], hi[i],
+               pending)
         pendings.append(pending)
     # poses and platform points of every solution of every instance in one evaluation
     counts = [len(results[i].solutions) for i in idx]
@@ -149,7 +169,7 @@ def _meets(alo, ahi, blo, bhi):
     return bool(np.all(alo <= bhi) and np.all(blo <= ahi))
 
 
-def _merge(result, system, leaves, slo, shi, rlo, rhi, rC, dlo, dhi, pending):
+def _merge(result, system, leaves, stars, rlo, rhi, rC, dlo, dhi, pending):
     """Distinct roots (postures) from the proved leaves of one instance.
 
     A leaf joins the root of an earlier group when that group's root box lies
@@ -157,7 +177,11 @@ def _merge(result, system, leaves, slo, shi, rlo, rhi, rC, dlo, dhi, pending):
     negated: the same posture, a ``twin``); otherwise it starts a group with
     its own root box.  Groups whose boxes lie in the domain and are disjoint
     from every other group's box (and its negation) are the solutions.
+    Each group is a *region* (``result.regions``): the X* of the leaf that started it (with that
+    leaf's C) and the group's root box R ⊆ X*; a leaf of the group whose box lies in that X*
+    is ``in_region`` (its only possible root is the region's).
     """
+    slo, shi, sC = stars
     spatial = system.kind != "planar-3rpr"
     p = system.n_pos
     groups = []                              # (lo, hi, C) of each group's root box
@@ -180,6 +204,7 @@ def _merge(result, system, leaves, slo, shi, rlo, rhi, rC, dlo, dhi, pending):
                 found = (g, not bool(direct[g]))
         if found is None:
             groups.append((rlo[a], rhi[a], rC[a]))
+            result.regions.append({"star": (slo[a], shi[a]), "star_C": sC[a], "box": (rlo[a], rhi[a]), "C": rC[a]})
             glo_all[g_n], ghi_all[g_n] = rlo[a], rhi[a]
             found = (g_n, False)
         member.append(found)
@@ -199,6 +224,7 @@ def _merge(result, system, leaves, slo, shi, rlo, rhi, rC, dlo, dhi, pending):
             status.append("outside")
         else:
             status.append("ambiguous" if (not inside[g] or meets[g].any()) else "solution")
+        result.regions[g]["status"] = status[-1]
     index = {}
     for g, st in enumerate(status):
         glo, ghi, gC = groups[g]
@@ -209,7 +235,10 @@ def _merge(result, system, leaves, slo, shi, rlo, rhi, rC, dlo, dhi, pending):
             pending.append((glo, ghi))
     for a, leaf in enumerate(leaves):
         g, twin = member[a]
-        entry = {"star": (slo[a], shi[a])}
+        region = result.regions[g]["star"]
+        entry = {"star": (slo[a], shi[a]), "region": g,
+                 "in_region": not twin and bool(np.all(result.tree.lo[leaf] >= region[0])
+                                                and np.all(result.tree.hi[leaf] <= region[1]))}
         if status[g] == "solution":
             entry.update(solution=index[g], twin=twin)
         elif status[g] == "outside" and not twin and not _meets(groups[g][0], groups[g][1], *leaf_box(result, leaf)):
@@ -249,6 +278,7 @@ def _finish(result, system, pending, angle_filter, computed=None):
             else:
                 pending.append((s["box"].lo, s["box"].hi))
         result.solutions = kept
+    _cluster_leaves(result, system)
     if pending:
         hull = _clusters(np.array([p[0] for p in pending]), np.array([p[1] for p in pending]))
         B = Interval.from_bounds(np.stack([h[0] for h in hull]), np.stack([h[1] for h in hull]))
@@ -259,7 +289,93 @@ def _finish(result, system, pending, angle_filter, computed=None):
                                       "platform_points": [[pts[j, i, c] for c in range(pts.shape[2])]
                                                           for i in range(pts.shape[1])]})
         result.complete = False
+        if len(result.clusters) > 1 and not result.message:
+            result.message = (f"the budget ran out after the search reached the resolution limit in "
+                              f"{len(result.clusters)} separate places without proving a posture there: the "
+                              "postures may form a continuum (a self-motion) or be singular")
     result.solutions.sort(key=lambda s: [float(v.lo) for v in s["pose"].values()])
+
+
+CLUSTER_GAP = 2.0 ** -20     # cluster leaves closer than this (relative to the domain) or than their own width join
+CONTINUUM = 1000.0           # a cluster this many times longer than its leaves,
+CONTINUUM_EXTENT = 2.0 ** -10  # and this long relative to the domain, suggests a continuum of postures
+
+
+def _cluster_leaves(result, system):
+    """``result.clusters`` from the cluster leaves (``result.cluster_leaves``): hulls of leaves within
+    their own width (or ``CLUSTER_GAP`` of the domain) of each other; a solution meeting a cluster
+    joins it (the certificate keeps it as a proved region).  A cluster may hold any number of
+    postures: a double root at a singular pose, roots closer than the resolution, or the roots of
+    a range of leg lengths that no uniqueness box holds.  ``result.cluster_of``: leaf -> cluster.
+    A cluster far longer than its leaves and not small in the domain (``CONTINUUM``,
+    ``CONTINUUM_EXTENT``) sets ``result.message``: the postures may form a continuum."""
+    leaves = result.cluster_leaves
+    if not len(leaves):
+        return
+    tree = result.tree
+    dlo, dhi = result.domain
+    width = tree.hi[leaves] - tree.lo[leaves]
+    pad = np.maximum((dhi - dlo) * CLUSTER_GAP, width)
+    groups = _touching(tree.lo[leaves] - pad, tree.hi[leaves] + pad)
+    hulls = [[tree.lo[leaves[g]].min(axis=0), tree.hi[leaves[g]].max(axis=0)] for g in groups]
+    kept = []
+    for s in result.solutions:
+        hit = [c for c, (a, b) in enumerate(hulls) if _meets(a, b, s["box"].lo, s["box"].hi)]
+        if hit:
+            hulls[hit[0]] = [np.minimum(hulls[hit[0]][0], s["box"].lo), np.maximum(hulls[hit[0]][1], s["box"].hi)]
+        else:
+            kept.append(s)
+    result.solutions = kept
+    B = Interval.from_bounds(np.stack([h[0] for h in hulls]), np.stack([h[1] for h in hulls]))
+    poses, pts = system.pose(B), system.points(B)
+    for c, g in enumerate(groups):
+        result.cluster_of.update((int(j), c) for j in leaves[g])
+        result.clusters.append({"status": "cluster", "box": B[c], "leaves": int(len(g)),
+                                "pose": robot_pose(result.robot, {k: v[c] for k, v in poses.items()}),
+                                "platform_points": [[pts[c, i, k] for k in range(pts.shape[2])]
+                                                    for i in range(pts.shape[1])]})
+        extent = B.hi[c] - B.lo[c]
+        span = np.max(extent / np.maximum(np.max(width[g], axis=0), 1e-300))
+        if len(g) >= 100 and span > CONTINUUM and np.max(extent / np.maximum(dhi - dlo, 1e-300)) > CONTINUUM_EXTENT:
+            result.message = (f"{len(g)} boxes at the resolution limit stretch {span:.0f} times their width: "
+                              "the postures may form a continuum (a self-motion); no count is given there")
+
+
+def _touching(lo, hi):
+    """Index groups of boxes that meet (transitively, through their hulls): in order of the first
+    coordinate, a box joins the current group while it meets the group's hull; then groups whose
+    hulls meet are joined until none do.  Any grouping is sound: each box lies in its group's hull."""
+    order = np.argsort(lo[:, 0], kind="stable")
+    groups, hulls = [], []
+    for a, (blo, bhi) in enumerate(zip(lo[order].tolist(), hi[order].tolist())):
+        if hulls and all(x <= h for x, h in zip(blo, hulls[-1][1])) and all(g <= y for g, y in zip(hulls[-1][0], bhi)):
+            groups[-1].append(a)
+            hulls[-1] = ([min(u, v) for u, v in zip(hulls[-1][0], blo)], [max(u, v) for u, v in zip(hulls[-1][1], bhi)])
+        else:
+            groups.append([a])
+            hulls.append((list(blo), list(bhi)))
+    while len(groups) > 1:
+        H = np.array([h[0] for h in hulls]), np.array([h[1] for h in hulls])
+        parent = list(range(len(groups)))
+
+        def find(i):
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+        for i in range(len(groups)):
+            for j in np.nonzero(np.all((H[0][i + 1:] <= H[1][i]) & (H[0][i] <= H[1][i + 1:]), axis=1))[0] + i + 1:
+                parent[find(int(j))] = find(i)
+        tops = [find(i) for i in range(len(groups))]
+        if len(set(tops)) == len(groups):
+            break
+        joined = {}
+        for i, t in enumerate(tops):
+            joined.setdefault(t, []).append(i)
+        groups = [sum((groups[i] for i in members), []) for members in joined.values()]
+        hulls = [(np.min([hulls[i][0] for i in members], axis=0).tolist(),
+                  np.max([hulls[i][1] for i in members], axis=0).tolist()) for members in joined.values()]
+    return [order[np.array(g)] for g in groups]
 
 
 def _in_filter(pose, angle_filter):

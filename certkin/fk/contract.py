@@ -315,3 +315,57 @@ def _hc4_planar(system, lo, hi, L: Interval):
         zlo[bad], zhi[bad] = lo[bad], hi[bad]
         nlo, nhi = np.maximum(zlo, lo), np.minimum(zhi, hi)
     return nlo, nhi, empty
+
+
+def gap_splits(system, lo, hi, L: Interval, at_least: float):
+    """(dim, at): for each box, the middle of the widest gap between the two branches of one of
+    HC4's square roots (``root``), when that gap spans at least ``at_least`` of the side (dim −1,
+    at NaN otherwise).
+
+    Floats from the box (R b_i over it estimated from its midpoint): for the norm equation r_k² = 1 − Σ_{j≠k} r_j² ≥ t, so r_k ∉ (−√t, √t); for
+    leg i and coordinate k, (p_k + m_ik)² = ρ_i² − Σ_{k'≠k} ell_ik'² ≥ t with m_i = R b_i − a_i and
+    ell_i = p + m_i, so p_k ∉ (−√t − m̲_ik, √t − m̄_ik).  ``root`` keeps the hull of the branches, so a
+    box holding both (a robot's mirror postures z and −z, a rotation and its reverse) is never
+    contracted there; cut in the gap, each part holds one branch.  Only a split point: any point
+    keeps the search sound (the checker recomputes nothing from it)."""
+    N, n = lo.shape
+    p = system.n_pos
+    best = np.zeros(N)
+    dim = np.full(N, -1)
+    at = np.full(N, np.nan)
+    width = np.maximum(hi - lo, 1e-300)
+    rows = np.arange(N)
+
+    def consider(k, glo, ghi, t):
+        nonlocal best, dim, at
+        glo, ghi = np.maximum(glo, lo[:, k, None]), np.minimum(ghi, hi[:, k, None])
+        frac = np.where(t > 0, (ghi - glo) / width[:, k, None], 0.0)
+        frac = np.where(np.isfinite(frac), frac, 0.0)
+        j = np.argmax(frac, axis=1)
+        better = frac[rows, j] > best
+        best = np.where(better, frac[rows, j], best)
+        dim = np.where(better, k, dim)
+        at = np.where(better, 0.5 * (glo[rows, j] + ghi[rows, j]), at)
+
+    with np.errstate(all="ignore"):      # floats throughout: a hint needs no rounding control
+        squares = np.maximum(lo[:, p:] ** 2, hi[:, p:] ** 2)             # upper bounds of r_j²
+        total = squares.sum(axis=1)
+        for k in range(p, n):
+            t = 1.0 - (total - squares[:, k - p])
+            g = np.sqrt(np.maximum(t, 0.0))[:, None]
+            consider(k, -g, g, t[:, None])
+        if p:
+            # R b_i − a_i over the box, about: R(c) b_i − a_i ± 4 |b_i| (half the widest rotation side)
+            a, b = system.float_geometry()
+            c = 0.5 * (lo + hi)
+            mc = np.einsum("nkj,ij->nik", system.float_rotation(c), b) - a[None]
+            rad = 4.0 * np.sqrt(np.sum(b * b, axis=-1))[None, :, None] * np.max(0.5 * (hi[:, p:] - lo[:, p:]), axis=1)[:, None, None]
+            mlo, mhi = mc - rad, mc + rad
+            elo, ehi = mlo + lo[:, None, :p], mhi + hi[:, None, :p]
+            e2 = np.maximum(elo ** 2, ehi ** 2)
+            for k in range(p):
+                t = L.lo - (e2.sum(axis=-1) - e2[..., k])
+                g = np.sqrt(np.maximum(t, 0.0))
+                consider(k, -g - mlo[..., k], g - mhi[..., k], t)
+    use = best >= at_least
+    return np.where(use, dim, -1), np.where(use, at, np.nan)

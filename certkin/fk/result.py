@@ -30,6 +30,13 @@ class FKResult:
     track_C: np.ndarray | None = None                   # the Krawczyk matrix of a tracking proof
     all_solutions: list = field(default_factory=list)   # every proved root of the searched box (certificate order)
     filtered: list = field(default_factory=list)        # solutions outside a user domain (pose filter)
+    regions: list = field(default_factory=list)         # per distinct root: X* (star, star_C), R (box, C), status
+    clusters: list = field(default_factory=list)        # regions of unresolved postures (status "cluster")
+    cluster_leaves: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    cluster_of: dict = field(default_factory=dict)      # cluster leaf -> its cluster
+    message: str = ""                                   # what the search could not settle, in words
+    recorded: object = None                             # set when the tree was not kept whole: gives the
+                                                        # same query's result with its whole tree
 
     @property
     def status(self) -> str:
@@ -42,15 +49,19 @@ class FKResult:
             return {"status": "unique", **e} if with_status else e
         out = {"problem": "forward-kinematics", "robot": self.robot.name, "kind": self.robot.kind,
                "lengths": self.lengths, "complete": self.complete,
-               "solutions": [entry(s, True) for s in self.solutions],
+               "solutions": [entry(s, True) for s in self.solutions]
+               + [{"status": "cluster", **entry(c, False)} for c in self.clusters],
                "unresolved": [entry(s, False) for s in self.unresolved],
                "stats": {"boxes": self.boxes, "seconds": round(self.seconds, 6)}}
         if self.tracked:
             out["tracked"] = True
+        if self.message:
+            out["message"] = self.message
         return out
 
     def certificate(self):
-        """The certificate (``certificates.Document``: ``.write(path)``, or ``proofs.check`` it in memory)."""
+        """The certificate (``certificates.Document``: ``.write(path)``, or ``proofs.check`` it in memory;
+        a search too large to keep whole is run again first)."""
         return fk_certificate(self)
 
 

@@ -44,8 +44,8 @@ import numpy as np
 
 from intervals import Interval, linalg
 
-from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, search
-from .contract import hc4
+from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
+from .contract import gap_splits, hc4
 from .step import SMALL_BATCH, WIDEN, contract_position, for_batch, krawczyk_boxes, shrink, slope_boxes, unique_in
 
 SHRINK = 0.05            # a contraction is kept when some side shrinks by this fraction
@@ -58,23 +58,35 @@ AGAIN_SHARE = 2          # or at least half of the boxes still open did,
 AGAIN_STEPS = 3          # at most this many times
 INITIAL_SPLITS = 6       # every domain is halved this often before the first batch (it is never decided whole)
 ROTATION_FIRST = 16.0    # only rotation unknowns are bisected while the position is at most this much wider (scaled)
+POSITION_GEOMETRIC = 7.0  # Gough: position side k scaled by this times √(W_k max|b_i|), W_k its domain width
+GAP = 0.5                # a gap between the two branches of an HC4 square root spanning this much of a side splits it
+SPREAD_INFLATE = 2.0     # uncertain lengths: ε-inflation once every side is within this times the root's spread
 
 
-def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None):
+def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None, record_limit=None):
     """One engine search over the domains [lo, hi] (M, n) of M instances, squared leg lengths L
     (M, legs): the engine's ``SearchResult`` (its tree holds one root per instance).
 
     Sides are scaled by the domain's extent; position sides count ``POSITION_SCALE`` times less, so
     the rotation is bisected first (the position follows from it); a quaternion's components are
-    scaled alike, by the extent of the unit sphere (seed 002 full domain: −22 % boxes)."""
+    scaled alike, by the extent of the unit sphere (seed 002 full domain: −22 % boxes).  For a Gough
+    robot the position side k counts as its width over ``POSITION_GEOMETRIC`` √(W_k max|b_i|), W_k
+    the domain's width: a rotation moves the platform points by about max|b_i| times its change,
+    and the position follows it with a lever arm that grows with the workspace (fitted on the
+    seed 002, main gauche, MEL and micro-manipulator robots: main gauche at home 2.09 M -> 0.92 M
+    boxes, the others within ±2 % or fewer).  Heuristics only: any scale is sound."""
     scale = np.max(hi - lo, axis=0)
     scale = np.where(scale > 0, scale, 1.0)
-    scale[:system.n_pos] *= POSITION_SCALE
+    if system.kind == "gough-stewart":
+        b = float(np.max(np.sqrt(np.sum(system.b.mid() ** 2, axis=1))))
+        scale[:system.n_pos] = POSITION_GEOMETRIC * np.sqrt(scale[:system.n_pos] * max(b, 1e-300))
+    else:
+        scale[:system.n_pos] *= POSITION_SCALE
     if system.kind != "planar-3rpr":
         scale[system.n_pos:] = 2.0
     problem = FKProblem(system, L, scale, slopes=system.kind != "planar-3rpr")
     return search(problem, lo, hi, scale=scale, budget=budget, batch=max(8192, 256 * len(lo)), progress=progress,
-                  initial_splits=INITIAL_SPLITS)
+                  initial_splits=INITIAL_SPLITS, record_limit=record_limit)
 
 
 class _Batch:
@@ -94,6 +106,7 @@ class _Batch:
         self.star_mask = np.zeros(N, dtype=bool)        # boxes proved in an inflated box X* ⊇ X
         self.stars = np.zeros((N, n, 2))
         self.split = np.full(N, -1)
+        self.split_at = np.full(N, np.nan)             # a cut point on ``split`` (a gap of HC4's roots)
         self.hc4_box = None                             # the boxes after HC4 alone (slope systems)
         self.stages = []                                # ((lo, hi), evidence) of each Krawczyk contraction
 
@@ -111,19 +124,22 @@ class _Batch:
             reasons.insert(0, np.full(N, 7))
             stage_evidence.insert(0, {})
         return Decisions(self.status, self.reason, self.evidence, contracted=stages, contraction_reason=reasons,
-                         contraction_evidence=stage_evidence, split=self.split)
+                         contraction_evidence=stage_evidence, split=self.split, split_at=self.split_at)
 
 
 class FKProblem:
     """Decides boxes of FK unknowns for a batch of instances (one root box per instance)."""
 
     reasons = ("equation", "krawczyk-empty", "krawczyk-unique", "krawczyk", "position-empty", "position",
-               "hc4-empty", "hc4", "slope-empty", "slope", "slope-gs-empty", "slope-gs")
+               "hc4-empty", "hc4", "slope-empty", "slope", "slope-gs-empty", "slope-gs", "cluster")
+    CLUSTER = 12             # given up: within a root's spread over uncertain lengths, no uniqueness box
 
     def __init__(self, system, L: Interval, scale, slopes: bool = False):
         self.system = system
         self.slopes = slopes                # exclusion and contraction by the slope form (slope_boxes)
         self.L = L                          # (M, legs) squared leg lengths, one row per instance
+        # leg-length ranges (not just the enclosure of a decimal): roots move with the lengths
+        self.uncertain = bool(np.any(L.hi - L.lo > 2.0 ** -40 * np.maximum(np.abs(L.hi), 1.0)))
         self.scale = scale
         self._stacked = None
 
@@ -152,7 +168,17 @@ class FKProblem:
             pempty, P = self._position(system, b, live, Xl, Ll, rbl, hc4_moved)
         self._equations(system, b, live, Ll, rbl, pempty, P)
         self._krawczyk(system, b, live, rb, parts, roots)
+        self._gaps(system, b)
         return b.decisions(self.slopes)
+
+    def _gaps(self, system, b: _Batch):
+        """Open boxes split in the widest gap of HC4's two-branch square roots (``contract.gap_splits``)."""
+        open_ = np.nonzero(b.status == OPEN)[0]
+        if len(open_):
+            lo, hi = b.stages[-1][0] if b.stages else (b.lo, b.hi)
+            dim, at = gap_splits(system, lo[open_], hi[open_], Interval.from_bounds(b.L.lo[open_], b.L.hi[open_]), GAP)
+            use = dim >= 0
+            b.split[open_[use]], b.split_at[open_[use]] = dim[use], at[use]
 
     def _hc4(self, system, b: _Batch):
         """Step 0: one forward-backward (HC4) pass over every equation (``fk.contract``): boxes it
@@ -261,10 +287,18 @@ class FKProblem:
         self._again(system, b, k[shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN], lo2, hi2)
         width = np.max((rhi - rlo) / self.scale, axis=1)
         small = ~done & ~keep & (width < INFLATE_BELOW)
+        within = np.zeros(len(rest), dtype=bool)
+        if self.uncertain:   # a box about as narrow as the root's spread over the lengths: inflate now
+            radL = np.zeros(rlo.shape)
+            radL[:, :system.legs] = 0.5 * (Lr.hi - Lr.lo)
+            within = np.all(rhi - rlo <= SPREAD_INFLATE * np.einsum("nij,nj->ni", np.abs(C), radL), axis=1)
+            small |= ~done & ~keep & within
         if small.any():      # small open boxes: ε-inflation around a Newton iterate
             sm = rest[small]
             proved, slo, shi, Cs = self._inflate(rlo[small], rhi[small], roots[sm])
             b.status[sm[proved]], b.reason[sm[proved]] = PROVED, 2
+            given_up = within[small] & ~proved      # no box holding the root's spread is proved unique:
+            b.status[sm[given_up]], b.reason[sm[given_up]] = UNDECIDED, self.CLUSTER   # a cluster
             b.star_mask[sm[proved]] = True
             b.stars[sm[proved]] = np.stack([slo[proved], shi[proved]], axis=-1)
             b.C_rows[sm[proved]] = Cs[proved]
@@ -343,16 +377,35 @@ class FKProblem:
         return out
 
     def _inflate(self, lo, hi, roots):
-        """Try X* = Newton iterate ± r (⊇ X); returns (proved mask, X* lo, X* hi, C)."""
+        """Try X* = Newton iterate ± r (⊇ X); returns (proved mask, X* lo, X* hi, C).  With uncertain
+        leg lengths r covers the root's spread |C| rad f (3 times, else 2 times): X* then holds the
+        root for every length vector, and the root box of any other leaf of the same root."""
         system = self._system(len(lo))
         L = self._L(roots)
         x = 0.5 * (lo + hi)
         J = system.jacobian(Interval.from_bounds(lo, hi))
         C, _ = linalg.float_inverse(J.mid())
-        for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
+        with np.errstate(all="ignore"):   # near a singular root Newton may run away: a guess only
+            for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
+                f = system.equations(Interval.from_bounds(x, x.copy()), L)
+                x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
+            lost = ~np.all(np.isfinite(x), axis=1) | np.any(np.abs(x - 0.5 * (lo + hi)) > 1e3 * (hi - lo + self.scale), axis=1)
+            x[lost] = 0.5 * (lo[lost] + hi[lost])
             f = system.equations(Interval.from_bounds(x, x.copy()), L)
-            x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
-        r = np.maximum(np.abs(x - 0.5 * (lo + hi)), hi - lo) + 1e-12 * self.scale
-        slo, shi = np.minimum(lo, x - r), np.maximum(hi, x + r)
-        K, Cs = krawczyk_boxes(system, Interval.from_bounds(slo, shi), L, compact=True)
-        return unique_in(K, slo, shi), slo, shi, Cs
+        spread = np.einsum("nij,nj->ni", np.abs(C), 0.5 * (f.hi - f.lo))
+        base = np.maximum(np.abs(x - 0.5 * (lo + hi)), hi - lo) + 1e-12 * self.scale
+        best = None
+        for factor in ((3.0, 2.0) if self.uncertain else (0.0,)):
+            r = np.maximum(base, factor * spread)
+            slo, shi = np.minimum(lo, x - r), np.maximum(hi, x + r)
+            with np.errstate(all="ignore"):    # a non-finite image proves nothing: the test fails
+                K, Cs = krawczyk_boxes(system, Interval.from_bounds(slo, shi), L, compact=True)
+                ok = unique_in(K, slo, shi)
+            if best is None:
+                best = [ok, slo, shi, Cs]
+            else:                           # the rows the wider box did not prove
+                use = ~best[0] & ok
+                best[0] = best[0] | ok
+                for old, new in zip(best[1:], (slo, shi, Cs)):
+                    old[use] = new[use]
+        return tuple(best)

@@ -32,6 +32,7 @@ MARGIN = 2.0 ** -30      # uniqueness requires K inside X shrunk by this relativ
 
 WIDEN = 2.0 ** -20       # contracted boxes are widened by this fraction of the parent's width
 
+ROOT_FACTORS = (1.25, 2.0)   # root boxes: x* ± this times the estimated reach of the Krawczyk image
 SMALL_BATCH = 512        # batches of at most this many boxes use the stacked evaluation (fk.stacked)
 
 
@@ -203,9 +204,12 @@ def root_boxes(system, star_lo, star_hi, L: Interval, newton_steps: int = 6):
 
     A guess x* from float Newton iterations started at the midpoint of X*
     (``FKSystem.float_system``: plain floats, never a proof), the box
-    R = x* ± r with r twice a float estimate of how far the Krawczyk image of
-    R reaches (|C| (|f(x*)| + the rounding of the interval evaluation of f)),
-    cut to X*, and one Krawczyk test K(R) ⊂ int R (outward rounded: the proof).
+    R = x* ± r with r a float estimate of how far the Krawczyk image of R reaches
+    (|C| (|f(x*)| + rad L + the rounding of the interval evaluation of f); rad L: uncertain leg
+    lengths move the root that far), times 1.25, else 2 (``ROOT_FACTORS``), cut to X*, and one
+    Krawczyk test K(R) ⊂ int R (outward rounded: the proof).  With uncertain leg lengths R then
+    holds, for every length vector, that vector's root, and is about 1.25 times as wide as the
+    set of those roots.
     Rows that fail get ``enclose_roots`` (Krawczyk iterations from X*).  Batched.
     """
     N, n = star_lo.shape
@@ -231,13 +235,24 @@ def root_boxes(system, star_lo, star_hi, L: Interval, newton_steps: int = 6):
         # each leg equation sums terms of magnitude <= 3 (|p|² + |a_i|² + |b_i|²) + ρ_i²
         p2 = np.sum(x[:, :p] ** 2, -1, keepdims=True) if p else 0.0
         terms = np.concatenate([3.0 * (p2 + np.sum(a * a, -1) + np.sum(b * b, -1)) + L2, np.full((N, 1), 2.0)], -1)
-        r = 2.0 * (np.abs(C) @ (np.abs(f) + 2.0 ** -49 * terms)[..., None])[..., 0] + 2.0 ** -50 * np.abs(x) + 1e-300
-        good = ~failed & np.all(np.isfinite(r) & np.isfinite(x), axis=1)
-        good &= np.all((x >= star_lo) & (x <= star_hi), axis=1)
-    rlo = np.where(good[:, None], np.maximum(x - r, star_lo), star_lo)
-    rhi = np.where(good[:, None], np.minimum(x + r, star_hi), star_hi)
-    K, C = krawczyk_boxes(for_batch(system, N), Interval.from_bounds(rlo, rhi), L)
-    good &= unique_in(K, rlo, rhi)
+        radL = np.zeros((N, n))
+        radL[:, :system.legs] = 0.5 * (L.hi - L.lo)
+        reach = (np.abs(C) @ (np.abs(f) + radL + 2.0 ** -49 * terms)[..., None])[..., 0]
+        candidate = ~failed & np.all(np.isfinite(reach) & np.isfinite(x), axis=1)
+        candidate &= np.all((x >= star_lo) & (x <= star_hi), axis=1)
+    good = np.zeros(N, dtype=bool)
+    rlo, rhi, C = star_lo.copy(), star_hi.copy(), np.zeros((N, n, n))
+    for factor in ROOT_FACTORS:
+        todo = np.nonzero(candidate & ~good)[0]
+        if not len(todo):
+            break
+        r = factor * reach[todo] + 2.0 ** -50 * np.abs(x[todo]) + 1e-300
+        tlo, thi = np.maximum(x[todo] - r, star_lo[todo]), np.minimum(x[todo] + r, star_hi[todo])
+        K, Ct = krawczyk_boxes(for_batch(system, len(todo)), Interval.from_bounds(tlo, thi),
+                               Interval.from_bounds(L.lo[todo], L.hi[todo]))
+        ok = unique_in(K, tlo, thi)
+        rlo[todo[ok]], rhi[todo[ok]], C[todo[ok]] = tlo[ok], thi[ok], Ct[ok]
+        good[todo[ok]] = True
     if not good.all():
         bad = ~good
         Lb = Interval.from_bounds(L.lo[bad], L.hi[bad])

@@ -16,7 +16,7 @@ each entry's interval extension is exact).  The equations are
     norm:   c² + s² − 1 = 0,   or   q0² + q1² + q2² + q3² − 1 = 0
 
 a square system (3 + 1 planar, 3 + 1 spherical, 6 + 1 Gough).  The domain
-``q0 ∈ [−δ, 1]`` (δ = 2⁻¹⁰) holds a representative of every rotation
+``q0 ∈ [−δ, 1 + ε]`` (δ = ε = 2⁻¹⁰) holds a representative of every rotation
 (q and −q give the same one); rotations with |q0| ≤ δ may appear twice, as
 q and −q, and the solver reports such twins once (``docs/soundness.md``).
 
@@ -43,6 +43,7 @@ from ..robots.spherical import rotation_float
 from .rotation import DQ_INDEX, RotatedPoints, from_midrad
 
 DELTA = 2.0 ** -10      # q0 >= -DELTA: the hemisphere with a margin (see the module docstring)
+BEYOND = 2.0 ** -10     # the domain reaches this far beyond the unit circle/sphere and the position bounds
 
 
 def _cat(parts, axis=-1):
@@ -199,16 +200,20 @@ class FKSystem(RotatedPoints):
     def domain(self, lengths: Interval) -> tuple[np.ndarray, np.ndarray]:
         """Boxes of unknowns holding every real posture of each instance: (M, n) each.
 
-        Rotation unknowns in [−1, 1] (q0 in [−δ, 1]); the origin satisfies
-        |p − a_i| ≤ ρ_i + |b_i| for every leg, so it lies in the intersection of
-        those boxes (outward rounded).  An empty intersection means no posture:
-        the box is then returned with lo > hi in some coordinate.
+        Rotation unknowns in [−1 − ε, 1 + ε] (q0 in [−δ, 1 + ε]), ε = ``BEYOND``; the origin
+        satisfies |p − a_i| ≤ ρ_i + |b_i| for every leg, so it lies in the intersection of those
+        boxes (outward rounded), widened by ε of its width.  The margin keeps every root off the
+        faces: the norm equation holds the rotation unknowns on the unit circle/sphere, whose points
+        c = 1 (phi = 0) and q = (1, 0, 0, 0) (the identity, the home pose of most robots) would
+        otherwise lie on a face, where no root box fits inside the domain.  An empty intersection
+        means no posture: the box is then returned with lo > hi in some coordinate (the widening
+        keeps it empty).
         """
         M = lengths.shape[0]
         lo = np.empty((M, self.n))
         hi = np.empty((M, self.n))
         p = self.n_pos
-        lo[:, p:], hi[:, p:] = -1.0, 1.0
+        lo[:, p:], hi[:, p:] = -1.0 - BEYOND, 1.0 + BEYOND
         if self.kind != "planar-3rpr":
             lo[:, p] = -DELTA
         if p:
@@ -217,6 +222,9 @@ class FKSystem(RotatedPoints):
                 a = self.a[:, k][None, :]
                 lo[:, k] = np.max((a - reach).lo, axis=1)
                 hi[:, k] = np.min((a + reach).hi, axis=1)
+            w = np.maximum(hi[:, :p] - lo[:, :p], 0.0) * BEYOND     # (lo − w, hi + w rounded: still outside)
+            lo[:, :p] -= w
+            hi[:, :p] += w
         return lo, hi
 
     # ----- poses and points -------------------------------------------------------

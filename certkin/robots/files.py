@@ -20,7 +20,7 @@ from .base import Robot
 from .gough import GoughStewart
 from .planar import Planar3RPR
 from .poses import parse_number
-from .spherical import Spherical3DOF
+from .spherical import Spherical3DOF, rotation_float
 
 KINDS = {cls.kind: cls for cls in (Planar3RPR, Spherical3DOF, GoughStewart)}
 
@@ -176,6 +176,25 @@ def _parse_limits(limits, cls, source):
     return out
 
 
+def _matrix_A(robot, base, plat, poses) -> np.ndarray:
+    """The matrix A of the robot's model (``symbolic_model``) at float poses, in plain numpy (the
+    same rows: planar [(y − a_y) q_x − (x − a_x) q_y, l_x, l_y], spherical a_i × Q b_i, Gough
+    [l_i, (R b_i) × l_i], with q_i, Q b_i, R b_i the rotated platform points and l_i the legs);
+    floats for an input check, without building the symbolic model."""
+    a, b = np.array(base, dtype=np.float64), np.array(plat, dtype=np.float64)
+    if robot.kind == "planar-3rpr":
+        x, y, phi = poses[:, 0, None], poses[:, 1, None], poses[:, 2, None]
+        qx = np.cos(phi) * b[:, 0] - np.sin(phi) * b[:, 1]
+        qy = np.sin(phi) * b[:, 0] + np.cos(phi) * b[:, 1]
+        return np.stack([(y - a[:, 1]) * qx - (x - a[:, 0]) * qy, x + qx - a[:, 0], y + qy - a[:, 1]], axis=-1)
+    R = rotation_float(robot.kind, poses if robot.kind == "gough-stewart" else poses[:, :3])
+    rb = np.einsum("nkj,ij->nik", R, b)
+    if robot.kind == "spherical-3dof":
+        return np.cross(a[None], rb)
+    legs = poses[:, None, :3] + rb - a[None]
+    return np.concatenate([legs, np.cross(rb, legs)], axis=-1)
+
+
 def _check_degenerate(robot: Robot, source: str) -> None:
     """Reject geometries for which det(A) vanishes at every pose."""
     base = [tuple(Fraction(c) for c in p) for p in robot.base]
@@ -203,7 +222,7 @@ def _check_degenerate(robot: Robot, source: str) -> None:
             poses[:, k] *= scale
     if robot.kind == "gough-stewart":
         poses[:, 2] = np.abs(poses[:, 2]) + scale
-    A = robot.jacobian_float(poses)
+    A = _matrix_A(robot, base, plat, poses)
     hadamard = np.prod(np.linalg.norm(A, axis=-2), axis=-1)  # |det A| <= product of the column norms
     if np.all(np.abs(np.linalg.det(A)) <= 1e-9 * hadamard):
         raise RobotFileError(source, "platform", "det(A) vanishes at every pose tried: degenerate geometry (collinear or coincident joints)")

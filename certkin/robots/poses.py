@@ -12,7 +12,7 @@ options (``certkin.cli``).  Robot files use ``parse_number`` with the file name 
 """
 from __future__ import annotations
 
-from decimal import Decimal
+from decimal import Decimal, InvalidOperation, localcontext
 from fractions import Fraction
 import math
 
@@ -183,17 +183,45 @@ def parse_lengths(robot, lengths, parameter="lengths"):
             if isinstance(v, (float, np.floating)):
                 v = repr(float(v))  # a float is its exact binary value; keep that text
             field_name = f"[{i}][{j}]" if batch else f"leg {j + 1}"
-            try:
-                iv, t = parse_number(v, parameter, field_name)
-            except InputError as exc:
-                raise InputError(parameter, exc.field, exc.problem) from None
-            if float(iv.lo) < 0:
-                raise InputError(parameter, field_name, f"a leg length cannot be negative ({t})")
+            iv, t = _length(v, parameter, field_name)
             ivs.append(iv)
             ts.append(str(t))
         rows.append(ivs)
         texts.append(ts)
     return rows, texts, batch
+
+
+def _length(value, parameter, field_name):
+    """(enclosure, exact text) of one leg length: a number, or a range ``"lo:hi"`` or ``"v+-t"``
+    (also ``"v±t"``) of exact decimals, whose text is then ``"lo:hi"`` (``v ∓ t`` computed exactly)."""
+    text = value.strip() if isinstance(value, str) else value
+    if isinstance(text, str) and (":" in text or "+-" in text or "±" in text):
+        if ":" in text:
+            parts = text.split(":")
+        else:
+            centre, _, tol = text.replace("±", "+-").partition("+-")
+            try:
+                v, t = Decimal(centre.strip()), Decimal(tol.strip())
+            except (InvalidOperation, ValueError):
+                raise InputError(parameter, field_name, f"not a length range: {value!r}") from None
+            if not (v.is_finite() and t.is_finite()) or t < 0:
+                raise InputError(parameter, field_name, f"not a length range (tolerance >= 0): {value!r}")
+            with localcontext() as ctx:     # exact: enough digits for both operands
+                ctx.prec = 2 * (len(centre) + len(tol)) + 10
+                parts = [format(v - t, "f"), format(v + t, "f")]
+        if len(parts) != 2:
+            raise InputError(parameter, field_name, f"expected 'lo:hi' or 'value+-tolerance', got {value!r}")
+        (lo, lo_t), (hi, hi_t) = (_length(part, parameter, field_name) for part in parts)
+        if Fraction(lo_t) > Fraction(hi_t):
+            raise InputError(parameter, field_name, f"range {lo_t}:{hi_t} has lo > hi")
+        return Interval.from_bounds(lo.lo, hi.hi), f"{lo_t}:{hi_t}"
+    try:
+        iv, t = parse_number(value, parameter, field_name)
+    except InputError as exc:
+        raise InputError(parameter, exc.field, exc.problem) from None
+    if float(iv.lo) < 0:
+        raise InputError(parameter, field_name, f"a leg length cannot be negative ({t})")
+    return iv, t
 
 
 def length_enclosures(robot, lengths):

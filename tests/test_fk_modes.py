@@ -1,0 +1,257 @@
+"""Forward kinematics where roots are hard to place: on the domain's faces and split planes,
+symmetric robots at home, double roots (clusters), continua, uncertain leg lengths, large searches.
+
+References are derived independently of the solver: the exact planar elimination of
+``test_fk.exact_planar`` (sympy), the generating pose of the lengths, and, for the clusters,
+a singular pose located by bisection of det(A) in floats (the solver must cover it, not find it).
+"""
+import json
+import subprocess
+import sys
+from decimal import Decimal
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+import proofs
+from certfile import Doc
+from certkin import load_robot, robot_from_dict
+from certkin.engine import budgets
+from certkin.engine.budgets import Budget
+from certkin.errors import InputError
+from certkin.fk import forward_kinematics
+from test_fk import EXAMPLES, SIX_MODES, _contains, _points, assert_matches_exact, checked, exact_planar, planar
+
+ISSUE_BASE, ISSUE_PLATFORM = [(0, 0), (10, 0), (3, 10)], [(0, 0), (4, 0), (2, 2)]
+
+
+def planar_lengths(robot, pose, digits=25):
+    """Leg lengths of a planar pose at ``digits`` decimals (mpmath, 40 digits)."""
+    with mp.workdps(40):
+        x, y, phi = (mp.mpf(v) for v in pose)
+        out = []
+        for (ax, ay), (bx, by) in zip(robot.base, robot.platform):
+            ax, ay, bx, by = (mp.mpf(str(v)) for v in (ax, ay, bx, by))
+            lx = x + mp.cos(phi) * bx - mp.sin(phi) * by - ax
+            ly = y + mp.sin(phi) * bx + mp.cos(phi) * by - ay
+            out.append(mp.nstr(mp.sqrt(lx ** 2 + ly ** 2), digits, strip_zeros=False))
+        return out
+
+
+def pose_points(robot, pose):
+    """World platform points of a float pose (mpmath)."""
+    x, y, phi = (mp.mpf(v) for v in pose)
+    return [(x + mp.cos(phi) * mp.mpf(str(bx)) - mp.sin(phi) * mp.mpf(str(by)),
+             y + mp.sin(phi) * mp.mpf(str(bx)) + mp.cos(phi) * mp.mpf(str(by))) for bx, by in robot.platform]
+
+
+# ----- roots on faces and split planes ------------------------------------------------------------
+@pytest.mark.parametrize("pose", [(5, 5, 0), ("5.01", 5, 0), (5, 5, "0.001"), (0, 5, 0)])
+def test_a_mode_at_phi_zero_or_on_a_plane_is_proved_unique(pose):
+    """Issue #16: the mode x = 5, y = 5, phi = 0 (c = cos phi = 1, on the face of [-1, 1]) was left
+    unresolved; every exact posture is now in exactly one unique box, and the answer is complete."""
+    robot = planar(ISSUE_BASE, ISSUE_PLATFORM)
+    lengths = planar_lengths(robot, pose)
+    exact = exact_planar(ISSUE_BASE, ISSUE_PLATFORM, lengths)
+    result = forward_kinematics(robot, lengths)
+    assert_matches_exact(result, exact)
+    gen = pose_points(robot, pose)      # the generating pose, within the rounding of its lengths
+    assert any(all(b[0] - 1e-12 <= g <= b[1] + 1e-12 for bp, gp in zip(_points(s), gen) for b, g in zip(bp, gp))
+               for s in result.solutions)
+    checked(result)
+
+
+def symmetric_gough(height="1.2"):
+    """A hexapod with planar base and platform, joints in symmetric pairs (mirror x -> -x): its home
+    pose (0, 0, h, identity) has q = (1, 0, 0, 0) on the face q0 = 1 of the old domain and x = 0,
+    q1 = q2 = q3 = 0 on symmetry planes."""
+    base = [[-0.9, 0.5, 0], [0.9, 0.5, 0], [1.2, -0.1, 0], [0.3, -1.1, 0], [-0.3, -1.1, 0], [-1.2, -0.1, 0]]
+    plat = [[-0.3, 0.6, 0], [0.3, 0.6, 0], [0.7, -0.1, 0], [0.4, -0.5, 0], [-0.4, -0.5, 0], [-0.7, -0.1, 0]]
+    return robot_from_dict({"name": "symmetric test hexapod", "kind": "gough-stewart",
+                            "base": [[str(c) for c in p] for p in base], "platform": [[str(c) for c in p] for p in plat],
+                            "home": [0, 0, height, 0, 0, 0]})
+
+
+def test_symmetric_hexapod_home_posture_is_proved_unique_and_certified():
+    """The identity rotation on the domain's old face, x = 0 and q1 = q2 = q3 = 0 on symmetry planes:
+    the home posture lies in exactly one unique box.  The position is narrowed so that the checker
+    re-verifies the certificate quickly; the rotation keeps its full range (the face is tested)."""
+    robot = symmetric_gough()
+    home = robot.home_box()
+    lengths = [Decimal(str(v)) for v in robot.leg_lengths(home).mid()]
+    texts = [format(v, "f") for v in lengths]
+    result = forward_kinematics(robot, texts, domain="x=-0.1:0.1,y=-0.1:0.1,z=1.1:1.3,psi=-4:4,theta=-4:4,phi=-4:4")
+    assert result.complete
+    home_points = robot.platform_points(home)
+    hits = [s for s in result.solutions
+            if all(float(c.lo) - 1e-9 <= float(h.lo) and float(h.hi) <= float(c.hi) + 1e-9
+                   for p, hp in zip(s["platform_points"], home_points) for c, h in zip(p, hp))]
+    assert len(hits) == 1
+    q = hits[0]["box"]
+    assert float(q.lo[3]) <= 1.0 <= float(q.hi[3])     # the identity: q0 = 1, inside the box
+    checked(result)
+
+
+def test_domain_reaches_beyond_the_unit_sphere_and_checker_accepts_it():
+    robot = symmetric_gough()
+    r = forward_kinematics(robot, "1,1,1,1,1,1", budget=Budget(max_boxes=2000, max_seconds=60, min_width=1e-10))
+    lo, hi = r.domain
+    assert lo[3] < 0 and hi[3] > 1 and np.all(lo[4:] < -1) and np.all(hi[4:] > 1)
+    claim = r.certificate().header["claims"][0]
+    assert claim["covers"] == "all-postures"
+    assert proofs.check(r.certificate()).ok
+
+
+# ----- clusters and continua ------------------------------------------------------------------------
+def singular_pose(robot):
+    """A pose with det(A) = 0 (floats, bisection in phi at x = y = 5)."""
+    f = lambda t: robot.det_float(np.array([5.0, 5.0, t]))  # noqa: E731
+    a, b = -3.0, -2.9
+    assert f(a) * f(b) < 0
+    for _ in range(60):
+        m = 0.5 * (a + b)
+        a, b = (m, b) if f(a) * f(m) > 0 else (a, m)
+    return (5.0, 5.0, 0.5 * (a + b))
+
+
+def test_lengths_at_a_singular_pose_give_a_cluster_and_a_complete_answer():
+    """A double root (lengths of a singular pose): reported as a cluster, never unique; the rest of
+    the domain is excluded, so the answer is complete; the cluster holds the singular pose."""
+    robot = planar(ISSUE_BASE, ISSUE_PLATFORM)
+    pose = singular_pose(robot)
+    lengths = planar_lengths(robot, pose, 17)
+    result = forward_kinematics(robot, lengths)
+    assert result.complete and result.solutions == [] and len(result.clusters) == 1
+    doc = result.to_json()
+    assert [s["status"] for s in doc["solutions"]] == ["cluster"]
+    assert _contains([[(float(c.lo), float(c.hi)) for c in p] for p in result.clusters[0]["platform_points"]],
+                     pose_points(robot, pose))
+    cert = Doc(result.certificate())
+    report = cert.check()
+    assert report.ok and cert.claim()["figures"]["leaves"]["in-cluster"] > 0, report.step
+    shrunk = cert.copy()
+    box = shrunk.claim()["clusters"][0]
+    box[0][1] = box[0][0] + 0.25 * (box[0][1] - box[0][0])      # some cluster leaf now sticks out
+    report = shrunk.check()
+    assert not report.ok and "not inside the named box" in report.step
+    complete_without = cert.copy()
+    del complete_without.claim()["clusters"]
+    assert not complete_without.check().ok
+
+
+def test_a_continuum_of_modes_ends_undecided_with_a_message():
+    """Congruent base and platform with equal legs: the platform translates on a circle (phi = 0),
+    a continuum; the search cannot finish, says so, and claims nothing about it."""
+    robot = planar(ISSUE_BASE, ISSUE_BASE)
+    result = forward_kinematics(robot, "5,5,5", budget=Budget(max_boxes=60_000, max_seconds=120, min_width=1e-10))
+    assert not result.complete
+    assert "continuum" in result.message
+    assert "continuum" in result.to_json()["message"]
+    assert all(abs(float(s["pose"]["phi"].lo)) > 1e-3 for s in result.solutions)   # only isolated modes proved
+
+
+# ----- uncertain leg lengths ------------------------------------------------------------------------
+def corners(lengths, tol):
+    """The 2^3 corner length vectors of [v - tol, v + tol] as exact decimal texts."""
+    out = [[]]
+    for v in lengths:
+        out = [c + [str(Decimal(v) + s * Decimal(tol))] for c in out for s in (-1, 1)]
+    return out
+
+
+@pytest.mark.parametrize("base,plat,lengths", SIX_MODES)
+def test_uncertain_lengths_each_mode_box_holds_the_postures_of_every_corner(base, plat, lengths):
+    """±0.001 on every leg: each of the 6 modes is one box proved to hold, for every length vector,
+    exactly one posture; the exact postures at the corners of the length box (sympy elimination)
+    lie each in exactly one box, and each box is at most 2x their spread per unknown (x, y, cos phi,
+    sin phi).  (Platform points are evaluated over the box, so they are wider: the box does not
+    know that x and phi move together.)"""
+    robot = planar(base, plat)
+    tol = "0.001"
+    result = forward_kinematics(robot, [f"{v}+-{tol}" for v in lengths])
+    assert result.complete and len(result.solutions) == 6 and not result.clusters
+    assert result.lengths == [f"{Decimal(v) - Decimal(tol)}:{Decimal(v) + Decimal(tol)}" for v in lengths]
+    members = {k: [] for k in range(6)}
+    for c in corners(lengths, tol):
+        exact = exact_planar(base, plat, c)
+        assert len(exact) == 6
+        for e in exact:
+            hits = [k for k, s in enumerate(result.solutions) if _contains(_points(s), e)]
+            assert len(hits) == 1
+            members[hits[0]].append(e)
+    for k, s in enumerate(result.solutions):
+        exact_unknowns = np.array([unknowns(plat, e) for e in members[k]])
+        spread = exact_unknowns.max(axis=0) - exact_unknowns.min(axis=0)
+        width = s["box"].hi - s["box"].lo
+        assert np.all(width <= 2.0 * spread + 1e-12)
+    checked(result)
+
+
+def unknowns(plat, points):
+    """(x, y, c, s) of a posture given by its world platform points: R (b2 − b1) = P2 − P1."""
+    b = [np.array([float(v) for v in p]) for p in plat]
+    P = [np.array([float(v) for v in p]) for p in points]
+    u, v = b[1] - b[0], P[1] - P[0]
+    c = (u @ v) / (u @ u)
+    s = (u[0] * v[1] - u[1] * v[0]) / (u @ u)
+    origin = P[0] - np.array([c * b[0][0] - s * b[0][1], s * b[0][0] + c * b[0][1]])
+    return [origin[0], origin[1], c, s]
+
+
+def test_uncertain_lengths_tampered_certificate_is_rejected():
+    base, plat, lengths = SIX_MODES[0]
+    result = forward_kinematics(planar(base, plat), [f"{v}+-0.001" for v in lengths])
+    cert = Doc(result.certificate())
+    assert cert.check().ok and len(cert.claim()["length_ranges"]) == 3
+    wider = cert.copy()                                # the claim stated for wider ranges than solved
+    lo, hi = wider.claim()["length_ranges"][0]
+    wider.claim()["length_ranges"][0] = [str(float(lo) - 1), str(float(hi) + 1)]
+    assert not wider.check().ok
+    tight = cert.copy()                                # a solution's box R shrunk to the nominal posture
+    R = tight.arrays["fk.region.box"][0]
+    mid = 0.5 * (R[:, 0] + R[:, 1])
+    R[:, 0], R[:, 1] = mid - 1e-9 * abs(mid) - 1e-12, mid + 1e-9 * abs(mid) + 1e-12
+    report = tight.check()
+    assert not report.ok and "regions[0]" in report.step
+
+
+def test_length_ranges_are_parsed_exactly_and_checked():
+    robot = planar(*SIX_MODES[1][:2])
+    from certkin.robots.poses import parse_lengths
+    rows, texts, _ = parse_lengths(robot, "28.99:29.01,13.66+-0.005,40.53")
+    assert texts == [["28.99:29.01", "13.655:13.665", "40.53"]]
+    assert float(rows[0][0].lo) <= 28.99 and float(rows[0][0].hi) >= 29.01
+    for bad in ("29.01:28.99,13.66,40.53", "29:30:31,13.66,40.53", "29+-x,13.66,40.53", "29+--1,13.66,40.53"):
+        with pytest.raises(InputError):
+            parse_lengths(robot, bad)
+
+
+def test_cli_takes_length_ranges(tmp_path):
+    """The issue's form: ``--lengths 28.99:29.01,13.66,40.53``."""
+    base, plat, _ = SIX_MODES[1]
+    path = tmp_path / "robot.toml"
+    path.write_text('kind = "planar-3rpr"\nbase = [' + ", ".join(f"[{a}, {b}]" for a, b in base) + "]\n"
+                    "platform = [" + ", ".join(f"[{a}, {b}]" for a, b in plat) + "]\n")
+    cert = tmp_path / "c.json"
+    out = subprocess.run([sys.executable, "-m", "certkin", "fk", str(path), "--lengths", "28.99:29.01,13.66,40.53",
+                          "--json", "--certificate", str(cert)], capture_output=True, text=True, check=True)
+    doc = json.loads(out.stdout)
+    assert doc["complete"] and doc["lengths"][0] == "28.99:29.01"
+    assert all(s["status"] in ("unique", "cluster") for s in doc["solutions"])
+    assert proofs.check(str(cert)).ok
+
+
+# ----- large searches -------------------------------------------------------------------------------
+def test_a_search_past_the_record_limit_gives_the_same_answer_and_a_valid_certificate(monkeypatch):
+    robot = load_robot(EXAMPLES / "seed003-spherical-example-1.toml")
+    lengths = [repr(float(v)) for v in robot.leg_lengths(robot.home_box()).mid()]
+    whole = forward_kinematics(robot, lengths)
+    monkeypatch.setattr(budgets, "FK_RECORD_NODES", 500)
+    light = forward_kinematics(robot, lengths)
+    assert whole.tree.complete_record and not light.tree.complete_record
+    assert len(light.tree.kind) < len(whole.tree.kind)
+    assert light.boxes == whole.boxes and light.complete and whole.complete
+    assert [[float(v.lo) for v in s["pose"].values()] for s in light.solutions] == \
+        [[float(v.lo) for v in s["pose"].values()] for s in whole.solutions]
+    checked(light)                                     # the certificate runs the search again, tree kept
