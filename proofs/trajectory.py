@@ -468,8 +468,6 @@ class Instance:
         if feet_in and _lt0(E):
             return False, True
         feet_out = _lt0(s0) or _gt0(s1) or _lt0(t0) or _gt0(t1)
-        if ch == "+" and not feet_out:
-            return False, False         # the end points cannot prove '+' here: bisect (cheaper)
 
         def ends(fr):
             u, v, w = fr.legs[i], fr.legs[j], (w0_l if fr.dual else w0)
@@ -488,7 +486,10 @@ class Instance:
             tau, tau1, n2, eps, f0, f1 = vals[6 * p:6 * p + 6]
             lower = lower and ((_le0(tau) and _ge0(f0)) or (_ge0(tau1) and _ge0(f1)) or (_gt0(n2) and _ge0(eps)))
             witness = witness or _lt0(f0) or _lt0(f1) or (_ge0(tau) and _le0(tau1) and _gt0(n2) and _lt0(eps))
-        return feet_out and lower, witness
+        # the points of one segment against the other's line: |c0 + s c1|² >= min(|c0|², |c0 + c1|² - Δ)
+        # on s in [0, 1] (c0 = w x v, c1 = u x v, Δ = |c1|²; docs/soundness.md), valid for parallel legs
+        to_line = any(_ge0(vals[6 * p + 3]) and _ge0(vals[6 * p + 9] - delta) for p in (0, 2))
+        return (feet_out and lower) or to_line, witness
 
     def _singularity(self, span, ch):
         fr = span.frame("T")
