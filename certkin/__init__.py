@@ -7,6 +7,7 @@ deciding boxes with the one branch-and-bound ``engine`` -> result objects ->
 ``plots`` present results, and ``cli`` is the command line
 (``docs/architecture.md``).
 """
+from .engine import Budget
 from .errors import InputError, RobotFileError
 from .robots import load_robot, robot_from_dict
 from .singularity import certify_singularity_free
@@ -15,5 +16,5 @@ from .trajectory import plan, verify_trajectory, verify_trajectories
 
 __version__ = "0.1.0"
 
-__all__ = ["InputError", "RobotFileError", "load_robot", "robot_from_dict", "certify_singularity_free",
+__all__ = ["Budget", "InputError", "RobotFileError", "load_robot", "robot_from_dict", "certify_singularity_free",
            "forward_kinematics", "track_sequence", "verify_trajectory", "verify_trajectories", "plan", "__version__"]

@@ -43,6 +43,10 @@ class Store:
         self.split_at = np.empty(capacity)
         self.first_child = np.empty(capacity, dtype=np.int32)
 
+    def nbytes(self) -> int:
+        """Bytes held by the columns (their capacity, not only the nodes used)."""
+        return sum(getattr(self, name).nbytes for name in COLUMNS)
+
     def add(self, lo, hi, root, parent) -> np.ndarray:
         k = len(lo)
         if self.n + k > len(self.root):
@@ -77,6 +81,11 @@ class Evidence:
 
     def __init__(self):
         self.parts: dict[str, list] = {}    # name -> [(node ids, rows)]
+        self.nbytes = 0                     # bytes held by the parts
+
+    def _append(self, name, ids, rows):
+        self.parts.setdefault(name, []).append((ids, rows))
+        self.nbytes += ids.nbytes + rows.nbytes
 
     def add(self, node_ids, evidence: dict, positions):
         positions = np.asarray(positions, dtype=np.int64)
@@ -85,9 +94,9 @@ class Evidence:
                 mask, rows = np.asarray(value[0], dtype=bool), np.asarray(value[1])
                 keep = mask[positions]
                 index = np.cumsum(mask) - 1
-                self.parts.setdefault(name, []).append((node_ids[keep], rows[index[positions[keep]]]))
+                self._append(name, node_ids[keep], rows[index[positions[keep]]])
             else:
-                self.parts.setdefault(name, []).append((node_ids, np.asarray(value)[positions]))
+                self._append(name, np.asarray(node_ids), np.asarray(value)[positions])
 
     def finish(self, n_nodes):
         values, rows = {}, {}
