@@ -7,6 +7,7 @@ poses.  One module per capability builds its claims (``singularity``, ``fk``, ``
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
 import json
 import os
 from pathlib import Path
@@ -49,12 +50,28 @@ def write_json(path, document) -> None:
 
 def write_text(path, text: str) -> None:
     """Write a text file atomically (a temporary file renamed into place)."""
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(text)
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+@contextmanager
+def atomic_path(path):
+    """A temporary file name beside ``path`` (with its suffix, so a writer that reads the type from
+    the name still can), renamed onto ``path`` when the block ends without error and removed
+    otherwise: nothing half-written is left.  The file gets the permissions of a file created
+    normally (0666 less the umask); a missing directory is an error, never created."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp" + path.suffix)
+    os.close(fd)
     try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
+        yield tmp
+        os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

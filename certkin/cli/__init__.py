@@ -10,10 +10,13 @@ renames the library's parameters to options in errors).
 from __future__ import annotations
 
 import sys
+import warnings
+
+import numpy as np
 
 from ..errors import InputError
 from . import check, demo, fk, plan, singular, trajectory, workspace
-from .common import Parser, join_pose_values
+from .common import Parser, join_negative_values
 
 COMMANDS = (
     ("singular", singular, "prove a box of poses singularity-free, or find a singularity in it"),
@@ -38,11 +41,17 @@ def build_parser():
 
 def main(argv=None):
     parser = build_parser()
-    args = parser.parse_args(join_pose_values(list(sys.argv[1:] if argv is None else argv)))
+    args = parser.parse_args(join_negative_values(list(sys.argv[1:] if argv is None else argv)))
     try:
-        return args.func(args)
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")          # numpy's overflow warnings are not for the user
+            return args.func(args)
     except InputError as exc:
         sys.stderr.write(f"certkin: error: {exc}\n")
+        return 2
+    except MemoryError:
+        sys.stderr.write("certkin: error: out of memory: lower the budget (--max-boxes, --max-memory) or the size "
+                         "of the question\n")
         return 2
     except KeyboardInterrupt:
         sys.stderr.write("certkin: interrupted\n")

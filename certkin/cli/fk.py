@@ -1,12 +1,17 @@
 """``certkin fk``: every real assembly mode for given leg lengths, each proved unique."""
 from __future__ import annotations
 
+import os
+from pathlib import Path
+import sys
+
+from .. import display
 from ..certificates import fk_certificate
 from ..engine import budgets
-from ..fk import forward_kinematics
+from ..fk import forward_kinematics, kernels
 from ..report import fk_report
 from ..robots import load_robot
-from .common import add_budget, add_outputs, answer, budget, options, progress, with_angles
+from .common import add_budget, add_outputs, answer, budget, check_outputs, options, progress, refuse, with_angles
 
 OPTIONS = {"lengths": "--lengths", "domain": "--domain", "track": "--track"}
 
@@ -22,23 +27,39 @@ def add_arguments(f):
 
 
 def run(args):
+    if args.track is not None:
+        refuse(args, "--domain", "not with --track (a tracked posture is not searched in a domain)", "domain")
+    check_outputs(args)
     with options(OPTIONS):
         robot = with_angles(load_robot(args.robot), args.angles)
+        if robot.kind != "planar-3rpr" and not kernels_cached():
+            sys.stderr.write("certkin: compiling kernels, once (about 15 s; cached on disk afterwards)\n")
         result = forward_kinematics(robot, args.lengths, domain=args.domain, budget=budget(args),
                                     progress=progress(args.progress), track=args.track)
         answer(args, robot, result, fk_certificate, fk_report, describe)
     return 0
 
 
+def kernels_cached() -> bool:
+    """Whether numba's disk cache holds the machine-code kernels of the spatial forward kinematics
+    (``certkin/fk/kernels.py``): in ``__pycache__`` beside it, or under ``NUMBA_CACHE_DIR``."""
+    source = Path(kernels.__file__).resolve()
+    places = [source.parent / "__pycache__"]
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        root = Path(os.environ["NUMBA_CACHE_DIR"])
+        places.append(root / str(source.parent).lstrip(os.sep))
+        places.append(root)
+    return any(any(p.glob(f"{source.stem}.*.nbi")) for p in places if p.is_dir())
+
+
 def describe(robot, r):
+    """Each assembly mode's box (an enclosure: printed outward), each unresolved region outward."""
     head = (f"{robot.name}: {len(r.solutions)} assembly modes, each proved unique"
             + (" (tracked from the previous pose)" if r.tracked else
                "; complete" if r.complete else f"; INCOMPLETE, {len(r.unresolved)} unresolved regions"))
     lines = [head + f" [{r.boxes} boxes, {r.seconds:.3f} s]"]
     for k, s in enumerate(r.solutions):
-        pose = ", ".join(f"{n}={0.5 * (float(v.lo) + float(v.hi)):.10g}" for n, v in s["pose"].items())
-        lines.append(f"  {k + 1}: {pose}")
+        lines.append(f"  {k + 1}: " + ", ".join(f"{n}={display.interval(v, 12)}" for n, v in s["pose"].items()))
     for k, s in enumerate(r.unresolved):
-        pose = ", ".join(f"{n}=[{float(v.lo):.6g}, {float(v.hi):.6g}]" for n, v in s["pose"].items())
-        lines.append(f"  unresolved {k + 1}: {pose}")
+        lines.append(f"  unresolved {k + 1}: " + ", ".join(f"{n}={display.interval(v, 6)}" for n, v in s["pose"].items()))
     return "\n".join(lines)

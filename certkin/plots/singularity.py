@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import display
 from .figure import pyplot
 
 COLOURS = {"free+": "#4c72b0", "free-": "#55a868", "singular": "#c44e52", "undecided": "#bbbbbb"}
@@ -53,7 +54,7 @@ def plot_cells(robot, results, path, max_slices: int = 6):
         a.set_xlabel(names[ax_x])
         a.set_ylabel(names[ax_y])
         if slab is not None:
-            a.set_title(f"{names[k]} in [{slab[0]:.4g}, {slab[1]:.4g}]", fontsize=9)
+            a.set_title(f"{names[k]} in {display.outward(slab[0], slab[1], 4)}", fontsize=9)
     for a in list(axes.flat)[len(slabs):]:
         a.axis("off")
     legend = [Patch(color=COLOURS[c], label=t) for c, t in
