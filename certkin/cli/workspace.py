@@ -15,7 +15,7 @@ from ..robots import load_robot
 from ..workspace import VolumeResult, workspace_section, workspace_volume
 from ..workspace.annuli import ORIENTATION, check_robot
 from ..workspace.section import ignored_limits
-from ..workspace.volume import DEFAULT_SLABS
+from ..workspace.volume import DEFAULT_SLABS, MAX_SLABS
 from .common import add_budget, add_outputs, budget, check_outputs, count, options, progress, refuse
 
 OPTIONS = {"orientation": "--orientation", "z": "--z", "z_range": "--z-range", "slabs": "--slabs", "plot": "--plot"}
@@ -29,8 +29,8 @@ def add_arguments(parser) -> None:
                         help="fixed orientation (radians, or with a 'deg' suffix); planar robots: PHI; default 0")
     parser.add_argument("--z", metavar="Z", help="height of the section (exact decimal)")
     parser.add_argument("--z-range", metavar="LO:HI", help="volume bracket of the workspace between two heights")
-    parser.add_argument("--slabs", metavar="N", type=count(100_000),
-                        help=f"number of z slabs for --z-range, 1 to 100000 (default {DEFAULT_SLABS})")
+    parser.add_argument("--slabs", metavar="N", type=count(MAX_SLABS),
+                        help=f"number of z slabs for --z-range, 1 to {MAX_SLABS} (default {DEFAULT_SLABS})")
     parser.add_argument("--plot", metavar="FILE.png", help="picture of the paving and arcs (needs matplotlib)")
     add_outputs(parser)
     add_budget(parser, DEFAULT, width_help="smallest box side still split, relative to the size of the section")

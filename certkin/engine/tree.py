@@ -130,6 +130,7 @@ class Tree:
         for name in COLUMNS:
             setattr(self, name, getattr(store, name)[:n])
         self.n_roots = n_roots
+        self._by_root = {}
         self.reasons = tuple(reasons)
         self.evidence = evidence
         self.evidence_rows = evidence_rows
@@ -150,6 +151,16 @@ class Tree:
         if root is not None:
             m &= self.root == root
         return np.nonzero(m)[0]
+
+    def leaves_by_root(self, kind: int) -> tuple[np.ndarray, np.ndarray]:
+        """The leaves of one kind grouped by root: (ids, starts), the leaves of root r being
+        ``ids[starts[r]:starts[r + 1]]`` in creation order (computed once per kind: reading every
+        root's leaves costs one pass over the tree, not one per root)."""
+        if kind not in self._by_root:
+            ids = np.nonzero(self.kind == kind)[0]
+            ids = ids[np.argsort(self.root[ids], kind="stable")]
+            self._by_root[kind] = ids, np.searchsorted(self.root[ids], np.arange(self.n_roots + 1))
+        return self._by_root[kind]
 
     def evidence_of(self, i: int, keys=None) -> dict:
         """The evidence of a node as plain Python values (``keys``: a subset of the names)."""

@@ -59,7 +59,7 @@ def constraint_names(kinds):
     if kinds is None:
         return None
     names = [k.strip() for k in kinds.split(",")] if isinstance(kinds, str) else list(kinds)
-    if not names:
+    if not names or names == [""]:
         raise InputError("constraints", "", "empty list (None checks every constraint)")
     for k in names:
         if not isinstance(k, str) or not k:

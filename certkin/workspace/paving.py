@@ -60,7 +60,8 @@ class Paving:
     root: int
 
     def leaves(self, kind):
-        return self.tree.leaves(self.root, kind)
+        ids, starts = self.tree.leaves_by_root(kind)
+        return ids[starts[self.root]:starts[self.root + 1]]
 
     def counts(self) -> dict:
         return {"inner_boxes": int(len(self.leaves(PROVED))), "boundary_boxes": int(len(self.leaves(UNDECIDED))),

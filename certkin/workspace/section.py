@@ -130,7 +130,7 @@ def workspace_section(robot, orientation=None, z=None, *, budget: Budget | None 
         domain, paving = None, None
     else:
         domain = (lo[0], hi[0])
-        res = pave(legs, Z1, lo, hi, budget, progress)
+        res = pave(legs, Z1, lo, hi, budget.within(budget.max_seconds - (time.perf_counter() - t0)), progress)
         paving = Paving(res.tree, 0)
         stats.update(boxes=res.boxes, exhausted=res.exhausted)
     stats["paving_seconds"] = time.perf_counter() - t0

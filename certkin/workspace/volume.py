@@ -5,7 +5,7 @@ the slab adds h·area to the inner volume, a box not proved outside adds it to t
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 import math
 import time
@@ -18,7 +18,7 @@ from intervals.rounding import down, down_sum, up, up_sum
 from .. import display
 from ..certificates import volume_certificate
 from ..engine import Budget, budgets
-from ..engine.budgets import make_budget
+from ..engine.budgets import make_budget, positive_integer
 from ..errors import InputError
 from ..robots import as_robot
 from ..robots.poses import parse_height_range, parse_orientation
@@ -27,6 +27,7 @@ from .paving import Paving, pave
 from .section import ignored_limits
 
 DEFAULT_SLABS = 200
+MAX_SLABS = 10_000          # each slab is a root of the search and a row of every array of the domains
 
 
 @dataclass(repr=False)
@@ -41,9 +42,13 @@ class VolumeResult:
     pavings: list                       # per slab Paving or None
     stats: dict
     status: str = "undecided"
+    _areas: list | None = field(default=None, repr=False, compare=False)
 
     def areas(self):
-        return [(p.inner_area(), p.outer_area()) if p else (0.0, 0.0) for p in self.pavings]
+        """Per slab, (inner, outer) area bounds of its section (computed once)."""
+        if self._areas is None:
+            self._areas = [(p.inner_area(), p.outer_area()) if p else (0.0, 0.0) for p in self.pavings]
+        return self._areas
 
     def volume(self) -> tuple[float, float]:
         h = np.diff(self.bounds)
@@ -104,10 +109,9 @@ def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS,
     if z_range is None:
         raise InputError("z_range", "z", "missing: give lo:hi")
     (zl, tl), (zh, th) = parse_height_range(z_range)
-    if isinstance(slabs, bool) or not isinstance(slabs, (int, np.integer)) or not 1 <= slabs <= 100_000:
-        raise InputError("slabs", "", f"expected an integer in [1, 100000], got {slabs!r}")
     budget = make_budget(budgets.WORKSPACE, budget, max_boxes=max_boxes, max_seconds=max_seconds,
                          min_width=min_width, max_memory=max_memory)
+    slabs = positive_integer(slabs, "slabs", min(MAX_SLABS, budget.max_boxes))
     t0 = time.perf_counter()
     ql, qh = Fraction(tl), Fraction(th)
     inner = [float(ql + (qh - ql) * k / slabs) for k in range(1, slabs)]
@@ -132,7 +136,8 @@ def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS,
         speed = np.where(np.isfinite(speed), speed, 0.0)
         # one resolution for all slabs: the median (a few slabs near a tangency move fast)
         floor = 2.0 * float(np.median(np.diff(bounds)[live] * np.max(speed, axis=1)))
-        res = pave(legs, Z[live], lo[live], hi[live], budget, progress, floor)
+        res = pave(legs, Z[live], lo[live], hi[live], budget.within(budget.max_seconds - (time.perf_counter() - t0)),
+                   progress, floor)
         for root, k in enumerate(live):
             pavings[k] = Paving(res.tree, root)
         stats.update(boxes=res.boxes, exhausted=res.exhausted)
