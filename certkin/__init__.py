@@ -12,6 +12,8 @@ loads ``certkin.fk``, and so on), so a process pays only for what it runs.
 """
 import importlib
 
+
+from .engine import Budget
 from .errors import InputError, RobotFileError
 from .robots import load_robot, robot_from_dict
 
@@ -22,7 +24,7 @@ _CAPABILITIES = {"certify_singularity_free": "certkin.singularity",
                  "verify_trajectory": "certkin.trajectory", "verify_trajectories": "certkin.trajectory",
                  "plan": "certkin.trajectory"}
 
-__all__ = ["InputError", "RobotFileError", "load_robot", "robot_from_dict", *_CAPABILITIES, "__version__"]
+__all__ = ["Budget", "InputError", "RobotFileError", "load_robot", "robot_from_dict", *_CAPABILITIES, "__version__"]
 
 
 def __getattr__(name):

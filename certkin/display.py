@@ -31,8 +31,12 @@ import math
 DIGITS = 10          # significant digits shown by default
 
 
-def _text(d: Decimal) -> str:
+def decimal_text(d: Decimal) -> str:
     """A decimal in plain notation for moderate magnitudes, scientific otherwise (exact either way)."""
+    return _text(d)
+
+
+def _text(d: Decimal) -> str:
     if d.is_zero():
         return "0"
     exponent = d.adjusted()
@@ -92,6 +96,12 @@ def inward(lo: float, hi: float, digits: int = DIGITS) -> str:
         if Decimal(a) <= Decimal(b):
             return f"[{a}, {b}]"
     return f"[{_text(Decimal(lo))}, {_text(Decimal(hi))}]"      # the exact values
+
+
+def pair(bounds, digits: int = DIGITS) -> str:
+    """An enclosure given as a JSON pair ``[lo, hi]`` (``None``: that side is not bounded), outward."""
+    lo, hi = bounds
+    return outward(-math.inf if lo is None else lo, math.inf if hi is None else hi, digits)
 
 
 def interval(iv, digits: int = DIGITS) -> str:

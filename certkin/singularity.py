@@ -28,15 +28,21 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from decimal import Decimal
+from fractions import Fraction
 
 import numpy as np
 
 from intervals import Interval
 
+from . import display
 from .certificates import singularity_certificate
 from .engine import OPEN, PROVED, Budget, Decisions, budgets, search
+from .engine.budgets import Clock, make_budget, positive_integer
 from .errors import InputError
+from .robots import as_robot
 from .robots.poses import inner_box, parse_box, parse_pose
+
+MAX_SCALE = 1e12        # half-widths of the unit box of ``largest_free_box``, at most
 
 
 class SingularityProblem:
@@ -159,12 +165,12 @@ def _dot(grad: Interval, dx: Interval) -> Interval:
     return out
 
 
-@dataclass
+@dataclass(repr=False)
 class SingularityResult:
     """The verdict on one box: ``status`` in singularity-free | singular | undecided."""
 
     robot: object
-    box: dict                       # exact texts {name: [lo, hi]}
+    texts: dict | None              # exact texts {name: [lo, hi]} of the box asked (None: ``lo``, ``hi`` exactly)
     lo: np.ndarray                  # the float box searched (encloses ``box``)
     hi: np.ndarray
     status: str
@@ -178,16 +184,29 @@ class SingularityResult:
     scale_factor: float | None = None  # for largest_free_box
     exact_values: dict = field(default_factory=dict)   # witness coordinates that are an exact text ({name: text})
 
+    @property
+    def box(self) -> dict:
+        """The exact texts {name: [lo, hi]} of the box (a cell's: the exact values of its floats)."""
+        return self.texts if self.texts is not None else _cell_texts(self.robot, self.lo, self.hi)
+
+    def __repr__(self):
+        show = display.inward if self.status == "singularity-free" else display.outward    # a free box: inward
+        box = ", ".join(f"{n}={show(a, b, 6)}" for n, a, b in zip(self.robot.pose_names, self.lo, self.hi))
+        return f"<SingularityResult {self.status}: {box}>"
+
     def to_json(self) -> dict:
+        """The result as a JSON-ready dict (``json.dumps(result.to_json())``): the fields of
+        ``certkin singular --json``."""
+        names = self.robot.pose_names
         out = {"problem": "singularity", "robot": self.robot.name, "kind": self.robot.kind,
-               "box": {n: [float(a), float(b)] for n, a, b in zip(self.robot.pose_names, self.lo, self.hi)},
+               "box": {n: [float(a), float(b)] for n, a, b in zip(names, self.lo.tolist(), self.hi.tolist())},
                "status": self.status}
         if self.status == "singularity-free":
             out["sign"] = self.sign
         if self.witnesses:
-            out["witnesses"] = {k: dict(zip(self.robot.pose_names, map(float, v))) for k, v in self.witnesses.items()}
+            out["witnesses"] = {k: dict(zip(names, map(float, v))) for k, v in self.witnesses.items()}
         if self.status == "undecided":
-            out["undecided_boxes"] = [{n: [float(a), float(b)] for n, a, b in zip(self.robot.pose_names, l, h)}
+            out["undecided_boxes"] = [{n: [float(a), float(b)] for n, a, b in zip(names, l, h)}
                                       for l, h in self.undecided[:100]]
             out["undecided_count"] = len(self.undecided)
         if self.scale_factor is not None:
@@ -200,8 +219,14 @@ class SingularityResult:
         return singularity_certificate(self)
 
 
+SINGULAR, UNDECIDED_, FREE = 0, 1, 2
+STATUS = {SINGULAR: "singular", UNDECIDED_: "undecided", FREE: "singularity-free"}
+CELL_BYTES = 3000          # memory of one cell's result, its record and its JSON (measured: about 2.5 kB)
+
+
 def _verdicts(problem, tree):
-    """Per root of the search: (status, sign, witnesses, undecided boxes), computed on arrays."""
+    """Per root of the search: (status codes, signs, open leaf ids sorted by root, their starts),
+    computed on arrays."""
     n = tree.n_roots
     leaf = tree.leaf_mask()
     proved = tree.kind == PROVED
@@ -210,41 +235,61 @@ def _verdicts(problem, tree):
         sign[proved] = tree.evidence_values("sign", np.nonzero(proved)[0])
     positive = np.bincount(tree.root[proved & (sign > 0)], minlength=n)
     negative = np.bincount(tree.root[proved & (sign < 0)], minlength=n)
-    open_ = leaf & ~proved
-    open_ids = np.nonzero(open_)[0]
+    open_ids = np.nonzero(leaf & ~proved)[0]
     open_ids = open_ids[np.argsort(tree.root[open_ids], kind="stable")]
     starts = np.searchsorted(tree.root[open_ids], np.arange(n + 1))
-    out = []
-    for r in range(n):
-        if problem.has_positive[r] and problem.has_negative[r]:
-            out.append(("singular", 0, {"positive": problem.positive[r].copy(),
-                                        "negative": problem.negative[r].copy()}, []))
-        elif starts[r + 1] > starts[r]:
-            ids = open_ids[starts[r]:starts[r + 1]]
-            out.append(("undecided", 0, None, list(zip(tree.lo[ids], tree.hi[ids]))))
-        elif positive[r] and negative[r]:  # every proved leaf gives a witness, so this cannot happen
-            raise AssertionError("leaves of both signs without witnesses")
-        else:
-            out.append(("singularity-free", 1 if positive[r] else -1, None, []))
-    return out
+    singular = problem.has_positive & problem.has_negative
+    undecided = ~singular & (starts[1:] > starts[:-1])
+    if np.any(~singular & ~undecided & (positive > 0) & (negative > 0)):
+        raise AssertionError("leaves of both signs without witnesses")   # every proved leaf gives a witness
+    status = np.where(singular, SINGULAR, np.where(undecided, UNDECIDED_, FREE))
+    signs = np.where(status == FREE, np.where(positive > 0, 1, -1), 0)
+    return status, signs, open_ids, starts
 
 
-def certify_singularity_free(robot, box, budget: Budget | None = None, progress=None) -> SingularityResult:
+def certify_singularity_free(robot, box, budget: Budget | None = None, progress=None, *, max_boxes=None,
+                             max_seconds=None, min_width=None, max_memory=None) -> SingularityResult:
     """Prove that det(A) keeps one sign on ``box``, or exhibit a sign change.
 
-    ``box`` is ``"x=a:b,y=c:d,phi=e:f"`` or ``{name: (lo, hi)}`` with exact
-    decimals.  Returns a ``SingularityResult`` whose ``status`` is
-    ``singularity-free`` (with ``sign``), ``singular`` (with two witness
-    poses of opposite certified signs) or ``undecided``.
+    ``robot``: a robot or a robot file's path.  ``box`` is ``"x=a:b,y=c:d,phi=e:f"`` or
+    ``{name: (lo, hi)}`` with exact decimals (a name given one value is fixed).  The budget
+    (``budget``, or the keywords ``max_boxes``, ``max_seconds``, ``min_width``, ``max_memory``)
+    bounds the search.  Returns a ``SingularityResult`` whose ``status`` is ``singularity-free``
+    (with ``sign``), ``singular`` (with two witness poses of opposite certified signs) or
+    ``undecided``.
     """
-    return classify_cells(robot, box, 1, budget, progress)[0]
+    return classify_cells(robot, box, 1, budget, progress, max_boxes=max_boxes, max_seconds=max_seconds,
+                          min_width=min_width, max_memory=max_memory)[0]
 
 
-def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=None) -> list[SingularityResult]:
-    """Split ``box`` into n^d cells (fixed coordinates stay fixed) and decide each one."""
-    iv, texts = parse_box(box, robot) if not isinstance(box, tuple) else box
+def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=None, *, max_boxes=None,
+                   max_seconds=None, min_width=None, max_memory=None) -> list[SingularityResult]:
+    """Split ``box`` into n^k cells (k: the coordinates given as ranges; a coordinate given one
+    value is fixed, never split) and decide each one.
+
+    Each cell is a root of one search; cells the budget does not reach are ``undecided``.  More
+    cells than ``max_boxes`` (each needs one box at least) or than ``max_memory`` holds
+    (``CELL_BYTES`` each) are refused (``InputError`` naming ``n``)."""
+    robot = as_robot(robot)
+    budget = make_budget(budgets.SINGULARITY, budget, max_boxes=max_boxes, max_seconds=max_seconds,
+                         min_width=min_width, max_memory=max_memory)
+    clock = Clock(budget.max_seconds)
+    n = positive_integer(n, "n")
+    if isinstance(box, tuple):
+        iv, texts = box
+        fixed = np.zeros(len(robot.pose_names), dtype=bool)
+    else:
+        iv, texts = parse_box(box, robot)
+        fixed = np.array([_same(*texts[name]) for name in robot.pose_names])
     lo0, hi0 = iv.lo, iv.hi
-    free = hi0 > lo0
+    free = (hi0 > lo0) & ~fixed
+    cells = n ** int(free.sum())
+    if cells > budget.max_boxes:
+        raise InputError("n", "", f"{n} cells per side make {cells} cells, more than the box budget "
+                                  f"(max_boxes {budget.max_boxes}): each cell needs one box at least")
+    if cells * CELL_BYTES > budget.max_memory:
+        raise InputError("n", "", f"{n} cells per side make {cells} cells, about {cells * CELL_BYTES / 2 ** 30:.2g} GiB, "
+                                  f"more than the memory budget (max_memory {budget.max_memory / 2 ** 30:.3g} GiB)")
     counts = [n if f else 1 for f in free]
     grids = [np.linspace(lo0[i], hi0[i], c + 1) for i, c in enumerate(counts)]
     for g, a, b in zip(grids, lo0, hi0):
@@ -254,21 +299,41 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
     chi = np.stack([grids[i][idx[:, i] + 1] for i in range(len(counts))], axis=1)
     inner = inner_box(texts, robot) if len(idx) == 1 else None      # cells: their float bounds are exact
     problem = SingularityProblem(robot, len(idx), inner)
-    scale = np.where(free, hi0 - lo0, 1.0)
-    budget = budget or Budget(**budgets.SINGULARITY)
-    res = search(problem, clo, chi, scale=scale, budget=budget, progress=progress)
+    scale = np.where(free, hi0 - lo0, np.inf)         # a fixed coordinate is never bisected
+    res = search(problem, clo, chi, scale=scale, budget=budget.within(clock.left()), progress=progress)
     tree = res.tree
+    status, signs, open_ids, starts = _verdicts(problem, tree)
+    per_cell_seconds = res.seconds / len(idx)
+    nodes = np.bincount(tree.root, minlength=len(idx)).tolist()
     out = []
-    per_cell_seconds = res.seconds / max(1, len(idx))
-    nodes = np.bincount(tree.root, minlength=len(idx))
-    for r, (status, sign, wit, und) in enumerate(_verdicts(problem, tree)):
-        nboxes = int(nodes[r])
-        out.append(SingularityResult(robot, texts if len(idx) == 1 else _cell_texts(robot, clo[r], chi[r]),
-                                     clo[r], chi[r], status, sign, wit, tree, r, und, nboxes, per_cell_seconds))
+    for r, (code, sign) in enumerate(zip(status.tolist(), signs.tolist())):
+        wit = und = None
+        if code == SINGULAR:
+            wit = {"positive": problem.positive[r].copy(), "negative": problem.negative[r].copy()}
+        elif code == UNDECIDED_:
+            ids = open_ids[starts[r]:starts[r + 1]]
+            und = list(zip(tree.lo[ids], tree.hi[ids]))
+        out.append(SingularityResult(robot, texts if len(idx) == 1 else None, clo[r], chi[r], STATUS[code], sign,
+                                     wit, tree, r, und or [], nodes[r], per_cell_seconds))
     if len(idx) == 1:
         out[0].boxes, out[0].seconds = res.boxes, res.seconds
         out[0].exact_values = {name: texts[name][0] for name, e in zip(robot.pose_names, inner[2]) if e}
     return out
+
+
+def _same(a, b) -> bool:
+    """Whether two exact texts are the same number (a coordinate given one value)."""
+    if a == b:
+        return True
+    fa, fb = _exact(a), _exact(b)
+    return fa is not None and fa == fb
+
+
+def _exact(text):
+    try:
+        return Fraction(str(text))
+    except (ValueError, ZeroDivisionError):
+        return None
 
 
 def _cell_texts(robot, lo, hi):
@@ -276,34 +341,47 @@ def _cell_texts(robot, lo, hi):
     return {n: [str(Decimal(float(a))), str(Decimal(float(b)))] for n, a, b in zip(robot.pose_names, lo, hi)}
 
 
-def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, steps: int = 24) -> SingularityResult:
+def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, steps: int = 24, progress=None, *,
+                     max_boxes=None, max_seconds=None, min_width=None, max_memory=None) -> SingularityResult:
     """The largest box ``pose ± s·scale`` proved singularity-free (bisection on s).
 
-    ``scale`` gives the half-widths of the unit box (default 1 in every
-    variable: length units and radians).  The returned result carries the
-    certified box and its tree; ``result.scale_factor`` is s.  If the pose
-    itself cannot be proved regular, the result is ``undecided`` with s = 0.
+    ``scale`` gives the half-widths of the unit box (default 1 in every variable: length units
+    and radians).  The returned result carries the certified box and its tree;
+    ``result.scale_factor`` is s.  If the pose itself cannot be proved regular, the result is
+    ``undecided`` with s = 0.  ``max_boxes`` bounds each box tried, ``max_seconds`` the whole
+    bisection (when it runs out, the largest box proved so far is returned); ``progress(k, s)`` is
+    called after each box tried (k boxes tried so far, s the scale factor proved so far).
     """
+    robot = as_robot(robot)
+    budget = make_budget(budgets.LARGEST_FREE_BOX, budget, max_boxes=max_boxes, max_seconds=max_seconds,
+                         min_width=min_width, max_memory=max_memory)
+    steps = positive_integer(steps, "steps", 60)
+    clock = Clock(budget.max_seconds)
     center, texts = parse_pose(pose, robot, "pose") if not isinstance(pose, Interval) else (pose, None)
     d = len(robot.pose_names)
     if scale is None:
         sc = np.ones(d)
     else:
-        parts = scale.split(",") if isinstance(scale, str) else list(scale)
+        parts = scale.split(",") if isinstance(scale, str) else list(np.atleast_1d(scale))
         try:
             sc = np.array([float(p) for p in parts], dtype=np.float64)
-        except ValueError:
+        except (TypeError, ValueError):
             raise InputError("scale", "", f"expected {d} comma-separated positive numbers") from None
-        if len(sc) != d or not np.all(np.isfinite(sc)) or np.any(sc <= 0):
-            raise InputError("scale", "", f"expected {d} comma-separated positive numbers")
-    budget = budget or Budget(**budgets.LARGEST_FREE_BOX)
+        if len(sc) != d or not np.all(np.isfinite(sc)) or np.any(sc <= 0) or np.any(sc > MAX_SCALE):
+            raise InputError("scale", "", f"expected {d} comma-separated positive numbers up to {MAX_SCALE:g}")
+    tried, proved = 0, 0.0
 
     def attempt(s):
+        nonlocal tried, proved
         lo, hi = center.lo - s * sc, center.hi + s * sc
         iv = Interval.from_bounds(lo, hi)
-        texts_s = _cell_texts(robot, lo, hi)
-        r = classify_cells(robot, (iv, texts_s), 1, budget)[0]
+        r = classify_cells(robot, (iv, None), 1, budget.within(clock.left()))[0]
         r.scale_factor = s
+        tried += 1
+        if r.status == "singularity-free":
+            proved = max(proved, s)
+        if progress:
+            progress(tried, proved)
         return r
 
     best = attempt(0.0)
@@ -311,7 +389,7 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
         return best
     good, bad = 0.0, None
     s = 2.0 ** -10
-    while s <= 2.0 ** 20:
+    while s <= 2.0 ** 20 and not clock.out():
         r = attempt(s)
         if r.status == "singularity-free":
             best, good = r, s
@@ -322,6 +400,8 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     if bad is None:
         return best
     for _ in range(steps):
+        if clock.out():
+            break
         mid = 0.5 * (good + bad)
         r = attempt(mid)
         if r.status == "singularity-free":

@@ -324,7 +324,12 @@ def interference(sp, insts):
         tau, tau1, n2, eps, f0, f1 = vals[6 * p:6 * p + 6]
         lower &= ((tau.hi <= 0) & (f0.lo >= 0)) | ((tau1.lo >= 0) & (f1.lo >= 0)) | (n2.pos() & (eps.lo >= 0))
         witness |= f0.neg() | f1.neg() | ((tau.lo >= 0) & (tau1.hi <= 0) & n2.pos() & eps.neg())
-    return sat | (feet_out & lower), ~zero & ((feet_in & E.neg()) | witness)
+    # the points of one leg against the other's line (decides parallel legs, digest E11; docs/soundness.md):
+    # |c0|² - r²|v|² >= 0 and |c0 + c1|² - r²|v|² - Δ >= 0, c0 = w0 x v, c1 = u x v (and i, j exchanged)
+    to_line = np.zeros(E.lo.shape, bool)
+    for p in (0, 2):
+        to_line |= (vals[6 * p + 3].lo >= 0) & ((vals[6 * p + 9] - delta).lo >= 0)
+    return sat | (feet_out & lower) | to_line, ~zero & ((feet_in & E.neg()) | witness)
 
 
 def _stack(values):

@@ -204,3 +204,40 @@ def test_tampered_witness_rejected():
     assert "outside the requested" in free.check().step
 
 
+# ----- a coordinate given one value is fixed (never split into cells, never bisected) -----------------
+def test_fixed_irrational_angle_planar_section_matches_the_digest():
+    """Digest §3.6 grid table, planar Ex 2 at phi = pi/4, n = 10: S 12 / F 88.  phi = 45deg is an
+    irrational angle enclosed in a one-ulp interval; splitting it into cells once left 280 of 1000
+    cells undecided."""
+    robot = robot_from_dict(EX2)
+    cells = classify_cells(robot, "x=-50:50,y=-50:50,phi=45deg", 10)
+    assert len(cells) == 100
+    assert all(c.lo[2] == cells[0].lo[2] and c.hi[2] == cells[0].hi[2] for c in cells)
+    counts = {s: sum(c.status == s for c in cells) for s in ("singularity-free", "singular", "undecided")}
+    assert counts == {"singularity-free": 88, "singular": 12, "undecided": 0}
+    checked(cells)
+
+
+def test_fixed_torsion_spherical_section_matches_the_digest():
+    """Digest §3.6 grid table, spherical Ex 1 at sigma = pi/3, n = 10: S 16 / F 84."""
+    robot = spherical("1.2", "-0.6", "-0.2", "1")
+    cells = classify_cells(robot, "phi1=-90deg:90deg,phi2=0:90deg,sigma=60deg", 10)
+    counts = {s: sum(c.status == s for c in cells) for s in ("singularity-free", "singular", "undecided")}
+    assert counts == {"singularity-free": 84, "singular": 16, "undecided": 0}
+    checked(cells)
+
+
+def test_budget_keywords_and_paths_are_accepted():
+    from pathlib import Path
+    from certkin import InputError
+    path = Path(__file__).resolve().parents[1] / "examples" / "robots" / "seed003-planar-example-2.toml"
+    r = certify_singularity_free(str(path), "x=-20:-10,y=20:30,phi=0:0.3", max_boxes=5000, max_seconds=10,
+                                 min_width=1e-6)
+    assert r.status == "singularity-free" and len(repr(r)) < 200
+    for bad in (dict(max_boxes=0), dict(max_seconds=float("nan")), dict(min_width=-1.0), dict(max_memory=0)):
+        with pytest.raises(InputError) as exc:
+            certify_singularity_free(str(path), "x=-20:-10,y=20:30,phi=0:0.3", **bad)
+        assert exc.value.source == next(iter(bad))
+    with pytest.raises(InputError) as exc:
+        classify_cells(str(path), "x=-1:1,y=0:1,phi=0:0.1", 1000, max_boxes=10 ** 10)
+    assert exc.value.source == "n"

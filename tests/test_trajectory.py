@@ -297,6 +297,52 @@ def test_polyline_reports_global_parameter(mel):
     checked(result)
 
 
+# ----- parallel legs (seed 000 digest E11) ------------------------------------------------------------
+PARALLEL = {"name": "parallel legs", "kind": "gough-stewart",
+            "base": [["0", "0", "0"], ["100", "0", "0"], ["200", "50", "0"], ["150", "150", "0"], ["0", "150", "0"],
+                     ["-50", "80", "0"]],
+            "platform": [["0", "0", "0"], ["100", "0", "0"], ["60", "60", "0"], ["40", "90", "0"], ["0", "70", "0"],
+                         ["-20", "40", "0"]],
+            "limits": {"leg_radius": "1"}}
+
+
+def test_parallel_legs_have_a_proved_interference_margin():
+    """At the pose (0, 0, 500, 0, 0, 0) legs 1 and 2 are vertical segments 100 apart (exact
+    geometry: A_1 = B_1 - (0, 0, 500), A_2 = A_1 + (100, 0, 0)), so their distance is 100 and the
+    margin 100 - (1 + 1) = 98.  The line distance is 0/0 there; the margin was [-2, 98], undecided."""
+    robot = robot_from_dict(PARALLEL)
+    pose = "0,0,500,0,0,0"
+    r = verify_trajectory(robot, pose, pose, constraints="interference")
+    m = next(m for m in r.margins if m["legs"] == [1, 2])
+    assert m["margin"][0] <= 98 <= m["margin"][1] and m["margin"][1] - m["margin"][0] < 1e-9
+    assert r.status == "feasible"
+    checked(r)
+    # translating by t (10, 0, 10): both legs stay parallel to (10t, 0, 500 + 10t), 100 apart along x,
+    # so their distance is 100 (500 + 10t) / |(10t, 0, 500 + 10t)|, least at t = 1
+    moving = verify_trajectory(robot, pose, "10,0,510,0,0,0", constraints=["interference"])
+    m = next(m for m in moving.margins if m["legs"] == [1, 2])
+    exact = 100 * mp.mpf(510) / mp.sqrt(mp.mpf(10) ** 2 + 510 ** 2) - 2
+    assert m["margin"][0] <= exact <= m["margin"][1] and m["margin"][1] - m["margin"][0] < 1e-2
+    assert moving.status == "feasible"
+    checked(moving)
+
+
+def test_plain_paths_and_constraint_names():
+    """verify_trajectories takes (start, goal) pairs, polylines and mappings; constraints as one name."""
+    robot = robot_from_dict(PARALLEL)
+    a, b, c = "0,0,500,0,0,0", [10, 0, 510, 0, 0, 0], np.array([5.0, 5.0, 505.0, 0.0, 0.0, 0.0])
+    rs = verify_trajectories(robot, [(a, b), [a, c, b], {"start": a, "goal": b}], constraints="interference")
+    assert [r.path.segments for r in rs] == [1, 2, 1] and all(len(r.margins) == 15 for r in rs)
+    assert len(repr(rs[0])) < 200
+    with pytest.raises(InputError) as exc:
+        verify_trajectories(robot, [(a,)], constraints="interference")
+    assert exc.value.source == "paths[0]"
+    for bad in ("", "leg-length,,joints", "leg-length,leg-length", "legs"):
+        with pytest.raises(InputError) as exc:
+            verify_trajectory(robot, a, b, constraints=bad)
+        assert exc.value.source == "constraints"
+
+
 # ----- planning --------------------------------------------------------------------------------------
 def test_planner_finds_a_certified_detour(mel):
     """The straight line dips under rho_min of leg 3 (rho^2 is convex in t, so only an interior
@@ -309,6 +355,8 @@ def test_planner_finds_a_certified_detour(mel):
     assert all(seg.status == "feasible" for seg in result.segments)
     report = proofs.check(result.certificate())
     assert report.ok, report.step
+    for w in result.waypoints[1:-1]:               # the grid's poses as exact decimals of 12 digits at most
+        assert all(len(v.replace("-", "").replace(".", "").lstrip("0")) <= 12 and "e" not in v for v in w)
 
 
 @pytest.mark.parametrize("divisions", [0, -3, True, 2.5, "6", 10 ** 6])

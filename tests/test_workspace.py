@@ -374,16 +374,25 @@ def parse(argv):
     ([MICRO, "--z", "20005", "--orientation", "0,x,0"], "--orientation", "theta"),
     ([MICRO, "--z", "20005", "--z-range", "1:2"], "--z-range", ""),
     ([MICRO, "--z-range", "20010:20000"], "--z-range", "z"),
-    ([MICRO, "--z-range", "20000:20010", "--slabs", "ten"], "--slabs", ""),
-    ([MICRO, "--z-range", "20000:20010", "--slabs", "0"], "--slabs", ""),
     ([MICRO], "--z", "z"),
-    ([MICRO, "--z", "20005", "--min-width", "0"], "--min-width", ""),
 ])
 def test_bad_input_raises_input_error_naming_the_field(argv, option, fld):
     with pytest.raises(InputError) as exc:
         run(parse(argv), out=open("/dev/null", "w"))
     assert exc.value.source == option and exc.value.field == fld
     assert "\n" not in str(exc.value)
+
+
+@pytest.mark.parametrize("argv, message", [
+    ([MICRO, "--z-range", "20000:20010", "--slabs", "ten"], "--slabs: expected a positive integer"),
+    ([MICRO, "--z-range", "20000:20010", "--slabs", "0"], "--slabs: expected a positive integer"),
+    ([MICRO, "--z", "20005", "--min-width", "0"], "--min-width: expected a positive"),
+])
+def test_bad_numbers_are_refused_by_the_command_line(argv, message, capsys):
+    from certkin.cli import main
+    with pytest.raises(SystemExit) as exc:
+        main(["workspace", *argv])
+    assert exc.value.code == 2 and message in capsys.readouterr().err
 
 
 def test_api_input_errors(micro):

@@ -12,6 +12,7 @@ for ``proofs.check(document)``).
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
 from dataclasses import dataclass
 from fractions import Fraction
 import hashlib
@@ -88,11 +89,8 @@ class Document:
 
     def write(self, path) -> None:
         """Write the archive atomically (a temporary file renamed into place)."""
-        path = Path(path)
         header = self._entries()
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-        os.close(fd)
-        try:
+        with atomic_path(path) as tmp:
             with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED, allowZip64=True, compresslevel=LEVEL) as z:
                 z.writestr(zipfile.ZipInfo("header.json"), json.dumps(header, separators=(",", ":"), ensure_ascii=False),
                            compress_type=zipfile.ZIP_STORED)
@@ -104,12 +102,6 @@ class Document:
                     with z.open(info, "w", force_zip64=True) as fh:
                         for _, raw in a._raw():
                             fh.write(raw)
-            os.chmod(tmp, 0o666 & ~_umask())        # mkstemp's 0600 → what a plain open() would give
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
 
 
 def _umask() -> int:
@@ -119,13 +111,23 @@ def _umask() -> int:
 
 
 def write_text(path, text: str) -> None:
-    """Write a text file atomically (a temporary file renamed into place; missing directories made)."""
+    """Write a text file atomically (a temporary file renamed into place)."""
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(text)
+
+
+@contextmanager
+def atomic_path(path):
+    """A temporary file name beside ``path`` (with its suffix, so a writer that reads the type from
+    the name still can), renamed onto ``path`` when the block ends without error and removed
+    otherwise: nothing half-written is left.  The file gets the permissions of a file created
+    normally (0666 less the umask); a missing directory is an error, never created."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp" + path.suffix)
+    os.close(fd)
     try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
+        yield tmp
+        os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

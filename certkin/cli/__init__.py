@@ -11,9 +11,12 @@ from __future__ import annotations
 
 import importlib
 import sys
+import warnings
+
+import numpy as np
 
 from ..errors import InputError
-from .common import Parser, join_pose_values
+from .common import Parser, join_negative_values
 
 # command -> (module of its options and its run, help); a command's module (and the capability it
 # uses) is imported only when that command runs, so `certkin check` does not load the FK kernels
@@ -43,14 +46,20 @@ def build_parser(only: str | None = None):
 
 
 def main(argv=None):
-    argv = join_pose_values(list(sys.argv[1:] if argv is None else argv))
+    argv = join_negative_values(list(sys.argv[1:] if argv is None else argv))
     command = next((a for a in argv if not a.startswith("-")), None)
     parser = build_parser(command if command in COMMANDS else "")
     args = parser.parse_args(argv)
     try:
-        return args.func(args)
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")          # numpy's overflow warnings are not for the user
+            return args.func(args)
     except InputError as exc:
         sys.stderr.write(f"certkin: error: {exc}\n")
+        return 2
+    except MemoryError:
+        sys.stderr.write("certkin: error: out of memory: lower the budget (--max-boxes, --max-memory) or the size "
+                         "of the question\n")
         return 2
     except KeyboardInterrupt:
         sys.stderr.write("certkin: interrupted\n")

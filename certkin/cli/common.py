@@ -3,7 +3,9 @@
 The command line is the only place that parses argv, names options or prints.  The library names
 the *parameter* that took a bad value (``InputError("lengths", "leg 2", ...)``); ``options`` turns
 that into the option the user typed (``--lengths: leg 2: ...``), so every error is one line that
-names the option and the field.
+names the option and the field.  Every option is checked before any solving starts: numbers and
+counts by their types here, output paths by ``check_outputs`` (nothing is written for a run that
+fails), conflicting or ignored options by each command.
 """
 from __future__ import annotations
 
@@ -11,15 +13,37 @@ import argparse
 from contextlib import contextmanager
 import json
 import os
+from pathlib import Path
+import re
 import sys
+import tempfile
 
 from tqdm import tqdm
 
 from ..engine import Budget
+from ..engine.budgets import MAX_MEMORY, positive_integer, positive_number
 from ..errors import InputError
+from ..plots.figure import pyplot
+
+
+class StoreOnce(argparse.Action):
+    """The default action of an option that takes one value: given twice, it is an error (not the
+    last one silently kept)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = namespace.__dict__.setdefault("given_options", set())
+        if self.dest in given:
+            parser.error(f"argument {option_string or self.metavar or self.dest}: given twice")
+        given.add(self.dest)
+        setattr(namespace, self.dest, values)
 
 
 class Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.register("action", None, StoreOnce)
+        self.register("action", "store", StoreOnce)
+
     def error(self, message):  # one line, exit 2 (argparse prints usage otherwise)
         sys.stderr.write(f"certkin: error: {message}\n")
         raise SystemExit(2)
@@ -29,7 +53,9 @@ class Parser(argparse.ArgumentParser):
 def options(names: dict):
     """Rename the library's parameter in an ``InputError`` to the command's option: ``names`` maps
     parameters to options (``{"lengths": "--lengths"}``; an index suffix ``[k]`` is kept:
-    ``waypoints[0]`` → ``--via[0]``).  Other errors (a robot file's, an option's) pass unchanged."""
+    ``waypoints[0]`` → ``--via[0]``).  The budget parameters are renamed on every command.  Other
+    errors (a robot file's, an option's) pass unchanged."""
+    names = {**BUDGET_OPTIONS, **names}
     try:
         yield
     except InputError as exc:
@@ -39,38 +65,155 @@ def options(names: dict):
         raise InputError(names[base] + bracket + rest, exc.field, exc.problem) from None
 
 
-def progress(enabled):
-    """A progress callback for the engine (a bar on stderr), or None."""
+BUDGET_OPTIONS = {"max_boxes": "--max-boxes", "max_seconds": "--max-seconds", "min_width": "--min-width",
+                  "max_memory": "--max-memory"}
+
+
+def progress(enabled, what="boxes", extra="frontier"):
+    """A progress callback ``update(done, value)`` (a bar on stderr counting ``what``, showing
+    ``extra=value``; the engine calls it with the boxes processed and the frontier's size), or None."""
     if not enabled:
         return None
-    bar = tqdm(desc="boxes", unit="box", file=sys.stderr, leave=False)
+    bar = tqdm(desc=what, unit="", file=sys.stderr, leave=False)
 
-    def update(processed, frontier):
-        bar.n = processed
-        bar.set_postfix(frontier=frontier, refresh=False)
+    def update(done, value):
+        bar.n = done
+        bar.set_postfix({extra: value}, refresh=False)
         bar.refresh()
     return update
 
 
+# ----------------------------------------------------------------- option types
+def _typed(check):
+    """An argparse type from a library check (its ``InputError`` becomes argparse's one-line error)."""
+    def convert(text):
+        try:
+            return check(text)
+        except InputError as exc:
+            raise argparse.ArgumentTypeError(exc.problem) from None
+    convert.__name__ = check.__name__
+    return convert
+
+
+def _integer(text):
+    """An integer written in decimal (``200000``, ``2e5``, ``200_000``)."""
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        x = float(text)
+    except ValueError:
+        raise InputError("", "", f"expected a positive integer, got {text!r}") from None
+    if not x.is_integer():
+        raise InputError("", "", f"expected a positive integer, got {text!r}")
+    return int(x)
+
+
+def count(most=None):
+    """argparse type: an integer from 1 to ``most``."""
+    return _typed(lambda text: positive_integer(_integer(text), "", most))
+
+
+positive = _typed(lambda text: positive_number(text, ""))
+seconds = _typed(lambda text: positive_number(text, "", infinite=True))
+
+UNITS = {"": 1, "b": 1, "k": 2 ** 10, "kb": 10 ** 3, "kib": 2 ** 10, "m": 2 ** 20, "mb": 10 ** 6, "mib": 2 ** 20,
+         "g": 2 ** 30, "gb": 10 ** 9, "gib": 2 ** 30, "t": 2 ** 40, "tb": 10 ** 12, "tib": 2 ** 40}
+
+
+def _memory(text):
+    """A size in bytes: ``2GiB``, ``512M``, ``1.5G``, ``3000000000``."""
+    m = re.fullmatch(r"\s*([0-9.eE+]+)\s*([A-Za-z]*)\s*", text)
+    if not m or m.group(2).lower() not in UNITS:
+        raise InputError("", "", f"expected a size such as 2GiB or 512MiB, got {text!r}")
+    size = positive_number(m.group(1), "") * UNITS[m.group(2).lower()]
+    if size < 2 ** 20 or size > 2 ** 50:
+        raise InputError("", "", f"expected a size from 1MiB to 1PiB, got {text!r}")
+    return int(size)
+
+
+memory = _typed(_memory)
+
+
 def budget(args):
-    return Budget(max_boxes=args.max_boxes, max_seconds=args.max_seconds, min_width=args.min_width)
+    return Budget(max_boxes=args.max_boxes, max_seconds=args.max_seconds, min_width=args.min_width,
+                  max_memory=args.max_memory)
 
 
-def add_budget(p, default):
-    boxes, seconds, width = default["max_boxes"], default["max_seconds"], default["min_width"]
-    p.add_argument("--max-boxes", type=int, default=boxes, help=f"box budget (default {boxes})")
-    p.add_argument("--max-seconds", type=float, default=seconds, help=f"time budget (default {seconds})")
-    p.add_argument("--min-width", type=float, default=width,
-                   help=f"smallest scaled box width that is still split (default {width})")
+def add_budget(p, default, boxes_help="box budget", seconds_help="time budget of the whole command",
+               width_help="smallest scaled box width that is still split"):
+    boxes, secs, width = default["max_boxes"], default["max_seconds"], default["min_width"]
+    p.add_argument("--max-boxes", type=count(), default=boxes, metavar="N", help=f"{boxes_help} (default {boxes})")
+    p.add_argument("--max-seconds", type=seconds, default=secs, metavar="S", help=f"{seconds_help} (default {secs:g})")
+    p.add_argument("--min-width", type=positive, default=width, metavar="W", help=f"{width_help} (default {width:g})")
+    p.add_argument("--max-memory", type=memory, default=MAX_MEMORY, metavar="SIZE",
+                   help="memory ceiling of the search records, e.g. 512MiB (default 2GiB): "
+                        "work that would need more is refused or ends undecided")
 
 
-def add_outputs(p):
+def add_outputs(p, certificate_help="write the certificate to FILE"):
     p.add_argument("--json", action="store_true", help="print one JSON document")
-    p.add_argument("--certificate", metavar="FILE", help="write the certificate to FILE")
+    p.add_argument("--certificate", metavar="FILE", help=certificate_help)
     p.add_argument("--report", metavar="FILE.html", help="write a self-contained HTML report")
     p.add_argument("--progress", action="store_true", help="show progress on stderr")
 
 
+# ----------------------------------------------------------------- output paths
+REPORT_SUFFIXES = (".html", ".htm")
+
+
+def plot_suffixes():
+    """The file types matplotlib can write (``InputError`` when it is not installed)."""
+    pyplot()
+    from matplotlib.figure import Figure
+    return tuple("." + k for k in Figure().canvas.get_supported_filetypes())
+
+
+def check_output_path(path, option: str, suffixes=None) -> None:
+    """Before solving: ``path`` can be written (its directory exists and is writable, it is not a
+    directory, it has one of ``suffixes`` if given); else ``InputError`` naming ``option``."""
+    p = Path(path)
+    if not str(path).strip():
+        raise InputError(option, "", "empty file name")
+    if p.is_dir():
+        raise InputError(option, str(path), "is a directory; give a file name")
+    if suffixes is not None and p.suffix.lower() not in suffixes:
+        raise InputError(option, str(path), f"unknown file type {p.suffix or '(none)'!r}; use one of "
+                                            f"{', '.join(suffixes)}")
+    parent = p.parent
+    if not parent.is_dir():
+        raise InputError(option, str(path), f"directory {str(parent)!r} does not exist")
+    try:                                  # a file can be created there (a trial, removed at once)
+        with tempfile.TemporaryFile(dir=parent):
+            pass
+    except OSError as exc:
+        raise InputError(option, str(path), f"cannot write in directory {str(parent)!r} ({exc.strerror})") from None
+    if p.exists() and not os.access(p, os.W_OK):
+        raise InputError(option, str(path), "file exists and cannot be written")
+
+
+def check_outputs(args, **more) -> None:
+    """Check every output path of a command before solving (``--certificate``, ``--report``,
+    ``--plot``, and ``more``: option -> (path, suffixes)), and that no two name one file."""
+    wanted = {"--certificate": (getattr(args, "certificate", None), None),
+              "--report": (getattr(args, "report", None), REPORT_SUFFIXES),
+              **more}
+    plot = getattr(args, "plot", None)
+    if plot is not None:
+        wanted["--plot"] = (plot, "plot")
+    seen = {}
+    for option, (path, suffixes) in wanted.items():
+        if path is None:
+            continue
+        check_output_path(path, option, plot_suffixes() if suffixes == "plot" else suffixes)
+        key = os.path.abspath(path)
+        if key in seen:
+            raise InputError(option, str(path), f"the same file as {seen[key]}")
+        seen[key] = option
+
+
+# ----------------------------------------------------------------- answers
 def with_angles(robot, angles):
     """A spherical robot with the pose angles of ``--angles``."""
     if angles is None:
@@ -101,21 +244,22 @@ def answer(args, robot, result, certificate, report, describe):
     print(json.dumps(result.to_json()) if args.json else describe(robot, result))
 
 
-def constraint_list(text):
-    if not text:
-        return None
-    return [c.strip() for c in text.split(",") if c.strip()]
+def refuse(args, option: str, reason: str, *given: str) -> None:
+    """An option given where it has no effect, or with one it conflicts with, is an error: ``given``
+    names the attributes of ``args`` that must not be set (``reason`` says why)."""
+    for name in given:
+        value = getattr(args, name, None)
+        if value is not None and value is not False:
+            raise InputError(option, "", reason)
 
 
-POSE_OPTIONS = ("--from", "--to", "--via", "--track", "--around", "--lengths")
-
-
-def join_pose_values(argv):
-    """``--from -69,-50,...``: a pose that starts with '-' is a value, not an option."""
+def join_negative_values(argv):
+    """``--from -69,-50,...``, ``--z-range -20010:-20000``: after a long option, a value that starts
+    with '-' then a digit or '.' is that option's value, not an option (argparse would refuse it)."""
     out, i = [], 0
     while i < len(argv):
         a = argv[i]
-        if a in POSE_OPTIONS and i + 1 < len(argv) and argv[i + 1].startswith("-") and argv[i + 1][1:2].isdigit() | (argv[i + 1][1:2] == "."):
+        if a.startswith("--") and "=" not in a and i + 1 < len(argv) and re.match(r"-[0-9.]", argv[i + 1]):
             out.append(f"{a}={argv[i + 1]}")
             i += 2
             continue

@@ -15,6 +15,7 @@ import time
 
 import proofs
 
+from .. import display
 from ..certificates import singularity_certificate
 from ..errors import InputError
 from ..fk import forward_kinematics
@@ -29,11 +30,6 @@ def bundled_robots_dir() -> Path:
     return here
 
 
-def _fmt(iv, digits=10):
-    lo, hi = float(iv.lo), float(iv.hi)
-    return f"[{lo:.{digits}g}, {hi:.{digits}g}]"
-
-
 def summarise(robot) -> list[str]:
     lines = [f"{robot.name}  ({robot.kind}, {robot.n_legs} legs)  <- {Path(robot.source).name}"]
     if robot.home is None:
@@ -43,10 +39,10 @@ def summarise(robot) -> list[str]:
     pose = ", ".join(f"{n}={t}" for n, t in zip(robot.pose_names, robot.home))
     lines.append(f"  pose: {pose}")
     legs = robot.leg_lengths(box)
-    lines.append("  leg lengths: " + ", ".join(_fmt(legs[i], 8) for i in range(robot.n_legs)))
+    lines.append("  leg lengths: " + ", ".join(display.interval(legs[i], 8) for i in range(robot.n_legs)))
     det = robot.det_enclosure(box)
     sign = "> 0" if det.lo > 0 else "< 0" if det.hi < 0 else "sign not decided"
-    lines.append(f"  det(A) in {_fmt(det, 8)}  ({sign})")
+    lines.append(f"  det(A) in {display.interval(det, 8)}  ({sign})")
     return lines
 
 
@@ -87,7 +83,7 @@ def _fk_demo(robots, out):
     out(f"  {len(r.solutions)} assembly modes, each proved unique; complete: {r.complete} "
         f"({time.perf_counter() - t:.3f} s)")
     for k, sol in enumerate(r.solutions):
-        out(f"    {k + 1}: " + ", ".join(f"{n}={0.5 * (float(v.lo) + float(v.hi)):.9g}" for n, v in sol["pose"].items()))
+        out(f"    {k + 1}: " + ", ".join(f"{n}={display.interval(v, 12)}" for n, v in sol["pose"].items()))
     _check(out, r, "the 6 modes")
 
 
@@ -105,10 +101,10 @@ def _trajectory_demo(robots, out):
     for v in r.violations:
         if v["certain"]:
             out(f"    {v['constraint']} legs {'-'.join(map(str, v['legs']))}: forbidden for t in "
-                f"[{v['t'][0]:.10f}, {v['t'][1]:.10g}]")
+                f"{display.pair(v['t'])}")
     legs = [m for m in r.margins if m["constraint"] == "leg-length"]
     worst = min(legs, key=lambda m: m["margin"][0])
-    out(f"    smallest leg-length margin: leg {worst['legs'][0]}, in [{worst['margin'][0]:.6f}, {worst['margin'][1]:.6f}] mm")
+    out(f"    smallest leg-length margin: leg {worst['legs'][0]}, in {display.pair(worst['margin'], 8)} mm")
     _check(out, r, "the trajectory")
 
 
@@ -124,7 +120,7 @@ def _singularity_demo(robots, out):
     out(f"  full box {box}: {r.status} ({time.perf_counter() - t:.3f} s)")
     if r.witnesses:
         for k, v in r.witnesses.items():
-            out(f"    det(A) {'>' if k == 'positive' else '<'} 0 at " + ", ".join(f"{x:.6g}" for x in v))
+            out(f"    det(A) {'>' if k == 'positive' else '<'} 0 at " + ", ".join(display.point(x) for x in v))
     t = time.perf_counter()
     cells = classify_cells(robot, box, 10)
     dt = time.perf_counter() - t

@@ -1,12 +1,17 @@
 """``certkin fk``: every real assembly mode for given leg lengths, each proved unique."""
 from __future__ import annotations
 
+import os
+from pathlib import Path
+import sys
+
+from .. import display
 from ..certificates import fk_certificate
 from ..engine import budgets
-from ..fk import forward_kinematics
+from ..fk import forward_kinematics, kernels
 from ..report import fk_report
 from ..robots import load_robot
-from .common import add_budget, add_outputs, answer, budget, options, progress, with_angles
+from .common import add_budget, add_outputs, answer, budget, check_outputs, options, progress, refuse, with_angles
 
 OPTIONS = {"lengths": "--lengths", "domain": "--domain", "track": "--track"}
 
@@ -23,8 +28,13 @@ def add_arguments(f):
 
 
 def run(args):
+    if args.track is not None:
+        refuse(args, "--domain", "not with --track (a tracked posture is not searched in a domain)", "domain")
+    check_outputs(args)
     with options(OPTIONS):
         robot = with_angles(load_robot(args.robot), args.angles)
+        if robot.kind != "planar-3rpr" and not kernels_cached():
+            sys.stderr.write("certkin: compiling kernels, once (about 15 s; cached on disk afterwards)\n")
         result = forward_kinematics(robot, args.lengths, domain=args.domain, budget=budget(args),
                                     progress=progress(args.progress), track=args.track,
                                     record=bool(args.certificate))
@@ -32,8 +42,22 @@ def run(args):
     return 0
 
 
+def kernels_cached() -> bool:
+    """Whether numba's disk cache holds the machine-code kernels of the spatial forward kinematics
+    (``certkin/fk/kernels.py``): in ``__pycache__`` beside it, or under ``NUMBA_CACHE_DIR``."""
+    source = Path(kernels.__file__).resolve()
+    places = [source.parent / "__pycache__"]
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        root = Path(os.environ["NUMBA_CACHE_DIR"])
+        places.append(root / str(source.parent).lstrip(os.sep))
+        places.append(root)
+    return any(any(p.glob(f"{source.stem}.*.nbi")) for p in places if p.is_dir())
+
+
 def describe(robot, r):
-    ranges = any(":" in t for t in r.lengths)     # uncertain lengths: each mode is a box, not a point
+    """Each assembly mode's box (an enclosure: printed outward), each cluster and unresolved region
+    outward; with length ranges a mode's box holds its posture for every length in the ranges."""
+    ranges = any(":" in t for t in r.lengths)
     clusters = f", {len(r.clusters)} clusters (postures not resolved)" if r.clusters else ""
     head = (f"{robot.name}: {len(r.solutions)} assembly modes, each proved unique"
             + (" for every length in the ranges" if ranges else "")
@@ -41,15 +65,10 @@ def describe(robot, r):
                f"{clusters}; complete" if r.complete else f"{clusters}; INCOMPLETE, {len(r.unresolved)} unresolved regions"))
     lines = [head + f" [{r.boxes} boxes, {r.seconds:.3f} s]"]
     for k, s in enumerate(r.solutions):
-        if ranges:
-            pose = ", ".join(f"{n}=[{float(v.lo):.8g}, {float(v.hi):.8g}]" for n, v in s["pose"].items())
-        else:
-            pose = ", ".join(f"{n}={0.5 * (float(v.lo) + float(v.hi)):.10g}" for n, v in s["pose"].items())
-        lines.append(f"  {k + 1}: {pose}")
+        lines.append(f"  {k + 1}: " + ", ".join(f"{n}={display.interval(v, 12)}" for n, v in s["pose"].items()))
     for name, regions in (("cluster", r.clusters), ("unresolved", r.unresolved)):
         for k, s in enumerate(regions):
-            pose = ", ".join(f"{n}=[{float(v.lo):.6g}, {float(v.hi):.6g}]" for n, v in s["pose"].items())
-            lines.append(f"  {name} {k + 1}: {pose}")
+            lines.append(f"  {name} {k + 1}: " + ", ".join(f"{n}={display.interval(v, 6)}" for n, v in s["pose"].items()))
     if r.message:
         lines.append(f"  note: {r.message}")
     return "\n".join(lines)

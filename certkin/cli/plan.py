@@ -1,14 +1,16 @@
 """``certkin plan``: a path whose every segment is certified feasible."""
 from __future__ import annotations
 
-import json
+import sys
 
 from ..engine import budgets
+from ..report import plan_report
 from ..robots import load_robot
 from ..trajectory import plan
-from .common import constraint_list, options, write_certificate
+from .common import add_budget, add_outputs, answer, budget, check_outputs, count, options, progress
 
-OPTIONS = {"start": "--from", "goal": "--to", "constraints": "--constraints"}
+OPTIONS = {"start": "--from", "goal": "--to", "constraints": "--constraints", "divisions": "--divisions",
+           "margin": "--margin", "max_edges": "--max-edges"}
 
 
 def add_arguments(pl):
@@ -16,24 +18,26 @@ def add_arguments(pl):
     pl.add_argument("--from", dest="start", required=True, metavar="POSE")
     pl.add_argument("--to", dest="goal", required=True, metavar="POSE")
     pl.add_argument("--constraints", metavar="LIST", help="as for trajectory (default: all)")
-    pl.add_argument("--divisions", type=int, default=6, help="grid steps between start and goal (default 6)")
-    pl.add_argument("--max-seconds", type=float, default=budgets.PLAN_SECONDS,
-                    help=f"time budget (default {budgets.PLAN_SECONDS:g})")
-    pl.add_argument("--json", action="store_true", help="print one JSON document")
-    pl.add_argument("--certificate", metavar="FILE", help="write the certificate of every segment to FILE")
+    pl.add_argument("--divisions", type=count(1000), default=6, metavar="N",
+                    help="grid steps between start and goal, 1 to 1000 (default 6)")
+    pl.add_argument("--margin", type=int, default=3, metavar="N", help="grid steps beyond them, 0 to 1000 (default 3)")
+    pl.add_argument("--max-edges", type=count(10 ** 9), default=4000, metavar="N",
+                    help="segments verified at most (default 4000)")
+    add_outputs(pl, "write the certificate of every segment of the path found to FILE")
+    add_budget(pl, budgets.PLAN, boxes_help="box budget of each batch of segments verified")
 
 
 def run(args):
+    check_outputs(args)
     with options(OPTIONS):
         robot = load_robot(args.robot)
-        result = plan(robot, args.start, args.goal, constraints=constraint_list(args.constraints),
-                      divisions=args.divisions, max_seconds=args.max_seconds)
-        if args.certificate and result.segments:
-            write_certificate(args.certificate, result.certificate())
-    if args.json:
-        print(json.dumps(result.to_json()))
-    else:
-        print(describe(robot, result))
+        result = plan(robot, args.start, args.goal, constraints=args.constraints,
+                      divisions=args.divisions, margin=args.margin, max_edges=args.max_edges, budget=budget(args),
+                      progress=progress(args.progress, "segments verified", "batch"))
+        if args.certificate and not result.segments:
+            sys.stderr.write(f"certkin: {result.status}: no certificate written to {args.certificate}\n")
+            args.certificate = None
+        answer(args, robot, result, lambda r: r.certificate(), plan_report, describe)
     return 0
 
 

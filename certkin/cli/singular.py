@@ -3,23 +3,25 @@ from __future__ import annotations
 
 import json
 
+from .. import display
 from ..certificates import singularity_certificate
 from ..engine import budgets
 from ..errors import InputError
 from ..plots import plot_cells
 from ..report import singularity_report
 from ..robots import load_robot
-from ..robots.poses import parse_box
 from ..singularity import classify_cells, largest_free_box
-from .common import add_budget, add_outputs, budget, options, progress, with_angles, write_certificate
+from ..certificates.writing import atomic_path
+from .common import (add_budget, add_outputs, budget, check_outputs, count, options, progress, refuse, with_angles,
+                     write_certificate)
 
-OPTIONS = {"box": "--box", "pose": "--around", "scale": "--scale", "plot": "--plot"}
+OPTIONS = {"box": "--box", "pose": "--around", "scale": "--scale", "plot": "--plot", "n": "--cells"}
 
 
 def add_arguments(s):
     s.add_argument("robot", help="robot file (TOML)")
     s.add_argument("--box", help='box of poses, e.g. "x=-20:20,y=-20:20,phi=0:0.7853981634"')
-    s.add_argument("--cells", type=int, help="split the box into n^d cells and classify each")
+    s.add_argument("--cells", type=count(), metavar="N", help="split the box into N^k cells and classify each")
     s.add_argument("--plot", metavar="FILE.png", help="picture of the cells (needs matplotlib)")
     s.add_argument("--around", metavar="POSE", help="largest singularity-free box centred at POSE")
     s.add_argument("--scale", metavar="S1,S2,...", help="half-widths of the unit box for --around")
@@ -29,22 +31,33 @@ def add_arguments(s):
     add_budget(s, budgets.SINGULARITY)
 
 
+def _check(args):
+    """Conflicting or ignored options, before anything is read or solved."""
+    if args.around is not None:
+        refuse(args, "--box", "give either --box (a box to decide) or --around (the largest free box), not both", "box")
+        refuse(args, "--cells", "only with --box (--around looks for one box)", "cells")
+        refuse(args, "--plot", "only with --box (a picture of the cells)", "plot")
+    else:
+        refuse(args, "--scale", "only with --around", "scale")
+        if args.box is None:
+            raise InputError("--box", "", "give --box \"name=lo:hi,...\" or --around POSE")
+    check_outputs(args)
+
+
 def run(args):
+    _check(args)
     with options(OPTIONS):
         robot = with_angles(load_robot(args.robot), args.angles)
-        if args.around:
-            results = [largest_free_box(robot, args.around, scale=args.scale, budget=budget(args))]
+        if args.around is not None:
+            bar = progress(args.progress, "boxes tried", "scale")
+            results = [largest_free_box(robot, args.around, scale=args.scale, budget=budget(args), progress=bar)]
         else:
-            if not args.box:
-                raise InputError("--box", "", "give --box \"name=lo:hi,...\" or --around POSE")
-            box = parse_box(args.box, robot)
-            if args.cells is not None and args.cells < 1:
-                raise InputError("--cells", "", "expected a positive number of cells per side")
-            results = classify_cells(robot, box, args.cells or 1, budget(args), progress(args.progress))
+            results = classify_cells(robot, args.box, args.cells or 1, budget(args), progress(args.progress))
         if args.certificate:
             write_certificate(args.certificate, singularity_certificate(results))
         if args.plot:
-            plot_cells(robot, results, args.plot)
+            with atomic_path(args.plot) as path:
+                plot_cells(robot, results, path)
         if args.report:
             singularity_report(robot, results, args.report)
     if args.cells:
@@ -71,13 +84,16 @@ def _counts(results):
 
 
 def describe(robot, r):
-    box = ", ".join(f"{n}=[{a:.10g}, {b:.10g}]" for n, a, b in zip(robot.pose_names, r.lo, r.hi))
+    """One line: the box (a free box rounded inward, any other outward), the verdict, the witnesses
+    (exact floats)."""
+    show = display.inward if r.status == "singularity-free" else display.outward
+    box = ", ".join(f"{n}={show(a, b)}" for n, a, b in zip(robot.pose_names, r.lo, r.hi))
     line = f"{robot.name}: {box}: {r.status}"
     if r.status == "singularity-free":
         line += f" (det(A) {'>' if r.sign > 0 else '<'} 0 on the whole box)"
     elif r.status == "singular":
-        p = ", ".join(f"{v:.10g}" for v in r.witnesses["positive"])
-        q = ", ".join(f"{v:.10g}" for v in r.witnesses["negative"])
+        p = ", ".join(display.point(v) for v in r.witnesses["positive"])
+        q = ", ".join(display.point(v) for v in r.witnesses["negative"])
         line += f" (det(A) > 0 at ({p}), < 0 at ({q}))"
     elif r.status == "undecided":
         line += f" ({len(r.undecided)} boxes left undecided)"

@@ -1,12 +1,13 @@
 """``certkin trajectory``: certify a straight (or polyline) motion, or find where it fails."""
 from __future__ import annotations
 
+from .. import display
 from ..certificates import trajectory_certificate
 from ..engine import budgets
 from ..report import trajectory_report
 from ..robots import load_robot
 from ..trajectory import verify_trajectory
-from .common import add_budget, add_outputs, answer, budget, constraint_list, options, progress
+from .common import add_budget, add_outputs, answer, budget, check_outputs, options, progress
 
 OPTIONS = {"start": "--from", "goal": "--to", "waypoints": "--via", "constraints": "--constraints"}
 
@@ -19,20 +20,22 @@ def add_arguments(t):
     t.add_argument("--constraints", metavar="LIST",
                    help="comma-separated subset of leg-length,joints,interference,singularity (default: all)")
     add_outputs(t)
-    add_budget(t, budgets.TRAJECTORY)
+    add_budget(t, budgets.TRAJECTORY, boxes_help="budget of t-intervals")
 
 
 def run(args):
+    check_outputs(args)
     with options(OPTIONS):
         robot = load_robot(args.robot)
         result = verify_trajectory(robot, args.start, args.goal, waypoints=list(args.via or []),
-                                   constraints=constraint_list(args.constraints), budget=budget(args),
-                                   progress=progress(args.progress))
+                                   constraints=args.constraints, budget=budget(args), progress=progress(args.progress))
         answer(args, robot, result, trajectory_certificate, trajectory_report, describe)
     return 0
 
 
 def describe(robot, r):
+    """The verdict, each certified minimum margin and each forbidden t-range, printed outward (an
+    enclosure); a feasible path's margins are lower bounds that hold along the whole path."""
     j = r.to_json()
     lines = [f"{robot.name}: {r.status.upper()} [{j['stats']['boxes']} boxes, {j['stats']['seconds']:.3f} s]"]
     for k, why in j["skipped"].items():
@@ -40,11 +43,11 @@ def describe(robot, r):
     for m in j["margins"]:
         extra = f", det sign {m['sign']:+d}" if "sign" in m else ""
         lines.append(f"  {m['constraint']} {'-'.join(map(str, m['legs']))}{' ' + m['detail'] if 'detail' in m else ''}: "
-                     f"min margin in [{m['margin'][0]:.9g}, {m['margin'][1]:.9g}]{extra}")
+                     f"min margin in {display.pair(m['margin'])}{extra}")
     for v in j["violations"]:
-        where = f"t in [{v['t'][0]:.12g}, {v['t'][1]:.12g}]" if "t" in v else f"s in [{v['s'][0]:.12g}, {v['s'][1]:.12g}]"
+        where = f"t in {display.outward(*v['t'], 12)}" if "t" in v else f"s in {display.outward(*v['s'], 12)}"
         lines.append(f"  {'VIOLATED' if v['certain'] else 'may fail'}: {v['constraint']} "
                      f"{'-'.join(map(str, v['legs']))} for {where}")
     for u in j["undecided"]:
-        lines.append(f"  undecided for s in [{u['s'][0]:.12g}, {u['s'][1]:.12g}]")
+        lines.append(f"  undecided for s in {display.outward(*u['s'], 12)}")
     return "\n".join(lines)

@@ -4,18 +4,20 @@ from __future__ import annotations
 import json
 import sys
 
+from .. import display
+from ..certificates.writing import atomic_path
 from ..engine import budgets
 from ..errors import InputError
 from ..plots import plot_section, plot_volume
+from ..report import workspace_report
 from ..robots import load_robot
 from ..workspace import VolumeResult, workspace_section, workspace_volume
 from ..workspace.annuli import ORIENTATION, check_robot
 from ..workspace.section import ignored_limits
-from ..workspace.volume import DEFAULT_SLABS
-from .common import options, progress, write_certificate
+from ..workspace.volume import DEFAULT_SLABS, MAX_SLABS
+from .common import add_budget, add_outputs, budget, check_outputs, count, options, progress, refuse, write_certificate
 
-OPTIONS = {"orientation": "--orientation", "z": "--z", "z_range": "--z-range", "slabs": "--slabs",
-           "max_boxes": "--max-boxes", "min_width": "--min-width", "max_seconds": "--max-seconds", "plot": "--plot"}
+OPTIONS = {"orientation": "--orientation", "z": "--z", "z_range": "--z-range", "slabs": "--slabs", "plot": "--plot"}
 DEFAULT = budgets.WORKSPACE
 
 
@@ -26,36 +28,32 @@ def add_arguments(parser) -> None:
                         help="fixed orientation (radians, or with a 'deg' suffix); planar robots: PHI; default 0")
     parser.add_argument("--z", metavar="Z", help="height of the section (exact decimal)")
     parser.add_argument("--z-range", metavar="LO:HI", help="volume bracket of the workspace between two heights")
-    parser.add_argument("--slabs", metavar="N", help=f"number of z slabs for --z-range (default {DEFAULT_SLABS})")
-    parser.add_argument("--json", action="store_true", help="print one JSON document")
-    parser.add_argument("--certificate", metavar="FILE", help="write the certificate to FILE")
+    parser.add_argument("--slabs", metavar="N", type=count(MAX_SLABS),
+                        help=f"number of z slabs for --z-range, 1 to {MAX_SLABS} (default {DEFAULT_SLABS})")
     parser.add_argument("--plot", metavar="FILE.png", help="picture of the paving and arcs (needs matplotlib)")
-    parser.add_argument("--progress", action="store_true", help="show progress on stderr")
-    parser.add_argument("--max-boxes", type=int, default=DEFAULT['max_boxes'],
-                        help=f"box budget (default {DEFAULT['max_boxes']})")
-    parser.add_argument("--max-seconds", type=float, default=DEFAULT['max_seconds'],
-                        help=f"time budget (default {DEFAULT['max_seconds']})")
-    parser.add_argument("--min-width", type=float, default=None,
-                        help=f"smallest box side still split, relative to the size of the section "
-                             f"(default {DEFAULT['min_width']})")
+    add_outputs(parser)
+    add_budget(parser, DEFAULT, width_help="smallest box side still split, relative to the size of the section")
 
 
 def run(args, out=None) -> int:
-    """``certkin workspace``: prints a summary (or ``--json``), writes ``--certificate``/``--plot``; returns 0.
-
-    Bad input raises ``InputError`` (the CLI prints it on one line and exits 2).
-    """
+    """``certkin workspace``: prints a summary (or ``--json``), writes ``--certificate``/``--report``/
+    ``--plot``; returns 0.  Bad input raises ``InputError`` (the CLI prints it on one line, exit 2)."""
     out = out or sys.stdout
+    if args.z_range is not None:
+        refuse(args, "--z-range", "give either --z (a section) or --z-range (a volume), not both", "z")
+    else:
+        refuse(args, "--slabs", "only with --z-range", "slabs")
+    check_outputs(args)
     with options(OPTIONS):
         result = _solve(args)
         if args.certificate:
             write_certificate(args.certificate, result.certificate())
+        if args.report:
+            workspace_report(result.robot, result, args.report)
         if args.plot:
-            (plot_volume if isinstance(result, VolumeResult) else plot_section)(result, args.plot)
-    if args.json:
-        out.write(json.dumps(result.to_json()) + "\n")
-    else:
-        out.write(describe(result) + "\n")
+            with atomic_path(args.plot) as path:
+                (plot_volume if isinstance(result, VolumeResult) else plot_section)(result, path)
+    out.write((json.dumps(result.to_json()) if args.json else describe(result)) + "\n")
     return 0
 
 
@@ -63,32 +61,17 @@ def _solve(args):
     """The section or the volume the options ask for."""
     robot = load_robot(args.robot)
     check_robot(robot)
-    if args.z is not None and args.z_range is not None:
-        raise InputError("--z-range", "", "give either --z (a section) or --z-range (a volume), not both")
-    budget = {"max_boxes": args.max_boxes, "max_seconds": args.max_seconds}
     if args.z_range is not None:
-        slabs = DEFAULT_SLABS
-        if args.slabs is not None:
-            try:
-                slabs = int(str(args.slabs).strip())
-            except ValueError:
-                raise InputError("--slabs", "", f"expected an integer, got {args.slabs!r}") from None
-        result = workspace_volume(robot, args.orientation, args.z_range, slabs,
-                                  min_width=args.min_width if args.min_width is not None else DEFAULT['min_width'],
-                                  progress=progress(args.progress), **budget)
-    else:
-        if args.slabs is not None:
-            raise InputError("--slabs", "", "only with --z-range")
-        if args.z is None and robot.kind != "planar-3rpr":
-            raise InputError("--z", "z", "give --z Z (a section) or --z-range LO:HI (a volume)")
-        result = workspace_section(robot, args.orientation, args.z,
-                                   min_width=args.min_width if args.min_width is not None else DEFAULT['min_width'],
-                                   progress=progress(args.progress), **budget)
-    return result
+        return workspace_volume(robot, args.orientation, args.z_range, args.slabs or DEFAULT_SLABS,
+                                budget=budget(args), progress=progress(args.progress))
+    if args.z is None and robot.kind != "planar-3rpr":
+        raise InputError("--z", "z", "give --z Z (a section) or --z-range LO:HI (a volume)")
+    return workspace_section(robot, args.orientation, args.z, budget=budget(args), progress=progress(args.progress))
 
 
 def describe(result) -> str:
-    """A few lines for the command line."""
+    """A few lines for the command line: exact areas outward, paving brackets with the inner bound
+    rounded down and the outer one up."""
     names = ORIENTATION[result.robot.kind]
     orient = ",".join(names) + " = " + ",".join(result.orientation)
     ignored = ignored_limits(result.robot)
@@ -98,22 +81,22 @@ def describe(result) -> str:
         c = result.counts()
         return (f"{result.robot.name}: workspace volume for z in [{result.z_range[0]}, {result.z_range[1]}] "
                 f"at {orient}: {result.status}\n"
-                f"  volume in [{vin:.10g}, {vout:.10g}] ({len(result.pavings)} slabs; {c['inner_boxes']} inside, "
-                f"{c['boundary_boxes']} boundary, {c['outside_boxes']} outside boxes) "
+                f"  volume in [{display.lower(vin)}, {display.upper(vout)}] ({len(result.pavings)} slabs; "
+                f"{c['inner_boxes']} inside, {c['boundary_boxes']} boundary, {c['outside_boxes']} outside boxes) "
                 f"[{result.stats['boxes']} boxes, {result.stats['seconds']:.3f} s]" + note)
     where = "" if result.z is None else f"z = {result.z}, "
     lines = [f"{result.robot.name}: section {where}{orient}: {result.status}"]
     b = result.boundary
     if b.decided and b.perimeter is not None:
-        lines.append(f"  exact area in [{float(b.area.lo):.15g}, {float(b.area.hi):.15g}], perimeter in "
-                     f"[{float(b.perimeter.lo):.15g}, {float(b.perimeter.hi):.15g}] ({len(b.arcs)} arcs, "
+        lines.append(f"  exact area in {display.interval(b.area, 15)}, perimeter in "
+                     f"{display.interval(b.perimeter, 15)} ({len(b.arcs)} arcs, "
                      f"{b.loops} loop{'s' if b.loops != 1 else ''})")
     elif b.decided:
-        lines.append(f"  exact area in [{float(b.area.lo):.15g}, {float(b.area.hi):.15g}] ({b.reason})")
+        lines.append(f"  exact area in {display.interval(b.area, 15)} ({b.reason})")
     else:
         lines.append(f"  exact boundary undecided: {b.reason}")
     c = result.counts()
-    lines.append(f"  paving: area in [{result.inner:.10g}, {result.outer:.10g}] ({c['inner_boxes']} inside, "
-                 f"{c['boundary_boxes']} boundary, {c['outside_boxes']} outside boxes) "
+    lines.append(f"  paving: area in [{display.lower(result.inner)}, {display.upper(result.outer)}] "
+                 f"({c['inner_boxes']} inside, {c['boundary_boxes']} boundary, {c['outside_boxes']} outside boxes) "
                  f"[{result.stats['boxes']} boxes, {result.stats['seconds']:.3f} s]")
     return "\n".join(lines) + note

@@ -30,7 +30,10 @@ returned ``Tree`` with status ``proved``, ``excluded`` or ``undecided`` (and
 why).  All bookkeeping is done on arrays, never per box in Python.  The
 frontier is a stack processed ``batch`` boxes at a time, last in first
 out, so memory stays bounded by about ``batch * 2^d * depth`` boxes.
-Results are deterministic: the order of work depends only on the input.
+Results are deterministic: the order of work depends only on the input (when the last seconds
+of a time budget would not cover a whole batch, the batch is shortened; a search stopped by its
+time budget depends on the machine's speed anyway).  The record of the search (tree and evidence)
+stays below ``budget.max_memory``: a search that would exceed it stops, its open boxes undecided.
 """
 from __future__ import annotations
 
@@ -117,12 +120,14 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     finished = np.zeros(m, dtype=bool)
     processed = 0
     t0 = time.perf_counter()
+    per_box = 0.0                           # seconds per box of the last batch
     exhausted = False
     while frontier:
-        if processed >= budget.max_boxes or time.perf_counter() - t0 > budget.max_seconds:
+        left = budget.max_seconds - (time.perf_counter() - t0)
+        if processed >= budget.max_boxes or left <= 0 or _memory(store, evidence) > budget.max_memory:
             exhausted = True
             break
-        ids = _pop(frontier, batch)
+        ids = _pop(frontier, _batch_size(batch, per_box, left, budget.max_boxes - processed))
         done = finished[store.root[ids]]
         if done.any():
             store.kind[ids[done]] = UNDECIDED
@@ -131,7 +136,9 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
             if not len(ids):
                 continue
         blo, bhi = store.lo[ids], store.hi[ids]
+        t_batch = time.perf_counter()
         dec = problem.decide(blo, bhi, store.root[ids])
+        per_box = (time.perf_counter() - t_batch) / len(ids)
         processed += len(ids)
         if dec.contracted is not None:   # contracted boxes become children; the decisions apply to them
             if isinstance(dec.contracted, list):     # successive contractions: a chain of children
@@ -194,6 +201,19 @@ def _compact(store, evidence, frontier):
         keep[ids] = True
     new = store.compact(np.nonzero(keep)[0], evidence)
     return [new[ids] for ids in frontier]
+
+
+def _memory(store, evidence) -> int:
+    """Bytes the record may hold after its next growth (the columns grow by half, copied one at a time)."""
+    return int(1.5 * store.nbytes()) + evidence.nbytes
+
+
+def _batch_size(batch, per_box, seconds_left, boxes_left):
+    """The next batch: ``batch`` boxes, fewer when the budget's last seconds or boxes would not
+    cover them (so a time budget is overrun by about one small batch, not one large one)."""
+    if per_box > 0 and batch * per_box > seconds_left:
+        batch = int(max(16, min(batch, seconds_left / per_box)))
+    return int(max(1, min(batch, boxes_left)))
 
 
 def _pop(frontier, batch):

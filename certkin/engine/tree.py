@@ -44,6 +44,10 @@ class Store:
         self.split_at = np.empty(capacity)
         self.first_child = np.empty(capacity, dtype=np.int32)
 
+    def nbytes(self) -> int:
+        """Bytes held by the columns (their capacity, not only the nodes used)."""
+        return sum(getattr(self, name).nbytes for name in COLUMNS)
+
     def add(self, lo, hi, root, parent) -> np.ndarray:
         k = len(lo)
         if self.n + k > len(self.root):
@@ -104,6 +108,11 @@ class Evidence:
 
     def __init__(self):
         self.parts: dict[str, list] = {}    # name -> [(node ids, rows)]
+        self.nbytes = 0                     # bytes held by the parts
+
+    def _append(self, name, ids, rows):
+        self.parts.setdefault(name, []).append((ids, rows))
+        self.nbytes += ids.nbytes + rows.nbytes
 
     def add(self, node_ids, evidence: dict, positions):
         positions = np.asarray(positions, dtype=np.int64)
@@ -112,9 +121,9 @@ class Evidence:
                 mask, rows = np.asarray(value[0], dtype=bool), np.asarray(value[1])
                 keep = mask[positions]
                 index = np.cumsum(mask) - 1
-                self.parts.setdefault(name, []).append((node_ids[keep], rows[index[positions[keep]]]))
+                self._append(name, node_ids[keep], rows[index[positions[keep]]])
             else:
-                self.parts.setdefault(name, []).append((node_ids, np.asarray(value)[positions]))
+                self._append(name, np.asarray(node_ids), np.asarray(value)[positions])
 
     def finish(self, n_nodes):
         values, rows = {}, {}
@@ -150,6 +159,7 @@ class Tree:
         self.n_roots = n_roots
         self.complete_record = complete_record   # False: only open, proved and undecided nodes were kept
         self.forgotten = store.forgotten.copy()  # nodes dropped per root (``Store.compact``)
+        self._by_root = {}
         self.reasons = tuple(reasons)
         self.evidence = evidence
         self.evidence_rows = evidence_rows
@@ -174,6 +184,24 @@ class Tree:
         if root is not None:
             m &= self.root == root
         return np.nonzero(m)[0]
+
+    def leaves_by_root(self, kind: int) -> tuple[np.ndarray, np.ndarray]:
+        """The leaves of one kind grouped by root: (ids, starts), the leaves of root r being
+        ``ids[starts[r]:starts[r + 1]]`` in creation order (computed once per kind: reading every
+        root's leaves costs one pass over the tree, not one per root)."""
+        if kind not in self._by_root:
+            ids = np.nonzero(self.kind == kind)[0]
+            ids = ids[np.argsort(self.root[ids], kind="stable")]
+            self._by_root[kind] = ids, np.searchsorted(self.root[ids], np.arange(self.n_roots + 1))
+        return self._by_root[kind]
+
+    def evidence_of(self, i: int, keys=None) -> dict:
+        """The evidence of a node as plain Python values (``keys``: a subset of the names)."""
+        out = {}
+        for name, index in self.evidence_rows.items():
+            if (keys is None or name in keys) and index[i] >= 0:
+                out[name] = self.evidence[name][index[i]].tolist()
+        return out
 
     def evidence_values(self, name: str, ids) -> np.ndarray:
         """Evidence ``name`` of the nodes ``ids`` (which must all have it)."""

@@ -22,6 +22,8 @@ import numpy as np
 from intervals import Interval, sqr
 
 from ..engine import PROVED, RESOLUTION, UNDECIDED, Budget, budgets
+from ..engine.budgets import make_budget
+from ..robots import as_robot
 from ..robots.poses import length_enclosures, parse_box
 from .result import FKResult, robot_pose
 from .search import FKProblem, search_instances
@@ -30,11 +32,12 @@ from .system import fk_system
 from .tracking import track_one, track_rows
 
 
-def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None, track=None,
-                       record: bool = False):
+def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None, track=None, *,
+                       max_boxes=None, max_seconds=None, min_width=None, max_memory=None, record: bool = False):
     """All real FK postures for the leg lengths ``lengths``.
 
-    ``lengths``: one set (sequence or "l1,l2,..." text), or a 2-D array with
+    ``robot``: a robot or a robot file's path.  The budget: ``budget`` or the keywords
+    ``max_boxes``, ``max_seconds``, ``min_width``, ``max_memory``.  ``lengths``: one set (sequence or "l1,l2,..." text), or a 2-D array with
     one row per instance (then a list of results is returned; the instances
     are searched together, as one batch).  ``domain``: optional box of pose
     variables (``"x=a:b,..."``); position ranges narrow the search, angle
@@ -47,11 +50,16 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     certificate); by default a search past ``budgets.FK_RECORD_NODES`` nodes forgets its excluded
     leaves and ``result.certificate()`` runs it again with ``record``.
     """
+    robot = as_robot(robot)
+    keywords = dict(max_boxes=max_boxes, max_seconds=max_seconds, min_width=min_width, max_memory=max_memory)
     if track is not None and not isinstance(lengths, str) and np.asarray(lengths, dtype=object).ndim == 2:
-        return track_sequence(robot, lengths, track, budget=budget)
+        return track_sequence(robot, lengths, track, budget=budget, **keywords)
     system = fk_system(robot)
     rho, texts, batch_input = length_enclosures(robot, lengths)
     M = len(texts)
+    budget = make_budget({**budgets.FORWARD_KINEMATICS, "max_boxes": max(budgets.FORWARD_KINEMATICS["max_boxes"],
+                                                                         budgets.FK_BOXES_PER_INSTANCE * M)},
+                         budget, **keywords)
     L = sqr(rho)
     if track is not None and not batch_input:
         result = track_one(robot, system, texts[0], L, track)     # seed 002 §4: the posture near the previous one
@@ -62,9 +70,6 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     if domain is not None:
         lo, hi, angle_filter = _apply_domain(robot, system, domain, lo, hi)
     feasible = np.all(lo <= hi, axis=1)
-    if budget is None:
-        budget = Budget(**{**budgets.FORWARD_KINEMATICS, "max_boxes": max(budgets.FORWARD_KINEMATICS["max_boxes"],
-                                                                          budgets.FK_BOXES_PER_INSTANCE * M)})
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
     res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], budget, progress,
@@ -89,17 +94,21 @@ def _again(robot, lengths, domain, budget, k):
     return out[k] if isinstance(out, list) else out
 
 
-def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budget: Budget | None = None):
+def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budget: Budget | None = None, *,
+                   max_boxes=None, max_seconds=None, min_width=None, max_memory=None):
     """Track the posture through a sequence of leg-length sets from ``start_pose``: one result per
     row, each step proved unique near the previous step's posture (``result.tracked``), all proofs
     in one batched evaluation (``fk.tracking.track_rows``).  Steps that are not proved get the full
     search (``fallback``: all postures, ``tracked`` false; the steps needing it are searched
     together as one batch, with ``budget``), or are reported not proved (no solution, ``complete``
     false)."""
+    robot = as_robot(robot)
     t0 = time.perf_counter()
     results, missing = track_rows(robot, lengths_rows, start_pose)
     if missing and fallback:
-        searched = forward_kinematics(robot, [list(results[k].lengths) for k in missing], budget=budget)
+        searched = forward_kinematics(robot, [list(results[k].lengths) for k in missing], budget=budget,
+                                      max_boxes=max_boxes, max_seconds=max_seconds, min_width=min_width,
+                                      max_memory=max_memory)
         for k, r in zip(missing, searched):
             results[k] = r
     seconds = (time.perf_counter() - t0) / len(results)

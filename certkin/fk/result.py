@@ -9,7 +9,7 @@ import numpy as np
 from ..certificates import fk_certificate
 
 
-@dataclass
+@dataclass(repr=False)
 class FKResult:
     """All real assembly modes for one set of leg lengths."""
 
@@ -42,7 +42,14 @@ class FKResult:
     def status(self) -> str:
         return "complete" if self.complete else "incomplete"
 
+    def __repr__(self):
+        return (f"<FKResult {len(self.solutions)} solutions, {'complete' if self.complete else 'incomplete'}"
+                f"{', tracked' if self.tracked else ''}, {len(self.unresolved)} unresolved; lengths "
+                f"{','.join(self.lengths)}>")
+
     def to_json(self) -> dict:
+        """The result as a JSON-ready dict (``json.dumps(result.to_json())``): the document of
+        ``certkin fk --json``."""
         def entry(s, with_status):
             e = {"pose": {k: [float(v.lo), float(v.hi)] for k, v in s["pose"].items()},
                  "platform_points": [[[float(c.lo), float(c.hi)] for c in p] for p in s["platform_points"]]}

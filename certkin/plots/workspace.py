@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from ..engine import EXCLUDED, PROVED, UNDECIDED
+from .. import display
 from .figure import pyplot
 
 COLOURS = {"inside": "#55a868", "boundary": "#f2c14e", "outside": "#e6e6e6", "arc": "#1f3b73"}
@@ -47,9 +48,9 @@ def plot_section(result, path):
     orient = ", ".join(f"{n}={v}" for n, v in zip(names, result.orientation))
     zpart = "" if result.z is None else f"z = {result.z}, "
     area = result.boundary.area
-    exact = f"exact area [{float(area.lo):.10g}, {float(area.hi):.10g}]" if area is not None else "exact area undecided"
+    exact = f"exact area {display.interval(area)}" if area is not None else "exact area undecided"
     ax.set_title(f"{result.robot.name}\n{zpart}{orient}: {exact}\npaving: area in "
-                 f"[{result.inner:.6g}, {result.outer:.6g}]", fontsize=9)
+                 f"[{display.lower(result.inner, 6)}, {display.upper(result.outer, 6)}]", fontsize=9)
     legend = [Patch(color=COLOURS["inside"], label="inside"), Patch(color=COLOURS["boundary"], label="boundary"),
               Patch(color=COLOURS["outside"], label="outside"), Patch(color=COLOURS["arc"], label="exact arcs")]
     ax.legend(handles=legend, loc="upper right", fontsize=7)
@@ -69,7 +70,7 @@ def plot_volume(result, path):
     vin, vout = result.volume()
     ax.set_xlabel("z")
     ax.set_ylabel("section area")
-    ax.set_title(f"{result.robot.name}: volume in [{vin:.6g}, {vout:.6g}]", fontsize=9)
+    ax.set_title(f"{result.robot.name}: volume in [{display.lower(vin, 6)}, {display.upper(vout, 6)}]", fontsize=9)
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=120)

@@ -8,7 +8,7 @@ import tempfile
 from datetime import datetime, timezone
 from pathlib import Path
 
-from .. import __version__
+from .. import __version__, display
 
 def robot_table(robot) -> str:
     rows = "".join(
@@ -47,5 +47,5 @@ def figure(draw) -> str:
 
 
 def interval_text(v) -> str:
-    lo, hi = float(v.lo), float(v.hi)
-    return f"{0.5 * (lo + hi):.12g} ± {0.5 * (hi - lo):.1e}"
+    """An enclosure (an ``Interval``), printed outward."""
+    return display.interval(v, 12)

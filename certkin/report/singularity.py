@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import html
 
+from .. import display
 from ..certificates import write_text
 from ..plots import plot_cells
 from .page import figure, page, robot_table
@@ -15,13 +16,14 @@ def singularity_report(robot, results, path) -> None:
         counts[r.status] = counts.get(r.status, 0) + 1
     if len(results) == 1:
         r = results[0]
-        box = ", ".join(f"{n} ∈ [{a:.10g}, {b:.10g}]" for n, a, b in zip(robot.pose_names, r.lo, r.hi))
+        show = display.inward if r.status == "singularity-free" else display.outward   # a free box: inward
+        box = ", ".join(f"{n} ∈ {show(a, b)}" for n, a, b in zip(robot.pose_names, r.lo, r.hi))
         verdict = r.status + (f" (det(A) {'>' if r.sign > 0 else '<'} 0)" if r.status == "singularity-free" else "")
         body = f"<h2>Question</h2><p>Does det(A) vanish on the box {html.escape(box)}?</p>"
         body += f'<h2>Verdict</h2><p class="v">{html.escape(verdict)}</p>'
         if r.witnesses:
             body += "<p>Witnesses (certified signs): " + "; ".join(
-                f"det(A) {'>' if k == 'positive' else '<'} 0 at ({', '.join(f'{x:.10g}' for x in v)})"
+                f"det(A) {'>' if k == 'positive' else '<'} 0 at ({', '.join(display.point(x) for x in v)})"
                 for k, v in r.witnesses.items()) + "</p>"
         body += f"<p>{r.boxes} boxes, {r.seconds:.3f} s.</p>"
     else:

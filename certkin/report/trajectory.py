@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import html
 
+from .. import display
 from ..certificates import write_text
 from ..plots import plot_margins
 from .page import figure, page, robot_table
@@ -20,13 +21,13 @@ def trajectory_report(robot, result, path) -> None:
         body += f"<p>Not checked: {html.escape(k)} ({html.escape(why)}).</p>"
     body += f'<h2>Verdict</h2><p class="v">{html.escape(result.status)}</p>'
     rows = "".join(f"<tr><td>{html.escape(m['constraint'])}</td><td>{'-'.join(map(str, m['legs']))} "
-                   f"{html.escape(m.get('detail', ''))}</td><td>[{m['margin'][0]:.9g}, {m['margin'][1]:.9g}]</td></tr>"
+                   f"{html.escape(m.get('detail', ''))}</td><td>{display.pair(m['margin'])}</td></tr>"
                    for m in j["margins"])
     body += "<h2>Certified minimum margins</h2><table><tr><th>constraint</th><th>legs</th><th>min margin</th></tr>"
     body += rows + "</table>"
     if j["violations"]:
         rows = "".join(f"<tr><td>{html.escape(v['constraint'])}</td><td>{'-'.join(map(str, v['legs']))}</td>"
-                       f"<td>[{v['s'][0]:.12g}, {v['s'][1]:.12g}]</td><td>{'proved' if v['certain'] else 'possible'}</td></tr>"
+                       f"<td>{display.pair(v['s'], 12)}</td><td>{'proved' if v['certain'] else 'possible'}</td></tr>"
                        for v in j["violations"])
         body += ("<h2>Forbidden instants (their union contains every violation)</h2><table><tr><th>constraint</th>"
                  "<th>legs</th><th>s interval</th><th>violation</th></tr>" + rows + "</table>")

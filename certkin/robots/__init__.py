@@ -7,10 +7,10 @@
 - ``poses``: numbers, poses, boxes, leg lengths and orientations from user values.
 """
 from .base import Robot
-from .files import KINDS, load_robot, robot_from_dict
+from .files import KINDS, as_robot, load_robot, robot_from_dict
 from .gough import GoughStewart
 from .planar import Planar3RPR
 from .spherical import Spherical3DOF, Spherical3DOFTiltTorsion
 
-__all__ = ["Robot", "Planar3RPR", "Spherical3DOF", "Spherical3DOFTiltTorsion", "GoughStewart", "KINDS", "load_robot",
+__all__ = ["Robot", "Planar3RPR", "Spherical3DOF", "Spherical3DOFTiltTorsion", "GoughStewart", "KINDS", "as_robot", "load_robot",
            "robot_from_dict"]

@@ -15,7 +15,7 @@ import tomllib
 
 import numpy as np
 
-from ..errors import RobotFileError
+from ..errors import InputError, RobotFileError
 from .base import Robot
 from .gough import GoughStewart
 from .planar import Planar3RPR
@@ -40,6 +40,18 @@ def load_robot(path) -> Robot:
     except UnicodeDecodeError:
         raise RobotFileError(source, "", "not a text file") from None
     return robot_from_dict(data, source)
+
+
+def as_robot(robot, parameter: str = "robot") -> Robot:
+    """A robot given as a model, a path to a robot file (``str`` or ``Path``), or a robot file's
+    content (a mapping): what every API function accepts as its ``robot``."""
+    if isinstance(robot, Robot):
+        return robot
+    if isinstance(robot, (str, Path)):
+        return load_robot(robot)
+    if isinstance(robot, dict):
+        return robot_from_dict(robot)
+    raise InputError(parameter, "", f"expected a robot, a robot file's path or its content, got {type(robot).__name__}")
 
 
 def robot_from_dict(data: dict, source: str = "<robot>") -> Robot:

@@ -25,6 +25,7 @@ from intervals.rounding import enclose, enclose_plain
 from ..errors import InputError, RobotFileError
 
 RADIANS_PER_DEGREE = PI / Interval(180)   # an enclosure of π/180 (outward division)
+MAX_MAGNITUDE = 1e12                       # |value| above this is far outside any robot: refused
 
 
 # ----------------------------------------------------------------- numbers
@@ -40,8 +41,17 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
 
     Accepts ints, exact decimals, decimal strings and, when ``angle`` is set,
     strings with a ``deg`` suffix (``"85deg"``, converted with a rigorous π).
-    Returns the enclosure and the exact text.  Raises ``RobotFileError``.
+    Returns the enclosure and the exact text.  Raises ``RobotFileError``, also for a magnitude
+    above ``MAX_MAGNITUDE`` (1e12: millimetres or radians that large describe no robot, and
+    their squares and products would lose every digit or overflow).
     """
+    iv, text = _parse_number(value, source, field, angle)
+    if not (abs(float(iv.lo)) <= MAX_MAGNITUDE and abs(float(iv.hi)) <= MAX_MAGNITUDE):
+        raise RobotFileError(source, field, f"{text} is out of range (at most {MAX_MAGNITUDE:g} in magnitude)")
+    return iv, text
+
+
+def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval, str]:
     if isinstance(value, bool) or value is None:
         raise RobotFileError(source, field, f"expected a number, got {value!r}")
     text = value.strip() if isinstance(value, str) else value
@@ -239,7 +249,7 @@ def length_enclosures(robot, lengths):
             else:
                 break
             ab = enclose_plain(t)
-            if ab is None or not (ab[0] >= 0 and ab[1] < np.inf):
+            if ab is None or not (ab[0] >= 0 and ab[1] <= MAX_MAGNITUDE):
                 break
             a, b = ab
             lo.append(a)
@@ -264,7 +274,7 @@ def float_length_rows(robot, lengths):
             or lengths.shape[1] != robot.n_legs or not len(lengths):
         return None
     v = lengths.astype(np.float64)
-    if not (np.all(np.isfinite(v)) and np.all(v >= 0)):
+    if not (np.all(np.isfinite(v)) and np.all(v >= 0) and np.all(v <= MAX_MAGNITUDE)):
         return None
     texts = [[repr(t) for t in row] for row in v.tolist()]
     lo = np.where(v > 0, np.nextafter(v, -np.inf), 0.0)

@@ -53,6 +53,22 @@ def piece_plan(angle_step: float, least: int = 4, most: int = 64) -> tuple[int, 
     return pieces, d
 
 
+def constraint_names(kinds):
+    """None (every constraint), or the list of names of ``kinds`` (a list or a comma-separated
+    text); an empty list, an empty name or a name given twice raise ``InputError``."""
+    if kinds is None:
+        return None
+    names = [k.strip() for k in kinds.split(",")] if isinstance(kinds, str) else list(kinds)
+    if not names or names == [""]:
+        raise InputError("constraints", "", "empty list (None checks every constraint)")
+    for k in names:
+        if not isinstance(k, str) or not k:
+            raise InputError("constraints", "", f"expected constraint names, got {k!r}")
+        if names.count(k) > 1:
+            raise InputError("constraints", k, "given twice")
+    return names
+
+
 class Constraints:
     """The selected constraints of a robot, evaluated on batches of t-intervals."""
 
@@ -87,7 +103,9 @@ class Constraints:
 
     @classmethod
     def of(cls, robot, kinds=None) -> "Constraints":
-        """The constraints ``kinds`` of ``robot``, built once per robot, selection and limits."""
+        """The constraints ``kinds`` of ``robot`` (None: all; names as a list or one text
+        ``"leg-length,joints"``), built once per robot, selection and limits."""
+        kinds = constraint_names(kinds)
         key = ("constraints", None if kinds is None else tuple(kinds))
         return cached(robot, key, lambda: cls(robot, kinds))
 

@@ -20,22 +20,25 @@ never a path with an unverified segment.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from decimal import Context, Decimal
+from fractions import Fraction
 import heapq
 import itertools
-import math
-import time
 
 import numpy as np
 
+from .. import display
 from ..certificates import trajectory_certificate
 from ..engine import Budget, budgets
+from ..engine.budgets import Clock, make_budget
 from ..errors import InputError
+from ..robots import as_robot
 from ..robots.poses import parse_pose
 from .path import parse_path
 from .verify import verify_trajectories
 
 
-@dataclass
+@dataclass(repr=False)
 class PlanResult:
     robot: object
     status: str                                   # found | infeasible-endpoint | no-path-found
@@ -44,7 +47,12 @@ class PlanResult:
     endpoint: dict | None = None                    # the verdict on a failing end pose
     stats: dict = field(default_factory=dict)
 
+    def __repr__(self):
+        return (f"<PlanResult {self.status}: {len(self.waypoints)} waypoints, {len(self.segments)} segments "
+                f"certified feasible>")
+
     def to_json(self) -> dict:
+        """The result as a JSON-ready dict: the fields of ``certkin plan --json``."""
         out = {"problem": "plan", "status": self.status,
                "waypoints": [dict(zip(self.robot.pose_names, w)) for w in self.waypoints],
                "segments": [{"status": s.status, "margins": s.margins} for s in self.segments],
@@ -58,10 +66,6 @@ class PlanResult:
         if not self.segments:
             raise ValueError("no path: nothing to certify")
         return trajectory_certificate(self.segments)
-
-
-def _text(v: float) -> str:
-    return repr(float(v))
 
 
 MAX_DIVISIONS = 1000
@@ -83,61 +87,109 @@ def _checked(result: PlanResult, start, goal) -> PlanResult:
     return result
 
 
-def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int = 3,
-         max_edges: int = 4000, max_seconds: float = budgets.PLAN_SECONDS, budget: Budget | None = None) -> PlanResult:
+def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int = 3, max_edges: int = 4000,
+         budget: Budget | None = None, progress=None, *, max_boxes=None, max_seconds=None, min_width=None,
+         max_memory=None) -> PlanResult:
     """A path from ``start`` to ``goal`` whose every segment is certified ``feasible``.
 
-    ``divisions`` (1 to 1000): grid steps between start and goal; ``margin`` (0 to 1000): grid steps
-    beyond them; ``max_edges``: segments verified at most.  A ``found`` result always starts at
-    ``start``, ends at ``goal`` and has one ``feasible`` segment per step."""
+    ``robot``: a robot or a robot file's path; ``start``, ``goal``: poses (texts such as
+    ``"-90,140,520,0,0,0"`` or sequences of exact values).  ``divisions`` (1 to 1000): grid steps
+    between start and goal; ``margin`` (0 to 1000): grid steps beyond them; ``max_edges``: segments
+    verified at most.  ``max_seconds`` bounds the whole plan, ``max_boxes`` and ``min_width`` each
+    batch of segments verified; ``progress(edges, nodes)`` is called after each batch.  Waypoints
+    are exact decimals (the grid's poses rounded to 12 digits: the poses verified are the ones
+    printed).  A ``found`` result always starts at ``start``, ends at ``goal`` and has one
+    ``feasible`` segment per step."""
+    robot = as_robot(robot)
     divisions = _count(divisions, "divisions", 1, MAX_DIVISIONS)
     margin = _count(margin, "margin", 0, MAX_DIVISIONS)
     max_edges = _count(max_edges, "max_edges", 1, 10 ** 9)
-    if not (isinstance(max_seconds, (int, float)) and math.isfinite(max_seconds) and max_seconds > 0):
-        raise InputError("max_seconds", "", f"expected a positive number of seconds, got {max_seconds!r}")
-    t0 = time.perf_counter()
-    budget = budget or Budget(**budgets.PLAN)
+    budget = make_budget(budgets.PLAN, budget, max_boxes=max_boxes, max_seconds=max_seconds, min_width=min_width,
+                         max_memory=max_memory)
+    clock = Clock(budget.max_seconds)
     s_iv, s_txt = parse_pose(start, robot, "start")
     g_iv, g_txt = parse_pose(goal, robot, "goal")
-    verify = lambda paths: verify_trajectories(robot, paths, constraints, budget, indices=False, rtol=None)  # noqa: E731
+    verified = [0]
+
+    def verify(paths):
+        out = verify_trajectories(robot, paths, constraints, budget.within(clock.left()), indices=False, rtol=None)
+        verified[0] += len(paths)
+        if progress:
+            progress(verified[0], len(paths))
+        return out
+
     ends = verify([parse_path(robot, s_txt, s_txt), parse_path(robot, g_txt, g_txt)])
     for name, r in zip(("start", "goal"), ends):
         if r.status != "feasible":
             failing = [v for v in r.violations if v.get("certain")] or r.violations
             return PlanResult(robot, "infeasible-endpoint" if r.status == "infeasible" else "no-path-found",
                               endpoint={"pose": name, "status": r.status, "violations": failing},
-                              stats={"seconds": time.perf_counter() - t0})
+                              stats={"seconds": clock.elapsed()})
     straight = verify([parse_path(robot, s_txt, g_txt)])[0]
     if straight.status == "feasible":
         return _checked(PlanResult(robot, "found", [s_txt, g_txt], [straight],
-                                   stats={"edges_verified": 1, "seconds": time.perf_counter() - t0}), s_txt, g_txt)
+                                   stats={"edges_verified": 1, "seconds": clock.elapsed()}), s_txt, g_txt)
 
     grid = _Grid(robot, s_iv, s_txt, g_iv, g_txt, divisions, margin)
-    nodes, edge_result, stats = _astar(robot, grid, verify, max_edges, max_seconds, t0)
+    nodes, edge_result, stats = _astar(robot, grid, verify, max_edges, clock)
     if nodes is None:
-        stats["seconds"] = time.perf_counter() - t0
+        stats["seconds"] = clock.elapsed()
         return PlanResult(robot, "no-path-found", stats=stats)
     kept, segments = _shortcuts(robot, grid, nodes, edge_result, verify, stats)
-    stats["seconds"] = time.perf_counter() - t0
+    stats["seconds"] = clock.elapsed()
     return _checked(PlanResult(robot, "found", [grid.pose(n) for n in kept], segments, stats=stats), s_txt, g_txt)
+
+
+def _value(text: str, robot_angle: bool):
+    """(exact value, unit) of a pose text: ``("85", "deg")`` -> (85, "deg"); None if not a plain decimal."""
+    t = text.strip()
+    unit = ""
+    if robot_angle and t.lower().endswith("deg"):
+        t, unit = t[:-3].strip(), "deg"
+    try:
+        return Fraction(Decimal(t)), unit
+    except (ArithmeticError, ValueError):
+        return None
+
+
+def _decimal(q: Fraction, unit: str = "") -> str:
+    """The text of an exact value, rounded to 12 significant digits when it has more (a waypoint is
+    then that decimal: the pose verified is the pose printed)."""
+    d = Context(prec=12).divide(Decimal(q.numerator), Decimal(q.denominator))
+    return display.decimal_text(d) + unit
 
 
 class _Grid:
     """The grid of poses of step 3: it spans the coordinates in which the end poses differ (and the
     positions), ``divisions`` steps between start and goal, ``margin`` steps beyond; a node is a
-    tuple of step counts from the start."""
+    tuple of step counts from the start.  A node's pose is computed in exact decimals from the
+    texts of the end poses (in degrees when both are), then rounded to 12 significant digits."""
 
     def __init__(self, robot, s_iv, s_txt, g_iv, g_txt, divisions, margin):
         a = 0.5 * (s_iv.lo + s_iv.hi)
         b = 0.5 * (g_iv.lo + g_iv.hi)
         angle = np.array([n in robot.angle_names for n in robot.pose_names])
-        differs = a != b
+        differs = np.array([_value(p, ang) != _value(q, ang) or p != q and _value(p, ang) is None
+                            for p, q, ang in zip(s_txt, g_txt, angle)])
         moving = np.nonzero(differs | ~angle)[0]              # positions always, angles that change
         if len(moving) < 2:
             moving = np.arange(len(a))
         span = np.linalg.norm((b - a)[~angle]) if (~angle).any() else 0.0
-        step = np.where(differs, (b - a) / divisions,
-                        np.where(angle, np.deg2rad(5.0), max(span, 1e-9) / divisions))
+        self.origin, self.steps = [], []                      # per coordinate: (start value, unit), exact step
+        for k in range(len(a)):
+            start_v, goal_v = _value(s_txt[k], angle[k]), _value(g_txt[k], angle[k])
+            if start_v is None or goal_v is None or (differs[k] and start_v[1] != goal_v[1]):
+                start_v = (Fraction(float(a[k])), "")         # mixed units: radians, from the enclosures
+                goal_v = (Fraction(float(b[k])), "")
+            if differs[k]:
+                step = (goal_v[0] - start_v[0]) / divisions
+            elif angle[k]:
+                step = Fraction(5) if start_v[1] == "deg" else Fraction(Decimal("0.0872664626"))   # 5 degrees
+            else:
+                step = Fraction(Decimal(format(max(span, 1e-9) / divisions, ".6g")))
+            self.origin.append(start_v)
+            self.steps.append(step)
+        step = np.array([float(st) * (np.pi / 180 if o[1] == "deg" else 1.0) for st, o in zip(self.steps, self.origin)])
         side = divisions // 2 + margin
         self.lo_idx = np.where(differs[moving], -margin, -side)
         self.hi_idx = np.where(differs[moving], divisions + margin, side)
@@ -145,7 +197,7 @@ class _Grid:
         self.start = tuple([0] * len(moving))
         self.scale = np.abs(step[moving])
         self.moves = [m for m in itertools.product((-1, 0, 1), repeat=len(moving)) if any(m)]
-        self.a, self.step, self.moving = a, step, moving
+        self.moving = moving
         self.s_txt, self.g_txt = s_txt, g_txt
 
     def pose(self, node):
@@ -154,9 +206,12 @@ class _Grid:
             return self.s_txt
         if node == self.goal:
             return self.g_txt
-        p = self.a.copy()
-        p[self.moving] = self.a[self.moving] + np.asarray(node) * self.step[self.moving]
-        return [_text(v) for v in p]
+        texts = list(self.s_txt)
+        for k, n in zip(self.moving, node):
+            if n:
+                value, unit = self.origin[k]
+                texts[k] = _decimal(value + n * self.steps[k], unit)
+        return texts
 
     def distance(self, node, other) -> float:
         return float(np.linalg.norm((np.asarray(other) - np.asarray(node)) * self.scale))
@@ -170,7 +225,7 @@ class _Grid:
         return out
 
 
-def _astar(robot, grid: _Grid, verify, max_edges, max_seconds, t0):
+def _astar(robot, grid: _Grid, verify, max_edges, clock):
     """A* from the start node to the goal node; an edge counts only when its segment is proved
     ``feasible`` (a whole expansion verified in one batch).  Returns (the nodes of the path, or
     None; the verified edges' results; stats)."""
@@ -181,7 +236,7 @@ def _astar(robot, grid: _Grid, verify, max_edges, max_seconds, t0):
     closed = set()
     edges = 1
     found = False
-    while frontier and edges < max_edges and time.perf_counter() - t0 < max_seconds:
+    while frontier and edges < max_edges and not clock.out():
         _, cost, node = heapq.heappop(frontier)
         if node in closed:
             continue

@@ -15,7 +15,7 @@ from .families.base import SATISFIED, UNKNOWN, VIOLATED
 from .path import Path
 
 
-@dataclass
+@dataclass(repr=False)
 class TrajectoryResult:
     """The verdict on one path, with the leaves that prove it."""
 
@@ -31,7 +31,13 @@ class TrajectoryResult:
     stats: dict = field(default_factory=dict)
     indices: list | None = None
 
+    def __repr__(self):
+        return (f"<TrajectoryResult {self.status}: {self.path.segments} segment{'s' if self.path.segments != 1 else ''}, "
+                f"{len(self.margins)} margins, {len(self.violations)} violations, {len(self.undecided)} undecided ranges>")
+
     def to_json(self) -> dict:
+        """The result as a JSON-ready dict (``json.dumps(result.to_json())``): the document of
+        ``certkin trajectory --json``."""
         c = self.constraints
         out = {"problem": "trajectory", "status": self.status,
                "path": [dict(zip(self.robot.pose_names, t)) for t in self.path.texts],

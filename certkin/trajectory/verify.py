@@ -22,19 +22,19 @@ than the tolerance.  Verdicts:
 """
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
 from intervals import Interval
 from intervals.rounding import down, sum_bounds, up
 
 from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, budgets, search
+from ..engine.budgets import Clock, make_budget
 from ..errors import InputError
+from ..robots import as_robot
 from .constraints import Constraints, piece_plan
 from .crossings import crossing_points
 from .families.base import SATISFIED, UNKNOWN, VIOLATED
-from .path import angle_step, parse_path
+from .path import Path, angle_step, parse_path
 from .result import TrajectoryResult, conclude
 
 FIRST_BATCH = 256    # constant orientation: about this many initial sub-intervals in all (2 to 16 per segment)
@@ -194,16 +194,27 @@ class TrajectoryProblem:
 
 
 def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = None, progress=None,
-                        indices: bool = True, rtol: float = MARGIN_RTOL) -> list[TrajectoryResult]:
-    """Verify many paths in one search (the batch path).  ``paths``: list of ``Path``."""
+                        indices: bool = True, rtol: float = MARGIN_RTOL, *, max_boxes=None, max_seconds=None,
+                        min_width=None, max_memory=None) -> list[TrajectoryResult]:
+    """Verify many paths in one search (the batch path).
+
+    ``robot``: a robot or a robot file's path.  ``paths``: a list whose items are each a ``Path``,
+    a pair ``(start, goal)`` or a sequence ``(start, via..., goal)`` of poses (texts such as
+    ``"-69,-50,500,85deg,10deg,0"`` or sequences of exact values), or a mapping with ``start``,
+    ``goal`` and optional ``via``.  ``constraints``: names (``"leg-length"``,
+    ``"leg-length,joints"`` or a list; default all).  The budget (``budget`` or the keywords)
+    bounds the whole call: when it runs out the t-ranges left are ``undecided``."""
+    robot = as_robot(robot)
+    paths = [as_path(robot, p, k) for k, p in enumerate(_path_list(paths))]
     if not paths:
         return []
-    budget = budget or Budget(**budgets.TRAJECTORY)
+    budget = make_budget(budgets.TRAJECTORY, budget, max_boxes=max_boxes, max_seconds=max_seconds,
+                         min_width=min_width, max_memory=max_memory)
     cons = constraints if isinstance(constraints, Constraints) else Constraints.of(robot, constraints)
     if cons.K == 0:
         raise InputError("constraints", "", "no constraint can be checked: " +
                          "; ".join(f"{k}: {v}" for k, v in cons.skipped.items()))
-    t0 = time.perf_counter()
+    clock = Clock(budget.max_seconds)
     P0s, Ds, seg_path = [], [], []
     for p_index, path in enumerate(paths):
         P0, D = path.start_and_step()
@@ -225,21 +236,9 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     lo, hi, piece_segment = problem.presplit(lo, hi, piece_segment)
     problem.piece_segment = piece_segment
     problem.seed_best(lo, hi, piece_segment)
-    found = search(problem, lo, hi, scale=np.ones(1), budget=budget, progress=progress, min_batch=64, max_rounds=5)
-    tree = found.tree
-    leaves = tree.leaves()
-    segment = piece_segment[tree.root[leaves]]
-    tlo, thi = tree.lo[leaves, 0], tree.hi[leaves, 0]
-    state = np.zeros((len(leaves), cons.K), dtype=np.int8)
-    mlo, mhi = np.empty((len(leaves), cons.K)), np.empty((len(leaves), cons.K))
-    known = tree.evidence_rows["state"][leaves] >= 0 if "state" in tree.evidence_rows else np.zeros(len(leaves), bool)
-    if known.any():
-        ids = leaves[known]
-        state[known] = tree.evidence_values("state", ids)
-        mlo[known], mhi[known] = tree.evidence_values("mlo", ids), tree.evidence_values("mhi", ids)
-    if (~known).any():                # leaves never evaluated (budget): evaluated now
-        state[~known], mlo[~known], mhi[~known] = problem.evaluate(tlo[~known], thi[~known], segment[~known],
-                                                                   upper=rtol is not None)
+    found = search(problem, lo, hi, scale=np.ones(1), budget=budget.within(clock.left()), progress=progress,
+                   min_batch=64, max_rounds=5)
+    leaves, segment, tlo, thi, state, mlo, mhi = _leaf_states(problem, found.tree, piece_segment, cons.K, rtol, clock)
     results = []
     for p_index, path in enumerate(paths):
         segs = np.nonzero(seg_path == p_index)[0]
@@ -250,19 +249,79 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
         r.leaves = {"segment": local[order], "tlo": tlo[mine][order], "thi": thi[mine][order],
                     "state": state[mine][order], "mlo": mlo[mine][order], "mhi": mhi[mine][order]}
         conclude(r, problem.best[p_index])
-        if indices:
+        if indices and not clock.out():
             r.indices = _mean_indices(problem, cons, segs)
-        r.stats = {"boxes": int(found.boxes), "leaves": int(mine.sum()), "seconds": round(time.perf_counter() - t0, 6),
-                   "budget_exhausted": bool(found.exhausted)}
+        r.stats = {"boxes": int(found.boxes), "leaves": int(mine.sum()), "seconds": round(clock.elapsed(), 6),
+                   "budget_exhausted": bool(found.exhausted or clock.out())}
         results.append(r)
     return results
 
 
+def _leaf_states(problem, tree, piece_segment, K, rtol, clock, chunk: int = 256):
+    """Per leaf of the search: (ids, segment, t bounds, states, margin bounds).  Leaves never
+    evaluated (a budget ran out) are evaluated now while the time budget lasts, by chunks; the
+    rest stay ``unknown`` with unbounded margins (sound: nothing is claimed about them)."""
+    leaves = tree.leaves()
+    segment = piece_segment[tree.root[leaves]]
+    tlo, thi = tree.lo[leaves, 0], tree.hi[leaves, 0]
+    state = np.full((len(leaves), K), UNKNOWN, dtype=np.int8)
+    mlo, mhi = np.full((len(leaves), K), -np.inf), np.full((len(leaves), K), np.inf)
+    known = tree.evidence_rows["state"][leaves] >= 0 if "state" in tree.evidence_rows else np.zeros(len(leaves), bool)
+    if known.any():
+        ids = leaves[known]
+        state[known] = tree.evidence_values("state", ids)
+        mlo[known], mhi[known] = tree.evidence_values("mlo", ids), tree.evidence_values("mhi", ids)
+    todo = np.nonzero(~known)[0]
+    for k in range(0, len(todo), chunk):
+        if clock.out():
+            break
+        part = todo[k:k + chunk]
+        state[part], mlo[part], mhi[part] = problem.evaluate(tlo[part], thi[part], segment[part], upper=rtol is not None)
+    return leaves, segment, tlo, thi, state, mlo, mhi
+
+
+def _path_list(paths):
+    """The items of ``paths`` (a list, or an array of shape (paths, poses, d))."""
+    if isinstance(paths, (str, Path)) or isinstance(paths, dict):
+        raise InputError("paths", "", "expected a list of paths (each a Path, (start, goal) or (start, via..., goal))")
+    try:
+        return list(paths)
+    except TypeError:
+        raise InputError("paths", "", f"expected a list of paths, got {type(paths).__name__}") from None
+
+
+def as_path(robot, item, k: int = 0) -> Path:
+    """One path of ``verify_trajectories`` (see there); errors name ``paths[k]``."""
+    if isinstance(item, Path):
+        return item
+    try:
+        if isinstance(item, dict):
+            unknown = set(item) - {"start", "goal", "via"}
+            if unknown or "start" not in item or "goal" not in item:
+                raise InputError("", "", "expected the keys start, goal and optional via")
+            return parse_path(robot, item["start"], item["goal"], list(item.get("via") or ()))
+        poses = list(item) if not isinstance(item, str) else None
+        if poses is None or len(poses) < 2 or any(np.ndim(p) == 0 and not isinstance(p, str) for p in poses):
+            raise InputError("", "", "expected (start, goal) or (start, via..., goal): two poses or more")
+        return parse_path(robot, poses[0], poses[-1], poses[1:-1])
+    except InputError as exc:
+        field = ": ".join(f for f in (exc.source, exc.field) if f)
+        raise InputError(f"paths[{k}]", field, exc.problem) from None
+    except TypeError:
+        raise InputError(f"paths[{k}]", "", "expected (start, goal) or (start, via..., goal)") from None
+
+
 def verify_trajectory(robot, start, goal, waypoints=(), constraints=None, budget: Budget | None = None,
-                      progress=None, indices: bool = True) -> TrajectoryResult:
-    """Is the straight (or polyline) motion from ``start`` to ``goal`` feasible?  See the module docstring."""
+                      progress=None, indices: bool = True, *, max_boxes=None, max_seconds=None, min_width=None,
+                      max_memory=None) -> TrajectoryResult:
+    """Is the straight (or polyline) motion from ``start`` to ``goal`` feasible?  See the module docstring.
+
+    ``robot``: a robot or a robot file's path; ``start``, ``goal``, ``waypoints``: poses (texts or
+    sequences of exact values); ``constraints`` as in ``verify_trajectories``."""
+    robot = as_robot(robot)
     path = parse_path(robot, start, goal, waypoints)
-    return verify_trajectories(robot, [path], constraints, budget, progress, indices)[0]
+    return verify_trajectories(robot, [path], constraints, budget, progress, indices, max_boxes=max_boxes,
+                               max_seconds=max_seconds, min_width=min_width, max_memory=max_memory)[0]
 
 
 def _mean_indices(problem, cons, segs) -> list:

@@ -8,7 +8,7 @@ whatever the budget.  Each root of one search is one section or one z-slab.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 import time
 
@@ -17,7 +17,7 @@ import numpy as np
 from intervals import Interval, sqr
 from intervals.rounding import down, down_sum, up, up_sum
 
-from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
+from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Decisions, search
 from .annuli import Legs
 
 REASONS = ("inside: every leg length within its limits on the whole box",
@@ -60,7 +60,8 @@ class Paving:
     root: int
 
     def leaves(self, kind):
-        return self.tree.leaves(self.root, kind)
+        ids, starts = self.tree.leaves_by_root(kind)
+        return ids[starts[self.root]:starts[self.root + 1]]
 
     def counts(self) -> dict:
         return {"inner_boxes": int(len(self.leaves(PROVED))), "boundary_boxes": int(len(self.leaves(UNDECIDED))),
@@ -106,7 +107,7 @@ def pave(legs, Z, lo, hi, budget, progress, floor=0.0):
     width = np.max(hi - lo, axis=0)
     scale = np.where(width > 0, width, 1.0)
     t0 = time.perf_counter()
-    first = search(problem, lo, hi, scale=scale, budget=Budget(budget.max_boxes, budget.max_seconds, 1.0 / 64))
+    first = search(problem, lo, hi, scale=scale, budget=replace(budget, min_width=1.0 / 64))
     t = first.tree
     live = t.leaf_mask() & (t.kind != EXCLUDED)
     if live.any() and not first.exhausted:
@@ -114,5 +115,5 @@ def pave(legs, Z, lo, hi, budget, progress, floor=0.0):
         scale = np.where(hull > 0, np.minimum(hull, scale), scale)
     left = budget.max_seconds - (time.perf_counter() - t0)
     min_width = max(budget.min_width, min(float(np.max(floor / scale)), 1.0 / 64))
-    budget = Budget(budget.max_boxes, max(left, 1e-3), min_width)
+    budget = replace(budget.within(left), min_width=min_width)
     return search(problem, lo, hi, scale=scale, budget=budget, progress=progress)

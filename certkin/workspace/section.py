@@ -8,16 +8,17 @@ bracket (``workspace.paving``) and the exact boundary (``workspace.boundary``); 
 from __future__ import annotations
 
 from dataclasses import dataclass
-import math
 import time
 
-import numpy as np
 
 from intervals import Interval
 
+from .. import display
 from ..certificates import section_certificate
 from ..engine import Budget, budgets
+from ..engine.budgets import make_budget
 from ..errors import InputError
+from ..robots import as_robot
 from ..robots.poses import parse_height, parse_orientation
 from .annuli import ORIENTATION, Legs, check_robot, leg_data, section_domain
 from .boundary import Boundary, exact_boundary
@@ -32,7 +33,7 @@ def _pair(iv):
     return None if iv is None else [float(iv.lo), float(iv.hi)]
 
 
-@dataclass
+@dataclass(repr=False)
 class SectionResult:
     """One certified section.  ``status``: ``non-empty`` (a box or the exact area proves it), ``empty``
     (every box of the domain is outside, or the domain is empty), ``undecided``."""
@@ -66,7 +67,13 @@ class SectionResult:
     def counts(self) -> dict:
         return self.paving.counts() if self.paving else {"inner_boxes": 0, "boundary_boxes": 0, "outside_boxes": 0}
 
+    def __repr__(self):
+        where = "" if self.z is None else f" z={self.z}"
+        return (f"<SectionResult {self.status}:{where} area in [{display.lower(self.inner, 6)}, "
+                f"{display.upper(self.outer, 6)}]>")
+
     def to_json(self) -> dict:
+        """The result as a JSON-ready dict: the document of ``certkin workspace --json``."""
         b = self.boundary
         doc = {"problem": "workspace-section", "robot": self.robot.name, "kind": self.robot.kind,
                "status": self.status, "orientation": dict(zip(ORIENTATION[self.robot.kind], self.orientation)),
@@ -99,31 +106,32 @@ def _z_interval(robot, z):
     return parse_height(z)
 
 
-def workspace_section(robot, orientation=None, z=None, *, max_boxes=budgets.WORKSPACE["max_boxes"],
-                      min_width=budgets.WORKSPACE["min_width"], max_seconds=budgets.WORKSPACE["max_seconds"],
-                      progress=None, exact=True) -> SectionResult:
+def workspace_section(robot, orientation=None, z=None, *, budget: Budget | None = None, max_boxes=None,
+                      min_width=None, max_seconds=None, max_memory=None, progress=None, exact=True) -> SectionResult:
     """Certified section ``z = const`` of the constant-orientation workspace (leg-length limits).
 
     ``orientation``: ``"psi,theta,phi"`` (Gough) or ``"phi"`` (planar), a
     sequence or a mapping of exact decimals (``deg`` allowed); ``z``: an exact
-    decimal (Gough only).  ``min_width`` is relative to the domain.  Raises
-    ``InputError`` for bad input.
+    decimal (Gough only).  ``robot``: a robot or a robot file's path.  ``min_width`` is relative to
+    the domain.  Raises ``InputError`` for bad input.
     """
+    robot = as_robot(robot)
     check_robot(robot)
     angles, texts = parse_orientation(robot, orientation)
     Z, ztext = _z_interval(robot, z)
-    check_budget(max_boxes, min_width, max_seconds)
+    budget = make_budget(budgets.WORKSPACE, budget, max_boxes=max_boxes, max_seconds=max_seconds,
+                         min_width=min_width, max_memory=max_memory)
     t0 = time.perf_counter()
     legs = leg_data(robot, angles)
     Z1 = Z.reshape(1)
     r2in, r2out = legs.radii2(Z1)
     lo, hi, empty = section_domain(legs.ux, legs.uy, r2out)
-    stats = {"boxes": 0, "seconds": 0.0, "exhausted": False, "min_width": min_width}
+    stats = {"boxes": 0, "seconds": 0.0, "exhausted": False, "min_width": budget.min_width}
     if empty[0]:
         domain, paving = None, None
     else:
         domain = (lo[0], hi[0])
-        res = pave(legs, Z1, lo, hi, Budget(max_boxes, max_seconds, min_width), progress)
+        res = pave(legs, Z1, lo, hi, budget.within(budget.max_seconds - (time.perf_counter() - t0)), progress)
         paving = Paving(res.tree, 0)
         stats.update(boxes=res.boxes, exhausted=res.exhausted)
     stats["paving_seconds"] = time.perf_counter() - t0
@@ -149,12 +157,3 @@ def _consistent(r):
     if a is not None and (a.hi < r.inner or a.lo > r.outer):
         raise RuntimeError(f"internal error: exact area [{a.lo}, {a.hi}] outside the paving bracket "
                            f"[{r.inner}, {r.outer}]; please report this robot and section")
-
-
-def check_budget(max_boxes, min_width, max_seconds):
-    if isinstance(max_boxes, bool) or not isinstance(max_boxes, (int, np.integer)) or max_boxes < 1:
-        raise InputError("max_boxes", "", f"expected a positive integer, got {max_boxes!r}")
-    if not (isinstance(min_width, (int, float)) and math.isfinite(min_width) and min_width > 0):
-        raise InputError("min_width", "", f"expected a positive number, got {min_width!r}")
-    if not (isinstance(max_seconds, (int, float)) and max_seconds > 0):
-        raise InputError("max_seconds", "", f"expected a positive number, got {max_seconds!r}")

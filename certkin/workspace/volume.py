@@ -5,7 +5,7 @@ the slab adds h·area to the inner volume, a box not proved outside adds it to t
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 import math
 import time
@@ -15,18 +15,22 @@ import numpy as np
 from intervals import Interval
 from intervals.rounding import down, down_sum, up, up_sum
 
+from .. import display
 from ..certificates import volume_certificate
 from ..engine import Budget, budgets
+from ..engine.budgets import make_budget, positive_integer
 from ..errors import InputError
+from ..robots import as_robot
 from ..robots.poses import parse_height_range, parse_orientation
 from .annuli import ORIENTATION, check_robot, leg_data, section_domain
 from .paving import Paving, pave
-from .section import check_budget, ignored_limits
+from .section import ignored_limits
 
 DEFAULT_SLABS = 200
+MAX_SLABS = 10_000          # each slab is a root of the search and a row of every array of the domains
 
 
-@dataclass
+@dataclass(repr=False)
 class VolumeResult:
     """Certified volume bracket of the workspace part with z in the slabs [b_0, b_n]."""
 
@@ -38,9 +42,13 @@ class VolumeResult:
     pavings: list                       # per slab Paving or None
     stats: dict
     status: str = "undecided"
+    _areas: list | None = field(default=None, repr=False, compare=False)
 
     def areas(self):
-        return [(p.inner_area(), p.outer_area()) if p else (0.0, 0.0) for p in self.pavings]
+        """Per slab, (inner, outer) area bounds of its section (computed once)."""
+        if self._areas is None:
+            self._areas = [(p.inner_area(), p.outer_area()) if p else (0.0, 0.0) for p in self.pavings]
+        return self._areas
 
     def volume(self) -> tuple[float, float]:
         h = np.diff(self.bounds)
@@ -58,7 +66,13 @@ class VolumeResult:
                     out[k] += v
         return out
 
+    def __repr__(self):
+        vin, vout = self.volume()
+        return (f"<VolumeResult {self.status}: z in [{self.z_range[0]}, {self.z_range[1]}], {len(self.pavings)} slabs, "
+                f"volume in [{display.lower(vin, 6)}, {display.upper(vout, 6)}]>")
+
     def to_json(self) -> dict:
+        """The result as a JSON-ready dict: the document of ``certkin workspace --json``."""
         vin, vout = self.volume()
         return {"problem": "workspace-volume", "robot": self.robot.name, "kind": self.robot.kind,
                 "status": self.status, "orientation": dict(zip(ORIENTATION[self.robot.kind], self.orientation)),
@@ -75,9 +89,8 @@ class VolumeResult:
         return volume_certificate(self)
 
 
-def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS, *,
-                     max_boxes=budgets.WORKSPACE["max_boxes"], min_width=budgets.WORKSPACE["min_width"],
-                     max_seconds=budgets.WORKSPACE["max_seconds"], progress=None) -> VolumeResult:
+def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS, *, budget: Budget | None = None,
+                     max_boxes=None, min_width=None, max_seconds=None, max_memory=None, progress=None) -> VolumeResult:
     """Certified bracket of the volume of {C in the workspace : z_lo <= z <= z_hi} (Gough-Stewart).
 
     ``z_range``: ``"lo:hi"`` or a pair of exact decimals, cut into ``slabs``
@@ -89,6 +102,7 @@ def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS,
     boundary moves across a slab (finer boxes would mostly stay boundary
     boxes: more slabs is the better way to narrow the bracket).
     """
+    robot = as_robot(robot)
     check_robot(robot)
     if robot.kind != "gough-stewart":
         raise InputError("z_range", "z", "only spatial (gough-stewart) robots have a volume")
@@ -96,9 +110,9 @@ def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS,
     if z_range is None:
         raise InputError("z_range", "z", "missing: give lo:hi")
     (zl, tl), (zh, th) = parse_height_range(z_range)
-    if isinstance(slabs, bool) or not isinstance(slabs, (int, np.integer)) or not 1 <= slabs <= 100_000:
-        raise InputError("slabs", "", f"expected an integer in [1, 100000], got {slabs!r}")
-    check_budget(max_boxes, min_width, max_seconds)
+    budget = make_budget(budgets.WORKSPACE, budget, max_boxes=max_boxes, max_seconds=max_seconds,
+                         min_width=min_width, max_memory=max_memory)
+    slabs = positive_integer(slabs, "slabs", min(MAX_SLABS, budget.max_boxes))
     t0 = time.perf_counter()
     ql, qh = Fraction(tl), Fraction(th)
     inner = [float(ql + (qh - ql) * k / slabs) for k in range(1, slabs)]
@@ -112,7 +126,7 @@ def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS,
     live = np.nonzero(~empty)[0]
     domains = [None if empty[k] else (lo[k], hi[k]) for k in range(slabs)]
     pavings = [None] * slabs
-    stats = {"boxes": 0, "seconds": 0.0, "exhausted": False, "min_width": min_width}
+    stats = {"boxes": 0, "seconds": 0.0, "exhausted": False, "min_width": budget.min_width}
     if len(live):
         # how far a section boundary can move across a slab, |dR/dz| h = h |z - u_z| / R (a float
         # estimate: it only sets the resolution, below which boundary boxes stay boundary anyway)
@@ -123,7 +137,8 @@ def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS,
         speed = np.where(np.isfinite(speed), speed, 0.0)
         # one resolution for all slabs: the median (a few slabs near a tangency move fast)
         floor = 2.0 * float(np.median(np.diff(bounds)[live] * np.max(speed, axis=1)))
-        res = pave(legs, Z[live], lo[live], hi[live], Budget(max_boxes, max_seconds, min_width), progress, floor)
+        res = pave(legs, Z[live], lo[live], hi[live], budget.within(budget.max_seconds - (time.perf_counter() - t0)),
+                   progress, floor)
         for root, k in enumerate(live):
             pavings[k] = Paving(res.tree, root)
         stats.update(boxes=res.boxes, exhausted=res.exhausted)

@@ -5,7 +5,9 @@ The segment-to-segment distance is exact (seed 000 digest, E9/E10/E12): the dist
 lines bounds it from below; when the feet of the common perpendicular are proved inside both
 segments it is the distance, when they are proved outside the minimum over the square of
 segment parameters is on its boundary, where the four end-point terms give it
-(docs/soundness.md, segment distance).
+(docs/soundness.md, segment distance).  The distance from the points of one segment to the line
+of the other bounds it from below too, and stays well defined for parallel legs (seed 000 digest,
+E11), where the line distance is 0/0.
 """
 from __future__ import annotations
 
@@ -172,6 +174,7 @@ class Interference(Family):
             chi = np.minimum(np.minimum(F0.hi, F1.hi), np.where(inside & ~np.isnan(pl.hi), pl.hi, np.inf))
             end_lower = clo.min(axis=1)
             end_upper = chi.min(axis=1)
+            lower[rows, pairs] = np.maximum(lower[rows, pairs], _point_line_lower(elo, ehi, delta.hi[rows, pairs]))
             # the line distance is always a lower bound; when the feet of the common perpendicular
             # are outside [0, 1]², the minimum over the square is on its boundary: the end-point terms
             lower[rows, pairs] = np.where(feet_out[rows, pairs], np.maximum(lower[rows, pairs], end_lower),
@@ -187,3 +190,25 @@ class Interference(Family):
         stationary = float_mul(derivative(e), d) - float_mul(e, derivative(d))     # (E/Δ)' Δ²
         put(self.columns, 0, E)                                       # (S, pairs), one column per pair
         put(self.columns, 2, stationary)
+
+
+def _point_line_lower(elo, ehi, delta_hi):
+    """A lower bound of d² − r² per item from the points of each segment to the other's line.
+
+    For X(s) = A_i + s u, s in [0, 1], and the line of leg j (direction v):
+    dist(X(s), line)² |v|² = |c0 + s c1|² with c0 = (A_i − A_j) × v, c1 = u × v, and
+    |c0 + s c1|² ≥ |c0|² + 2 s c0·c1 ≥ min(|c0|², |c0 + c1|² − |c1|²) on [0, 1] (linear in s);
+    |c1|² = Δ.  The end-point terms hold |c0|² − r²|v|² (end 0, term 2), |c0 + c1|² − r²|v|²
+    (end 1) and |v|² (term 5); ends 2 and 3 give the same for the points of leg j and the line of
+    leg i.  The segment distance is at least the distance to the line, so d² − r² ≥ N / |v|² with
+    N = min(term₀, term₁ − Δ).  For parallel legs (Δ = 0) this is the distance between them."""
+    best = np.full(elo.shape[0], -np.inf)
+    for first in (0, 2):
+        n_lo = np.minimum(elo[:, first, 2], down(elo[:, first + 1, 2] - delta_hi))
+        v2lo, v2hi = elo[:, first, 5], ehi[:, first, 5]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            bound = np.where(n_lo >= 0, down(n_lo / v2hi), np.where(v2lo > 0, down(n_lo / np.where(v2lo > 0, v2lo, 1.0)),
+                                                                    -np.inf))
+        best = np.maximum(best, np.where(np.isnan(bound), -np.inf, bound))
+    return best
+

@@ -1,0 +1,64 @@
+"""``certkin fk`` on hostile input (issue #18)."""
+import pytest
+
+import certkin.cli.fk
+from conftest import MEL, R2, answered, refused
+
+L = "28.99,13.66,40.53"
+F = ["fk", R2, "--lengths", L]
+
+HOSTILE = [
+    (F + ["--max-boxes", "0"], ["--max-boxes"]),
+    (F + ["--max-boxes", "-1"], ["--max-boxes"]),
+    (F + ["--max-seconds", "0"], ["--max-seconds"]),
+    (F + ["--max-seconds", "nan"], ["--max-seconds"]),
+    (F + ["--min-width", "0"], ["--min-width"]),
+    (F + ["--min-width", "nan"], ["--min-width"]),
+    (F + ["--max-memory", "0"], ["--max-memory"]),
+    (F + ["--lengths", "1,2,3"], ["--lengths", "twice"]),
+    (["fk", R2, "--lengths", "-28.99,13.66,40.53"], ["--lengths", "negative"]),
+    (["fk", R2, "--lengths", "1e300,13.66,40.53"], ["--lengths", "out of range"]),
+    (["fk", R2, "--lengths", "nan,13.66,40.53"], ["--lengths"]),
+    (["fk", R2, "--lengths", "28.99,13.66"], ["--lengths"]),
+    (["fk", R2, "--lengths", ""], ["--lengths"]),
+    (["fk", R2], ["--lengths"]),
+    (F + ["--track", "30,13,-1.9", "--domain", "x=0:50,y=-10:20,phi=-3:3"], ["--domain", "--track"]),
+    (F + ["--track", "30,13"], ["--track"]),
+    (F + ["--domain", "x=0:50,y=-10:20"], ["--domain", "phi"]),
+    (F + ["--domain", "x=0:1e300,y=-10:20,phi=0:1"], ["--domain", "x"]),
+    (F + ["--angles", "zyz"], ["--angles"]),
+    (F + ["--certificate", "{tmp}"], ["--certificate", "directory"]),
+    (F + ["--report", "{tmp}/f.json"], ["--report"]),
+    (F + ["--certificate", "{tmp}/no/f.json"], ["--certificate", "does not exist"]),
+]
+
+
+@pytest.mark.parametrize("argv, words", HOSTILE, ids=[" ".join(a[2:])[:60] for a, _ in HOSTILE])
+def test_hostile_input_is_refused(cli, argv, words):
+    refused(cli(*argv), *words)
+
+
+def test_boxes_are_printed_outward(cli):
+    """Each mode is printed as an enclosure of its proved box."""
+    import json
+    doc = json.loads(cli(*F, "--json").out)
+    text = cli(*F).out.splitlines()[1:]
+    for line, s in zip(text, doc["solutions"]):
+        x = line.split("x=[")[1].split("]")[0].split(", ")
+        assert float(x[0]) <= s["pose"]["x"][0] and s["pose"]["x"][1] <= float(x[1])
+
+
+def test_first_compilation_is_announced(cli, monkeypatch):
+    monkeypatch.setattr(certkin.cli.fk, "kernels_cached", lambda: False)
+    run = cli(*F)
+    answered(run)
+    assert "compiling" not in run.err                     # planar robots use no compiled kernels
+    run = cli("fk", MEL, "--lengths", "500,500,500,500,500,500", "--max-boxes", "200")
+    answered(run)
+    assert "compiling kernels, once" in run.err
+
+
+def test_max_seconds_is_respected(cli):
+    run = cli("fk", MEL, "--lengths", "520,530,540,550,560,570", "--min-width", "1e-14", "--max-seconds", "1")
+    answered(run)
+    assert run.seconds < 1 + 15                           # the first compilation of the kernels comes on top

@@ -1,0 +1,61 @@
+"""``certkin plan`` on hostile input (issue #18)."""
+import json
+
+import pytest
+
+from conftest import MEL, answered, refused
+
+S, G = "-90,140,520,0,0,0", "55,140,520,0,0,0"
+P = ["plan", MEL, "--from", S, "--to", G]
+
+HOSTILE = [
+    (P + ["--divisions", "0"], ["--divisions"]),
+    (P + ["--divisions", "-3"], ["--divisions"]),
+    (P + ["--divisions", "2.5"], ["--divisions"]),
+    (P + ["--divisions", "1001"], ["--divisions"]),
+    (P + ["--margin", "-1"], ["--margin"]),
+    (P + ["--margin", "1001"], ["--margin"]),
+    (P + ["--max-edges", "0"], ["--max-edges"]),
+    (P + ["--max-boxes", "0"], ["--max-boxes"]),
+    (P + ["--max-seconds", "-1"], ["--max-seconds"]),
+    (P + ["--max-seconds", "nan"], ["--max-seconds"]),
+    (P + ["--min-width", "0"], ["--min-width"]),
+    (P + ["--max-memory", "0"], ["--max-memory"]),
+    (["plan", MEL, "--from", "-90,140,1e300,0,0,0", "--to", G], ["--from", "z"]),
+    (["plan", MEL, "--from", S, "--to", "55,140"], ["--to"]),
+    (P + ["--constraints", ""], ["--constraints"]),
+    (P + ["--constraints", "legs"], ["--constraints"]),
+    (P + ["--to", G], ["--to", "twice"]),
+    (P + ["--certificate", "{tmp}"], ["--certificate", "directory"]),
+    (P + ["--report", "{tmp}/p.txt"], ["--report"]),
+    (P + ["--report", "{tmp}/no/p.html"], ["--report", "does not exist"]),
+]
+
+
+@pytest.mark.parametrize("argv, words", HOSTILE, ids=[" ".join(a[6:])[:60] for a, _ in HOSTILE])
+def test_hostile_input_is_refused(cli, argv, words):
+    refused(cli(*argv), *words)
+
+
+def test_plan_reports_progress_and_prints_exact_waypoints(cli):
+    run = cli(*P, "--progress", "--report", "{tmp}/p.html", "--certificate", "{tmp}/p.json", "--json")
+    answered(run)
+    doc = json.loads(run.out)
+    assert doc["status"] == "found" and "segments verified" in run.err
+    assert run.left == ["p.html", "p.json"]
+    for w in doc["waypoints"][1:-1]:
+        for v in w.values():
+            digits = v.replace("-", "").replace(".", "").lstrip("0")
+            assert len(digits) <= 12 and "e" not in v
+
+
+def test_no_path_writes_no_certificate_and_says_so(cli):
+    run = cli("plan", MEL, "--from", S, "--to", "84,92,500,85deg,10deg,0", "--certificate", "{tmp}/p.json")
+    answered(run, "infeasible-endpoint")
+    assert "no certificate written" in run.err and run.left == []
+
+
+def test_max_seconds_bounds_the_whole_plan(cli):
+    run = cli(*P, "--divisions", "200", "--max-seconds", "2")
+    answered(run)
+    assert run.seconds < 2 + 4

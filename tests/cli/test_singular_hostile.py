@@ -1,0 +1,109 @@
+"""``certkin singular`` on hostile input (issue #18): every bad option is refused before solving
+(exit 2, one line naming it, nothing written); the budgets bound time and memory."""
+import json
+
+import pytest
+
+from conftest import R2, SPHERICAL, answered, limited, refused
+
+BOX = "x=-1:1,y=0:1,phi=0:0.1"
+S = ["singular", R2]
+
+HOSTILE = [
+    # budgets: 0, negative, nan, not a number
+    (S + ["--box", BOX, "--max-boxes", "0"], ["--max-boxes"]),
+    (S + ["--box", BOX, "--max-boxes", "-1"], ["--max-boxes"]),
+    (S + ["--box", BOX, "--max-boxes", "2.5"], ["--max-boxes"]),
+    (S + ["--box", BOX, "--max-seconds", "0"], ["--max-seconds"]),
+    (S + ["--box", BOX, "--max-seconds", "-1"], ["--max-seconds"]),
+    (S + ["--box", BOX, "--max-seconds", "nan"], ["--max-seconds"]),
+    (S + ["--box", BOX, "--min-width", "0"], ["--min-width"]),
+    (S + ["--box", BOX, "--min-width", "-1"], ["--min-width"]),
+    (S + ["--box", BOX, "--min-width", "nan"], ["--min-width"]),
+    (S + ["--box", BOX, "--max-memory", "0"], ["--max-memory"]),
+    (S + ["--box", BOX, "--max-memory", "lots"], ["--max-memory"]),
+    # counts
+    (S + ["--box", BOX, "--cells", "0"], ["--cells"]),
+    (S + ["--box", BOX, "--cells", "-3"], ["--cells"]),
+    (S + ["--box", BOX, "--cells", "ten"], ["--cells"]),
+    (S + ["--box", BOX, "--cells", "100"], ["--cells", "box budget"]),                 # 10^6 cells > max-boxes
+    (S + ["--box", BOX, "--cells", "1000", "--max-boxes", "1e10"], ["--cells", "memory"]),   # 23 GB once
+    (S + ["--box", BOX, "--cells", "50", "--max-memory", "100MiB"], ["--cells", "memory"]),
+    # conflicting or ignored options
+    (S + ["--box", BOX, "--around", "1,1,0"], ["--box", "--around"]),
+    (S + ["--box", BOX, "--scale", "1,1,1"], ["--scale", "--around"]),
+    (S + ["--around", "1,1,0", "--cells", "3"], ["--cells"]),
+    (S + ["--around", "1,1,0", "--plot", "{tmp}/a.png"], ["--plot"]),
+    (S, ["--box"]),
+    (S + ["--box", BOX, "--box", "x=1,y=1,phi=0"], ["--box", "twice"]),
+    (S + ["--box", BOX, "--angles", "tilt-torsion"], ["--angles"]),
+    (S + ["--box", BOX, "--bogus"], ["--bogus"]),
+    # absurd or malformed values
+    (S + ["--box", "x=-1e300:1,y=0:1,phi=0:0.1"], ["--box", "x", "out of range"]),
+    (S + ["--box", "x=-1:1,y=0:1,phi=0:1e13"], ["--box", "phi", "out of range"]),
+    (S + ["--box", "x=1:-1,y=0:1,phi=0:0.1"], ["--box", "x"]),
+    (S + ["--box", "x=a:b,y=0:1,phi=0:0.1"], ["--box", "x"]),
+    (S + ["--box", "x=-1:1,y=0:1"], ["--box", "phi"]),
+    (S + ["--box", "x=-1:1,y=0:1,phi=0:0.1,z=0:1"], ["--box", "z"]),
+    (S + ["--around", "1,1"], ["--around"]),
+    (S + ["--around", "1,1,nan"], ["--around"]),
+    (S + ["--around", "-20,25,0.1", "--scale", "-1,1,1"], ["--scale"]),
+    (S + ["--around", "-20,25,0.1", "--scale", "1,1,1e300"], ["--scale"]),
+    (S + ["--around", "-20,25,0.1", "--scale", "1,1"], ["--scale"]),
+    # output paths
+    (S + ["--box", BOX, "--certificate", "{tmp}"], ["--certificate", "directory"]),
+    (S + ["--box", BOX, "--certificate", "{tmp}/missing/c.json"], ["--certificate", "does not exist"]),
+    (S + ["--box", BOX, "--certificate", "/proc/c.json"], ["--certificate", "cannot write"]),
+    (S + ["--box", BOX, "--report", "{tmp}/r.txt"], ["--report", ".txt"]),
+    (S + ["--box", BOX, "--report", "{tmp}"], ["--report", "directory"]),
+    (S + ["--box", BOX, "--cells", "2", "--plot", "{tmp}/p.xyz"], ["--plot", ".xyz"]),
+    (S + ["--box", BOX, "--certificate", "{tmp}/x.html", "--report", "{tmp}/x.html"], ["--report", "same file"]),
+    # the robot file
+    (["singular", "{tmp}/none.toml", "--box", BOX], ["none.toml", "no such file"]),
+    (["singular", "{tmp}", "--box", BOX], ["directory"]),
+]
+
+
+@pytest.mark.parametrize("argv, words", HOSTILE, ids=[" ".join(a[2:])[:60] for a, _ in HOSTILE])
+def test_hostile_input_is_refused(cli, argv, words):
+    refused(cli(*argv), *words)
+
+
+def test_a_fixed_irrational_angle_is_not_split(cli):
+    """phi = 45deg given once: 10 x 10 cells, the digest's counts (S 12 / F 88), none undecided."""
+    run = cli(*S, "--box", "x=-50:50,y=-50:50,phi=45deg", "--cells", "10", "--json")
+    answered(run)
+    assert json.loads(run.out)["counts"] == {"singularity-free": 88, "singular": 12, "undecided": 0}
+
+
+def test_around_shows_progress_and_prints_the_free_box_inward(cli):
+    run = cli(*S, "--around=-20,25,0.1", "--progress", "--max-seconds", "20")
+    answered(run, "singularity-free")
+    assert "boxes tried" in run.err
+    doc = cli(*S, "--around=-20,25,0.1", "--max-seconds", "20", "--json")
+    box = json.loads(doc.out)["box"]
+    printed = run.out.split("x=[")[1].split("]")[0].split(", ")
+    assert box["x"][0] <= float(printed[0]) <= float(printed[1]) <= box["x"][1]      # inside the proved box
+
+
+@pytest.mark.parametrize("argv", [
+    S + ["--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "40", "--min-width", "1e-12"],
+    S + ["--around=-20,25,0.1", "--min-width", "1e-12"],
+    ["singular", SPHERICAL, "--box", "phi1=-90deg:90deg,phi2=0:90deg,phi3=-90deg:90deg", "--min-width", "1e-12",
+     "--max-boxes", "100000000"],
+])
+def test_max_seconds_is_respected(cli, argv):
+    run = cli(*argv, "--max-seconds", "1")
+    answered(run)
+    assert run.seconds < 1 + 4            # loading the model, the verdicts and the output come on top
+
+
+def test_a_huge_classification_stays_under_the_memory_ceiling(tmp_path):
+    """The run that allocated 23 GB (issue #18) is refused at once; a large allowed one runs
+    within the ceiling (a subprocess limited to 3 GiB of address space)."""
+    run = limited(S + ["--box", BOX, "--cells", "1000", "--max-boxes", "1e10"], tmp_path)
+    refused(run, "--cells")
+    run = limited(S + ["--box", BOX, "--cells", "40", "--max-seconds", "3", "--certificate", "{tmp}/c.json"],
+                  tmp_path)
+    answered(run, "64000 cells")
+    assert run.left == ["c.json"]

@@ -1,0 +1,74 @@
+"""``certkin trajectory`` on hostile input (issue #18)."""
+import json
+
+import pytest
+
+from conftest import MEL, R2, answered, limited, refused
+
+A, B = "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0"
+T = ["trajectory", MEL, "--from", A, "--to", B]
+
+HOSTILE = [
+    (T + ["--max-boxes", "0"], ["--max-boxes"]),
+    (T + ["--max-boxes", "-1"], ["--max-boxes"]),
+    (T + ["--max-seconds", "0"], ["--max-seconds"]),
+    (T + ["--max-seconds", "-1"], ["--max-seconds"]),
+    (T + ["--max-seconds", "nan"], ["--max-seconds"]),
+    (T + ["--min-width", "0"], ["--min-width"]),
+    (T + ["--min-width", "-1"], ["--min-width"]),
+    (T + ["--min-width", "nan"], ["--min-width"]),
+    (T + ["--max-memory", "-1GiB"], ["--max-memory"]),
+    (["trajectory", MEL, "--from", "-69,-50,1e300,85deg,10deg,0", "--to", B], ["--from", "z", "out of range"]),
+    (["trajectory", MEL, "--from", "-69,-50,500,85deg,10deg", "--to", B], ["--from", "6"]),
+    (["trajectory", MEL, "--from", "-69,-50,nan,85deg,10deg,0", "--to", B], ["--from", "z"]),
+    (["trajectory", MEL, "--from", "-69,-50,500,85rad,10deg,0", "--to", B], ["--from", "psi"]),
+    (["trajectory", MEL, "--from", A, "--to", "84,92,500,1e13,10deg,0"], ["--to", "psi"]),
+    (["trajectory", MEL, "--from", A], ["--to"]),
+    (T + ["--from", A], ["--from", "twice"]),
+    (T + ["--via", "1,2,3"], ["--via[0]"]),
+    (T + ["--via", A, "--via", "x"], ["--via[1]"]),
+    (T + ["--constraints", ""], ["--constraints", "empty"]),
+    (T + ["--constraints", "leg-length,,interference"], ["--constraints"]),
+    (T + ["--constraints", "leg-length,leg-length"], ["--constraints", "twice"]),
+    (T + ["--constraints", "legs"], ["--constraints", "legs"]),
+    (T + ["--constraints", "joints"], ["--constraints", "no constraint"]),
+    (T + ["--certificate", "{tmp}"], ["--certificate", "directory"]),
+    (T + ["--certificate", "{tmp}/no/c.json"], ["--certificate", "does not exist"]),
+    (T + ["--report", "{tmp}/r.pdf"], ["--report", ".pdf"]),
+    (T + ["--report", "/proc/r.html"], ["--report", "cannot write"]),
+    (["trajectory", R2, "--from", "0,0,0", "--to", "1,1,0", "--constraints", "leg-length"], ["--constraints",
+                                                                                              "no constraint"]),
+]
+
+
+@pytest.mark.parametrize("argv, words", HOSTILE, ids=[" ".join(a[2:])[-60:] for a, _ in HOSTILE])
+def test_hostile_input_is_refused(cli, argv, words):
+    refused(cli(*argv), *words)
+
+
+def test_negative_values_and_outputs(cli):
+    run = cli(*T, "--certificate", "{tmp}/t.json", "--report", "{tmp}/t.html", "--json")
+    answered(run)
+    assert json.loads(run.out)["status"] == "infeasible" and run.left == ["t.html", "t.json"]
+
+
+def test_printed_violations_enclose_the_proved_ones(cli):
+    """Forbidden t-ranges are enclosures: the printed interval contains the one in the JSON."""
+    doc = json.loads(cli(*T, "--constraints", "interference", "--json").out)
+    text = cli(*T, "--constraints", "interference").out
+    for v in doc["violations"]:
+        line = next(l for l in text.splitlines() if f"{'-'.join(map(str, v['legs']))} for t in" in l)
+        lo, hi = (float(x) for x in line.split("t in [")[1].rstrip("]").split(", "))
+        assert lo <= v["t"][0] and v["t"][1] <= hi
+
+
+def test_an_absurd_height_ends_within_the_time_budget(cli):
+    """A pose 1e11 mm away (issue #18: 1e300 ran 15 s under --max-seconds 5, then crashed)."""
+    run = cli("trajectory", MEL, "--from", "-69,-50,1e11,85deg,10deg,0", "--to", B, "--max-seconds", "2")
+    answered(run)
+    assert run.seconds < 2 + 4
+
+
+def test_the_absurd_pose_of_the_issue_under_a_memory_limit(tmp_path):
+    run = limited(["trajectory", MEL, "--from", "-69,-50,1e300,85deg,10deg,0", "--to", B, "--max-seconds", "5"], tmp_path)
+    refused(run, "--from")

@@ -1,0 +1,57 @@
+"""``certkin workspace`` on hostile input (issue #18)."""
+import pytest
+
+from conftest import MICRO, R2, answered, refused
+
+W = ["workspace", MICRO]
+Z = W + ["--z", "20005"]
+
+HOSTILE = [
+    (Z + ["--max-boxes", "0"], ["--max-boxes"]),
+    (Z + ["--max-seconds", "0"], ["--max-seconds"]),
+    (Z + ["--max-seconds", "nan"], ["--max-seconds"]),
+    (Z + ["--min-width", "-1"], ["--min-width"]),
+    (Z + ["--max-memory", "x"], ["--max-memory"]),
+    (Z + ["--z-range", "1:2"], ["--z-range", "not both"]),
+    (Z + ["--slabs", "10"], ["--slabs", "--z-range"]),
+    (W + ["--z-range", "20000:20010", "--slabs", "0"], ["--slabs"]),
+    (W + ["--z-range", "20000:20010", "--slabs", "100000"], ["--slabs"]),
+    (W + ["--z-range", "20000:20010", "--slabs", "ten"], ["--slabs"]),
+    (W + ["--z-range", "20010:20000"], ["--z-range"]),
+    (W + ["--z-range", "-1e300:0"], ["--z-range", "out of range"]),
+    (W + ["--z", "1e300"], ["--z", "out of range"]),
+    (W + ["--z", "nan"], ["--z"]),
+    (W, ["--z"]),
+    (Z + ["--orientation", "0,0"], ["--orientation"]),
+    (Z + ["--orientation", "0,1e13,0"], ["--orientation", "theta"]),
+    (Z + ["--z", "1"], ["--z", "twice"]),
+    (["workspace", R2, "--z", "1"], ["limits.leg_length"]),          # no leg-length limits in this file
+    (Z + ["--plot", "{tmp}/w.xyz"], ["--plot", ".xyz"]),
+    (Z + ["--plot", "{tmp}"], ["--plot", "directory"]),
+    (Z + ["--report", "{tmp}/w.txt"], ["--report"]),
+    (Z + ["--certificate", "{tmp}/no/w.json"], ["--certificate"]),
+]
+
+
+@pytest.mark.parametrize("argv, words", HOSTILE, ids=[" ".join(a[2:])[:60] for a, _ in HOSTILE])
+def test_hostile_input_is_refused(cli, argv, words):
+    refused(cli(*argv), *words)
+
+
+def test_negative_values_are_values(cli):
+    """``--orientation -30deg,0,0`` and ``--z-range -20010:-20000`` once failed with 'expected one argument'."""
+    answered(cli(*Z, "--orientation", "-30deg,0,0", "--min-width", "0.05"), "section z = 20005")
+    answered(cli(*W, "--z-range", "-20010:-20000", "--slabs", "20", "--min-width", "0.05"), "volume in [")
+
+
+def test_report_and_plot(cli):
+    pytest.importorskip("matplotlib")
+    run = cli(*Z, "--min-width", "0.02", "--report", "{tmp}/w.html", "--plot", "{tmp}/w.png")
+    answered(run, "exact area in [")
+    assert run.left == ["w.html", "w.png"]
+
+
+def test_many_slabs_stay_within_the_time_budget(cli):
+    run = cli(*W, "--z-range", "20000:20010", "--slabs", "10000", "--max-seconds", "1")
+    answered(run)
+    assert run.seconds < 1 + 6
