@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import argparse
 from contextlib import contextmanager
+from dataclasses import dataclass
 import json
 import sys
+from typing import Callable
 
 from tqdm import tqdm
 
@@ -80,14 +82,43 @@ def with_angles(robot, angles):
     return robot.with_angles(angles)
 
 
-def answer(args, robot, result, certificate, report, describe):
-    """Write ``--certificate`` and ``--report`` of one result, then print its JSON document
-    (``--json``) or its description."""
-    if args.certificate:
-        write_json(args.certificate, certificate(result))
-    if args.report:
-        report(robot, result, args.report)
-    print(json.dumps(result.to_json()) if args.json else describe(robot, result))
+@dataclass
+class Answer:
+    """What a command computed, before anything is written or printed: the robot, the result (or
+    results), the ``--json`` document, and how to describe, certify, report and plot it.  ``run``
+    writes and prints it (``show``); ``certkin batch`` writes the same document and certificate
+    per job."""
+
+    robot: object
+    result: object
+    document: dict
+    describe: Callable[[], str]
+    certificate: Callable[[], dict] | None = None       # None: no certificate for this answer
+    report: Callable[[str], None] | None = None
+    plot: Callable[[str], None] | None = None
+
+
+def write_certificate(path, answer: Answer) -> None:
+    """The certificate of an answer, written to ``path`` (the one writer of the commands and the batch)."""
+    write_json(path, answer.certificate())
+
+
+def write_outputs(args, answer: Answer) -> None:
+    """Write the files the options ask for: ``--certificate``, ``--report``, ``--plot``."""
+    if getattr(args, "certificate", None) and answer.certificate is not None:
+        write_certificate(args.certificate, answer)
+    if getattr(args, "report", None) and answer.report is not None:
+        answer.report(args.report)
+    if getattr(args, "plot", None) and answer.plot is not None:
+        answer.plot(args.plot)
+
+
+def show(args, answer: Answer, out=None) -> int:
+    """Write the outputs of an answer, then print its JSON document (``--json``) or its description
+    (on ``out``, default stdout)."""
+    write_outputs(args, answer)
+    (out or sys.stdout).write((json.dumps(answer.document) if args.json else answer.describe()) + "\n")
+    return 0
 
 
 def constraint_list(text):

@@ -6,7 +6,7 @@ from ..engine import budgets
 from ..fk import forward_kinematics
 from ..report import fk_report
 from ..robots import load_robot
-from .common import add_budget, add_outputs, answer, budget, options, progress, with_angles
+from .common import Answer, add_budget, add_outputs, budget, options, progress, show, with_angles
 
 OPTIONS = {"lengths": "--lengths", "domain": "--domain", "track": "--track"}
 
@@ -21,13 +21,20 @@ def add_arguments(f):
     add_budget(f, budgets.FORWARD_KINEMATICS)
 
 
-def run(args):
+def compute(args, robot=None) -> Answer:
+    """The answer of ``certkin fk`` (``robot``: the robot file already loaded, else ``args.robot``)."""
     with options(OPTIONS):
-        robot = with_angles(load_robot(args.robot), args.angles)
+        robot = with_angles(robot or load_robot(args.robot), args.angles)
         result = forward_kinematics(robot, args.lengths, domain=args.domain, budget=budget(args),
                                     progress=progress(args.progress), track=args.track)
-        answer(args, robot, result, fk_certificate, fk_report, describe)
-    return 0
+    return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
+                  lambda: fk_certificate(result), lambda path: fk_report(robot, result, path))
+
+
+def run(args):
+    answer = compute(args)
+    with options(OPTIONS):
+        return show(args, answer)
 
 
 def describe(robot, r):

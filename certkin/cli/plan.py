@@ -1,13 +1,10 @@
 """``certkin plan``: a path whose every segment is certified feasible."""
 from __future__ import annotations
 
-import json
-
-from ..certificates import write_json
 from ..engine import budgets
 from ..robots import load_robot
 from ..trajectory import plan
-from .common import constraint_list, options
+from .common import Answer, constraint_list, options, show
 
 OPTIONS = {"start": "--from", "goal": "--to", "constraints": "--constraints"}
 
@@ -24,18 +21,21 @@ def add_arguments(pl):
     pl.add_argument("--certificate", metavar="FILE", help="write the certificate of every segment to FILE")
 
 
-def run(args):
+def compute(args, robot=None) -> Answer:
+    """The answer of ``certkin plan`` (``robot``: the robot file already loaded, else ``args.robot``);
+    a certificate only when the plan has segments."""
     with options(OPTIONS):
-        robot = load_robot(args.robot)
+        robot = robot or load_robot(args.robot)
         result = plan(robot, args.start, args.goal, constraints=constraint_list(args.constraints),
                       divisions=args.divisions, max_seconds=args.max_seconds)
-        if args.certificate and result.segments:
-            write_json(args.certificate, result.certificate())
-    if args.json:
-        print(json.dumps(result.to_json()))
-    else:
-        print(describe(robot, result))
-    return 0
+    return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
+                  result.certificate if result.segments else None)
+
+
+def run(args):
+    answer = compute(args)
+    with options(OPTIONS):
+        return show(args, answer)
 
 
 def describe(robot, result):

@@ -1,9 +1,7 @@
 """``certkin singular``: prove a box of poses singularity-free, or find a singularity in it."""
 from __future__ import annotations
 
-import json
-
-from ..certificates import singularity_certificate, write_json
+from ..certificates import singularity_certificate
 from ..engine import budgets
 from ..errors import InputError
 from ..plots import plot_cells
@@ -11,7 +9,7 @@ from ..report import singularity_report
 from ..robots import load_robot
 from ..robots.poses import parse_box
 from ..singularity import classify_cells, largest_free_box
-from .common import add_budget, add_outputs, budget, options, progress, with_angles
+from .common import Answer, add_budget, add_outputs, budget, options, progress, show, with_angles
 
 OPTIONS = {"box": "--box", "pose": "--around", "scale": "--scale", "plot": "--plot"}
 
@@ -29,9 +27,10 @@ def add_arguments(s):
     add_budget(s, budgets.SINGULARITY)
 
 
-def run(args):
+def compute(args, robot=None) -> Answer:
+    """The answer of ``certkin singular`` (``robot``: the robot file already loaded, else ``args.robot``)."""
     with options(OPTIONS):
-        robot = with_angles(load_robot(args.robot), args.angles)
+        robot = with_angles(robot or load_robot(args.robot), args.angles)
         if args.around:
             results = [largest_free_box(robot, args.around, scale=args.scale, budget=budget(args))]
         else:
@@ -41,26 +40,28 @@ def run(args):
             if args.cells is not None and args.cells < 1:
                 raise InputError("--cells", "", "expected a positive number of cells per side")
             results = classify_cells(robot, box, args.cells or 1, budget(args), progress(args.progress))
-        if args.certificate:
-            write_json(args.certificate, singularity_certificate(results))
-        if args.plot:
-            plot_cells(robot, results, args.plot)
-        if args.report:
-            singularity_report(robot, results, args.report)
     if args.cells:
         doc = {"problem": "singularity", "robot": robot.name, "kind": robot.kind, "cells": args.cells,
                "counts": _counts(results), "results": [r.to_json() for r in results]}
     else:
         doc = results[0].to_json()
-    if args.json:
-        print(json.dumps(doc))
-    elif args.cells:
+    return Answer(robot, results, doc, lambda: _text(robot, results, doc, args.cells),
+                  lambda: singularity_certificate(results), lambda path: singularity_report(robot, results, path),
+                  lambda path: plot_cells(robot, results, path))
+
+
+def run(args):
+    answer = compute(args)
+    with options(OPTIONS):
+        return show(args, answer)
+
+
+def _text(robot, results, doc, cells):
+    if cells:
         c = doc["counts"]
-        print(f"{robot.name}: {len(results)} cells: {c['singularity-free']} singularity-free, "
-              f"{c['singular']} singular, {c['undecided']} undecided")
-    else:
-        print(describe(robot, results[0]))
-    return 0
+        return (f"{robot.name}: {len(results)} cells: {c['singularity-free']} singularity-free, "
+                f"{c['singular']} singular, {c['undecided']} undecided")
+    return describe(robot, results[0])
 
 
 def _counts(results):

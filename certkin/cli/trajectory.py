@@ -6,7 +6,7 @@ from ..engine import budgets
 from ..report import trajectory_report
 from ..robots import load_robot
 from ..trajectory import verify_trajectory
-from .common import add_budget, add_outputs, answer, budget, constraint_list, options, progress
+from .common import Answer, add_budget, add_outputs, budget, constraint_list, options, progress, show
 
 OPTIONS = {"start": "--from", "goal": "--to", "waypoints": "--via", "constraints": "--constraints"}
 
@@ -22,14 +22,21 @@ def add_arguments(t):
     add_budget(t, budgets.TRAJECTORY)
 
 
-def run(args):
+def compute(args, robot=None) -> Answer:
+    """The answer of ``certkin trajectory`` (``robot``: the robot file already loaded, else ``args.robot``)."""
     with options(OPTIONS):
-        robot = load_robot(args.robot)
+        robot = robot or load_robot(args.robot)
         result = verify_trajectory(robot, args.start, args.goal, waypoints=list(args.via or []),
                                    constraints=constraint_list(args.constraints), budget=budget(args),
                                    progress=progress(args.progress))
-        answer(args, robot, result, trajectory_certificate, trajectory_report, describe)
-    return 0
+    return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
+                  lambda: trajectory_certificate(result), lambda path: trajectory_report(robot, result, path))
+
+
+def run(args):
+    answer = compute(args)
+    with options(OPTIONS):
+        return show(args, answer)
 
 
 def describe(robot, r):

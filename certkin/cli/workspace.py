@@ -1,10 +1,8 @@
 """``certkin workspace``: a constant-orientation section (exact arcs, area) or a volume bracket."""
 from __future__ import annotations
 
-import json
 import sys
 
-from ..certificates import write_json
 from ..engine import budgets
 from ..errors import InputError
 from ..plots import plot_section, plot_volume
@@ -13,7 +11,7 @@ from ..workspace import VolumeResult, workspace_section, workspace_volume
 from ..workspace.annuli import ORIENTATION, check_robot
 from ..workspace.section import ignored_limits
 from ..workspace.volume import DEFAULT_SLABS
-from .common import options, progress
+from .common import Answer, options, progress, show
 
 OPTIONS = {"orientation": "--orientation", "z": "--z", "z_range": "--z-range", "slabs": "--slabs",
            "max_boxes": "--max-boxes", "min_width": "--min-width", "max_seconds": "--max-seconds", "plot": "--plot"}
@@ -41,28 +39,28 @@ def add_arguments(parser) -> None:
                              f"(default {DEFAULT['min_width']})")
 
 
-def run(args, out=None) -> int:
-    """``certkin workspace``: prints a summary (or ``--json``), writes ``--certificate``/``--plot``; returns 0.
+def compute(args, robot=None) -> Answer:
+    """The answer of ``certkin workspace`` (``robot``: the robot file already loaded, else ``args.robot``).
 
     Bad input raises ``InputError`` (the CLI prints it on one line and exits 2).
     """
-    out = out or sys.stdout
     with options(OPTIONS):
-        result = _solve(args)
-        if args.certificate:
-            write_json(args.certificate, result.certificate())
-        if args.plot:
-            (plot_volume if isinstance(result, VolumeResult) else plot_section)(result, args.plot)
-    if args.json:
-        out.write(json.dumps(result.to_json()) + "\n")
-    else:
-        out.write(describe(result) + "\n")
-    return 0
+        result = _solve(args, robot)
+    plot = plot_volume if isinstance(result, VolumeResult) else plot_section
+    return Answer(result.robot, result, result.to_json(), lambda: describe(result), result.certificate,
+                  None, lambda path: plot(result, path))
 
 
-def _solve(args):
+def run(args, out=None) -> int:
+    """``certkin workspace``: prints a summary (or ``--json``), writes ``--certificate``/``--plot``; returns 0."""
+    answer = compute(args)
+    with options(OPTIONS):
+        return show(args, answer, out)
+
+
+def _solve(args, robot=None):
     """The section or the volume the options ask for."""
-    robot = load_robot(args.robot)
+    robot = robot or load_robot(args.robot)
     check_robot(robot)
     if args.z is not None and args.z_range is not None:
         raise InputError("--z-range", "", "give either --z (a section) or --z-range (a volume), not both")
