@@ -12,7 +12,7 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
-from . import check, demo, fk, plan, singular, trajectory, workspace
+from . import batch, check, demo, fk, jobs, plan, singular, trajectory, workspace
 from .common import Parser, join_pose_values
 
 COMMANDS = (
@@ -22,6 +22,8 @@ COMMANDS = (
     ("plan", plan, "a path whose every segment is certified feasible"),
     ("workspace", workspace, "constant-orientation workspace: section (exact arcs, area) or volume bracket"),
     ("check", check, "re-verify a certificate with the independent checker"),
+    ("batch", batch, "answer a file of jobs (JSONL) on a local pool or a Dask cluster, resumably"),
+    ("jobs", jobs, "print jobs (JSONL) for exhaustive campaigns: certkin jobs grid ..."),
     ("demo", demo, "run the seed examples on the bundled robots"),
 )
 
