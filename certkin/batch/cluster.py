@@ -16,7 +16,7 @@ def run_dask(tasks: list, work, address: str, report) -> bool:
     as each ends.  Returns True when Ctrl-C stopped the run."""
     from dask.distributed import Client, as_completed
 
-    with Client(address, set_as_default=False) as client:
+    with Client(address) as client:
         futures = {client.submit(work, *task, pure=False): i for i, task in enumerate(tasks)}
         try:
             for future in as_completed(futures):

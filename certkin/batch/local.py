@@ -33,15 +33,18 @@ class Died:
     reason: str
 
 
-def _worker_setup():
-    """In each worker: ignore Ctrl-C, and exit when the parent (the fork server's parent) is gone."""
+def _worker_setup(batch_pid: int):
+    """In each worker: ignore Ctrl-C, and exit when the batch process is gone (the worker's own
+    parent is the fork server, which lives as long as its workers do)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    parent = os.getppid()
 
     def watch():
-        while os.getppid() == parent:
+        while True:
+            try:
+                os.kill(batch_pid, 0)
+            except ProcessLookupError:
+                os._exit(1)
             time.sleep(0.5)
-        os._exit(1)
     threading.Thread(target=watch, daemon=True).start()
 
 
@@ -49,7 +52,8 @@ class _Worker:
     """One worker process and the tasks handed to it, oldest first."""
 
     def __init__(self, context):
-        self.executor = ProcessPoolExecutor(1, mp_context=context, initializer=_worker_setup)
+        self.executor = ProcessPoolExecutor(1, mp_context=context, initializer=_worker_setup,
+                                            initargs=(os.getpid(),))
         self.pid = self.executor.submit(os.getpid)
         self.tasks = deque()                # (task index, future)
 
