@@ -17,7 +17,7 @@ from typing import Callable
 from tqdm import tqdm
 
 from ..certificates import write_json
-from ..engine import Budget
+from ..engine import Budget, interrupt
 from ..errors import InputError
 
 
@@ -119,6 +119,23 @@ def show(args, answer: Answer, out=None) -> int:
     write_outputs(args, answer)
     (out or sys.stdout).write((json.dumps(answer.document) if args.json else answer.describe()) + "\n")
     return 0
+
+
+def run_answer(args, compute, names: dict, out=None) -> int:
+    """``compute(args)``, then write and print its answer.  Ctrl-C while it computes stops the
+    searches (``engine.interrupt``): the answer proved so far is written (a partial certificate
+    that still checks) and printed, marked interrupted, and the exit code is 130."""
+    with interrupt.interruptible():
+        answer = compute(args)
+    stopped = interrupt.cut_short()
+    if stopped:
+        answer.document["interrupted"] = True
+        describe = answer.describe
+        answer.describe = lambda: ("INTERRUPTED (Ctrl-C): what was proved before the interrupt; the boxes "
+                                   "not finished are undecided\n" + describe())
+    with options(names):
+        show(args, answer, out)
+    return 130 if stopped else 0
 
 
 def constraint_list(text):

@@ -6,7 +6,7 @@ from ..engine import budgets
 from ..fk import forward_kinematics
 from ..report import fk_report
 from ..robots import load_robot
-from .common import Answer, add_budget, add_outputs, budget, options, progress, show, with_angles
+from .common import Answer, add_budget, add_outputs, budget, options, progress, run_answer, with_angles
 
 OPTIONS = {"lengths": "--lengths", "domain": "--domain", "track": "--track"}
 
@@ -32,9 +32,7 @@ def compute(args, robot=None) -> Answer:
 
 
 def run(args):
-    answer = compute(args)
-    with options(OPTIONS):
-        return show(args, answer)
+    return run_answer(args, compute, OPTIONS)
 
 
 def describe(robot, r):

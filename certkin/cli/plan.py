@@ -4,7 +4,7 @@ from __future__ import annotations
 from ..engine import budgets
 from ..robots import load_robot
 from ..trajectory import plan
-from .common import Answer, constraint_list, options, show
+from .common import Answer, constraint_list, options, run_answer
 
 OPTIONS = {"start": "--from", "goal": "--to", "constraints": "--constraints"}
 
@@ -33,9 +33,7 @@ def compute(args, robot=None) -> Answer:
 
 
 def run(args):
-    answer = compute(args)
-    with options(OPTIONS):
-        return show(args, answer)
+    return run_answer(args, compute, OPTIONS)
 
 
 def describe(robot, result):

@@ -9,7 +9,7 @@ from ..report import singularity_report
 from ..robots import load_robot
 from ..robots.poses import parse_box
 from ..singularity import classify_cells, largest_free_box
-from .common import Answer, add_budget, add_outputs, budget, options, progress, show, with_angles
+from .common import Answer, add_budget, add_outputs, budget, options, progress, run_answer, with_angles
 
 OPTIONS = {"box": "--box", "pose": "--around", "scale": "--scale", "plot": "--plot"}
 
@@ -51,9 +51,7 @@ def compute(args, robot=None) -> Answer:
 
 
 def run(args):
-    answer = compute(args)
-    with options(OPTIONS):
-        return show(args, answer)
+    return run_answer(args, compute, OPTIONS)
 
 
 def _text(robot, results, doc, cells):

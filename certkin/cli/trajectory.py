@@ -6,7 +6,7 @@ from ..engine import budgets
 from ..report import trajectory_report
 from ..robots import load_robot
 from ..trajectory import verify_trajectory
-from .common import Answer, add_budget, add_outputs, budget, constraint_list, options, progress, show
+from .common import Answer, add_budget, add_outputs, budget, constraint_list, options, progress, run_answer
 
 OPTIONS = {"start": "--from", "goal": "--to", "waypoints": "--via", "constraints": "--constraints"}
 
@@ -34,9 +34,7 @@ def compute(args, robot=None) -> Answer:
 
 
 def run(args):
-    answer = compute(args)
-    with options(OPTIONS):
-        return show(args, answer)
+    return run_answer(args, compute, OPTIONS)
 
 
 def describe(robot, r):

@@ -11,7 +11,7 @@ from ..workspace import VolumeResult, workspace_section, workspace_volume
 from ..workspace.annuli import ORIENTATION, check_robot
 from ..workspace.section import ignored_limits
 from ..workspace.volume import DEFAULT_SLABS
-from .common import Answer, options, progress, show
+from .common import Answer, options, progress, run_answer
 
 OPTIONS = {"orientation": "--orientation", "z": "--z", "z_range": "--z-range", "slabs": "--slabs",
            "max_boxes": "--max-boxes", "min_width": "--min-width", "max_seconds": "--max-seconds", "plot": "--plot"}
@@ -53,9 +53,7 @@ def compute(args, robot=None) -> Answer:
 
 def run(args, out=None) -> int:
     """``certkin workspace``: prints a summary (or ``--json``), writes ``--certificate``/``--plot``; returns 0."""
-    answer = compute(args)
-    with options(OPTIONS):
-        return show(args, answer, out)
+    return run_answer(args, compute, OPTIONS, out)
 
 
 def _solve(args, robot=None):

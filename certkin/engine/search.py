@@ -15,7 +15,7 @@ their own reason and evidence): a contracted box becomes the child of the
 box it came from, and the status is about the contracted box.  Open boxes are bisected
 (widest side scaled by ``scale``, split off-centre at ``SPLIT_RATIO`` so
 that symmetric roots do not land on faces) until they are decided, narrower
-than ``min_width``, or a budget (boxes, seconds) runs out.  When few boxes
+than ``min_width``, or a budget (boxes, seconds, Ctrl-C: ``interrupt``) runs out.  When few boxes
 are open, each is halved several times at once (up to ``d`` times) so that
 one batch keeps numpy busy; the tree still records binary splits.
 
@@ -39,8 +39,10 @@ import time
 
 import numpy as np
 
+from . import interrupt
 from .budgets import Budget
-from .tree import BUDGET, CONTRACTED, EXCLUDED, NOT_NEEDED, OPEN, PROVED, RESOLUTION, SPLIT, UNDECIDED, Evidence, Store, Tree
+from .tree import BUDGET, CONTRACTED, EXCLUDED, INTERRUPTED, NOT_NEEDED, OPEN, PROVED, RESOLUTION, SPLIT, UNDECIDED, \
+    Evidence, Store, Tree
 
 SPLIT_RATIO = 0.4921875  # off-centre bisection ratio (exact in binary)
 
@@ -116,6 +118,10 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
         if processed >= budget.max_boxes or time.perf_counter() - t0 > budget.max_seconds:
             exhausted = True
             break
+        if interrupt.requested():
+            exhausted = True
+            interrupt.cut()
+            break
         ids = _pop(frontier, batch)
         done = finished[store.root[ids]]
         if done.any():
@@ -170,7 +176,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
             progress(processed, sum(len(f) for f in frontier))
     for ids in frontier:
         store.kind[ids] = UNDECIDED
-        store.reason[ids] = BUDGET
+        store.reason[ids] = INTERRUPTED if interrupt.requested() else BUDGET
     ev, rows = evidence.finish(store.n)
     tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows)
     return SearchResult(tree, processed, time.perf_counter() - t0, exhausted)
