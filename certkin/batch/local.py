@@ -43,7 +43,7 @@ def _worker_setup(batch_pid: int):
             try:
                 os.kill(batch_pid, 0)
             except ProcessLookupError:
-                os._exit(1)
+                os.kill(os.getpid(), signal.SIGKILL)     # the batch is gone: so is its worker
             time.sleep(0.5)
     threading.Thread(target=watch, daemon=True).start()
 

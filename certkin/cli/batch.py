@@ -20,6 +20,7 @@ from ..batch import PENDING, read_jobs, run_batch
 from ..batch.results import ERROR, certificate_path, done, file_facts, row, write_document, \
     write_error
 from ..errors import InputError
+from ..report import batch_report
 from ..robots import load_robot, robot_from_dict
 from . import fk, plan, singular, trajectory, workspace
 from .common import Parser, write_certificate
@@ -159,6 +160,8 @@ def run(args):
                         (lambda r: bar.update(1)) if bar else None)
     if bar:
         bar.close()
+    if args.report:
+        batch_report(summary, args.out, args.report)
     print(json.dumps(summary) if args.json else table(summary, args.out))
     return 130 if summary["interrupted"] else 0
 

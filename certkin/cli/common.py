@@ -94,7 +94,7 @@ class Answer:
     document: dict
     describe: Callable[[], str]
     certificate: Callable[[], dict] | None = None       # None: no certificate for this answer
-    report: Callable[[str], None] | None = None
+    report: Callable[[str, str | None], None] | None = None     # (path, certificate file or None)
     plot: Callable[[str], None] | None = None
 
 
@@ -108,7 +108,7 @@ def write_outputs(args, answer: Answer) -> None:
     if getattr(args, "certificate", None) and answer.certificate is not None:
         write_certificate(args.certificate, answer)
     if getattr(args, "report", None) and answer.report is not None:
-        answer.report(args.report)
+        answer.report(args.report, getattr(args, "certificate", None))
     if getattr(args, "plot", None) and answer.plot is not None:
         answer.plot(args.plot)
 

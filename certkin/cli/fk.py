@@ -28,7 +28,8 @@ def compute(args, robot=None) -> Answer:
         result = forward_kinematics(robot, args.lengths, domain=args.domain, budget=budget(args),
                                     progress=progress(args.progress), track=args.track)
     return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
-                  lambda: fk_certificate(result), lambda path: fk_report(robot, result, path))
+                  lambda: fk_certificate(result),
+                  lambda path, cert: fk_report(robot, result, path, cert, budget(args)))
 
 
 def run(args):

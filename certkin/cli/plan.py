@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from ..engine import budgets
+from ..report import plan_report
 from ..robots import load_robot
 from ..trajectory import plan
 from .common import Answer, constraint_list, options, run_answer
@@ -19,6 +20,7 @@ def add_arguments(pl):
                     help=f"time budget (default {budgets.PLAN_SECONDS:g})")
     pl.add_argument("--json", action="store_true", help="print one JSON document")
     pl.add_argument("--certificate", metavar="FILE", help="write the certificate of every segment to FILE")
+    pl.add_argument("--report", metavar="FILE.html", help="write a self-contained HTML report")
 
 
 def compute(args, robot=None) -> Answer:
@@ -29,7 +31,8 @@ def compute(args, robot=None) -> Answer:
         result = plan(robot, args.start, args.goal, constraints=constraint_list(args.constraints),
                       divisions=args.divisions, max_seconds=args.max_seconds)
     return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
-                  result.certificate if result.segments else None)
+                  result.certificate if result.segments else None,
+                  lambda path, cert: plan_report(robot, result, path, cert))
 
 
 def run(args):

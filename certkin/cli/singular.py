@@ -18,7 +18,7 @@ def add_arguments(s):
     s.add_argument("robot", help="robot file (TOML)")
     s.add_argument("--box", help='box of poses, e.g. "x=-20:20,y=-20:20,phi=0:0.7853981634"')
     s.add_argument("--cells", type=int, help="split the box into n^d cells and classify each")
-    s.add_argument("--plot", metavar="FILE.png", help="picture of the cells (needs matplotlib)")
+    s.add_argument("--plot", metavar="FILE.png", help="picture of the cells")
     s.add_argument("--around", metavar="POSE", help="largest singularity-free box centred at POSE")
     s.add_argument("--scale", metavar="S1,S2,...", help="half-widths of the unit box for --around")
     s.add_argument("--angles", choices=["zyz", "tilt-torsion"],
@@ -46,7 +46,8 @@ def compute(args, robot=None) -> Answer:
     else:
         doc = results[0].to_json()
     return Answer(robot, results, doc, lambda: _text(robot, results, doc, args.cells),
-                  lambda: singularity_certificate(results), lambda path: singularity_report(robot, results, path),
+                  lambda: singularity_certificate(results),
+                  lambda path, cert: singularity_report(robot, results, path, cert, budget(args)),
                   lambda path: plot_cells(robot, results, path))
 
 

@@ -30,7 +30,8 @@ def compute(args, robot=None) -> Answer:
                                    constraints=constraint_list(args.constraints), budget=budget(args),
                                    progress=progress(args.progress))
     return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
-                  lambda: trajectory_certificate(result), lambda path: trajectory_report(robot, result, path))
+                  lambda: trajectory_certificate(result),
+                  lambda path, cert: trajectory_report(robot, result, path, cert, budget(args)))
 
 
 def run(args):

@@ -6,6 +6,7 @@ import sys
 from ..engine import budgets
 from ..errors import InputError
 from ..plots import plot_section, plot_volume
+from ..report import workspace_report
 from ..robots import load_robot
 from ..workspace import VolumeResult, workspace_section, workspace_volume
 from ..workspace.annuli import ORIENTATION, check_robot
@@ -28,7 +29,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--slabs", metavar="N", help=f"number of z slabs for --z-range (default {DEFAULT_SLABS})")
     parser.add_argument("--json", action="store_true", help="print one JSON document")
     parser.add_argument("--certificate", metavar="FILE", help="write the certificate to FILE")
-    parser.add_argument("--plot", metavar="FILE.png", help="picture of the paving and arcs (needs matplotlib)")
+    parser.add_argument("--plot", metavar="FILE.png", help="picture of the paving and arcs")
+    parser.add_argument("--report", metavar="FILE.html", help="write a self-contained HTML report")
     parser.add_argument("--progress", action="store_true", help="show progress on stderr")
     parser.add_argument("--max-boxes", type=int, default=DEFAULT['max_boxes'],
                         help=f"box budget (default {DEFAULT['max_boxes']})")
@@ -48,7 +50,7 @@ def compute(args, robot=None) -> Answer:
         result = _solve(args, robot)
     plot = plot_volume if isinstance(result, VolumeResult) else plot_section
     return Answer(result.robot, result, result.to_json(), lambda: describe(result), result.certificate,
-                  None, lambda path: plot(result, path))
+                  lambda path, cert: workspace_report(result.robot, result, path, cert), lambda path: plot(result, path))
 
 
 def run(args, out=None) -> int:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..display import outward
 from .figure import pyplot
 
 COLOURS = {"free+": "#4c72b0", "free-": "#55a868", "singular": "#c44e52", "undecided": "#bbbbbb"}
@@ -17,6 +18,10 @@ def _key(r):
     if r.status == "singularity-free":
         return "free+" if r.sign > 0 else "free-"
     return r.status
+
+
+def _label(robot, name) -> str:
+    return f"{name} ({'rad' if name in robot.angle_names else 'length unit of the robot file'})"
 
 
 def plot_cells(robot, results, path, max_slices: int = 6):
@@ -50,10 +55,10 @@ def plot_cells(robot, results, path, max_slices: int = 6):
                                   facecolor=COLOURS[_key(r)], edgecolor="white", linewidth=0.3))
         a.set_xlim(lo[:, ax_x].min(), hi[:, ax_x].max())
         a.set_ylim(lo[:, ax_y].min(), hi[:, ax_y].max())
-        a.set_xlabel(names[ax_x])
-        a.set_ylabel(names[ax_y])
+        a.set_xlabel(_label(robot, names[ax_x]))
+        a.set_ylabel(_label(robot, names[ax_y]))
         if slab is not None:
-            a.set_title(f"{names[k]} in [{slab[0]:.4g}, {slab[1]:.4g}]", fontsize=9)
+            a.set_title(f"{names[k]} in {outward(slab[0], slab[1], 4)}", fontsize=9)
     for a in list(axes.flat)[len(slabs):]:
         a.axis("off")
     legend = [Patch(color=COLOURS[c], label=t) for c, t in
