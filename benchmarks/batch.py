@@ -86,7 +86,7 @@ def batch(jobs, workers: int, directory: Path):
     wall = time.perf_counter() - w
     summary = json.loads((directory / "out" / "summary.json").read_text())
     assert summary["jobs"] == len(jobs) and not summary["errors"] and not summary["failed"]
-    return wall, summary["job_seconds"]
+    return wall, summary["job_cpu_seconds"]
 
 
 def cli_argv(job, cert):
@@ -118,7 +118,7 @@ def main():
             d = Path(d)
             api_wall, api_cpu = api(robot, jobs, None)
             files_wall, files_cpu = api(robot, jobs, d)
-            base = {"API": n / api_wall, "API + files": n / files_wall}
+            base = {"API": n / api_wall, "API + files": n / files_wall, "cpu": files_cpu / n}
             rows.append((name, "API, 1 process", n, api_wall, api_cpu, 1, base))
             rows.append((name, "API + files, 1 process", n, files_wall, files_cpu, 1, base))
             for w in sorted({1, args.workers}):
@@ -131,15 +131,16 @@ def main():
                 wall, cpu = cli(calls, args.workers, d / "cli")
                 rows.append((name, f"{len(calls)} CLI calls, {args.workers} at a time", len(calls), wall, cpu,
                              args.workers, base))
-    print(f"{'workload':22s} {'method':34s} {'jobs':>5s} {'wall s':>8s} {'ms/job':>8s} {'work ms/job':>11s} "
-          f"{'ratio vs API':>12s} {'vs API+files':>12s}")
+    print(f"{'workload':22s} {'method':34s} {'jobs':>5s} {'wall s':>8s} {'ms/job':>8s} {'CPU ms/job':>11s} "
+          f"{'ratio vs API':>12s} {'vs API+files':>12s} {'CPU vs API+files':>16s}")
     for name, method, n, wall, cpu, cores, base in rows:
         speed = n / wall / cores
         print(f"{name:22s} {method:34s} {n:5d} {wall:8.2f} {1e3 * wall / n:8.2f} {1e3 * cpu / n:11.2f} "
-              f"{speed / base['API']:12.2f} {speed / base['API + files']:12.2f}")
-    print("ratio: jobs per second per core, against the in-process API on one core (target >= 0.8)")
-    print("work ms/job: CPU time (API rows: process_time; CLI rows: the calls' CPU); batch rows: wall time "
-          "inside the workers' jobs (summary.json job_seconds)")
+              f"{speed / base['API']:12.2f} {speed / base['API + files']:12.2f} {base['cpu'] * n / cpu:16.2f}")
+    print("ratio: jobs per second per core, against the in-process API on one core (target >= 0.8); "
+          "CPU vs API+files: CPU per job of the API writing the same files / CPU per job of the method")
+    print("CPU ms/job: API rows: process_time; CLI rows: the calls' CPU; batch rows: the CPU of the jobs in their "
+          "workers (summary.json job_cpu_seconds; start-up not included)")
 
 
 if __name__ == "__main__":

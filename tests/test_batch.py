@@ -26,7 +26,7 @@ from batch_work import dies_on_boom  # noqa: E402
 ROOT = Path(__file__).resolve().parent.parent
 PLANAR = str(ROOT / "examples" / "robots" / "seed003-planar-example-2.toml")
 MEL = str(ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml")
-TIMING = {"seconds", "job_seconds", "slowest", "date", "workers", "attempts", "resumed", "retried"}
+TIMING = {"seconds", "cpu_seconds", "job_seconds", "job_cpu_seconds", "slowest", "date", "workers", "attempts", "resumed", "retried"}
 
 
 def untimed(doc):

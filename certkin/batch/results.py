@@ -52,10 +52,11 @@ def write_error(out, job: dict, verdict: str, message: str, seconds: float = 0.0
 
 
 def row(job: dict, verdict: str, seconds: float, attempts: int = 1, certificate: dict | None = None,
-        error: str | None = None, resumed: bool = False) -> dict:
-    """One job's line of ``summary.json``."""
+        error: str | None = None, resumed: bool = False, cpu_seconds: float = 0.0) -> dict:
+    """One job's line of ``summary.json`` (``seconds``: wall clock, ``cpu_seconds``: CPU of its worker)."""
     out = {"id": job["id"], "command": job.get("command"), "verdict": verdict, "seconds": round(seconds, 6),
-           "attempts": attempts, "document": f"{job['id']}.json", "certificate": certificate}
+           "cpu_seconds": round(cpu_seconds, 6), "attempts": attempts, "document": f"{job['id']}.json",
+           "certificate": certificate}
     if error is not None:
         out["error"] = error
     if resumed:
@@ -101,6 +102,7 @@ def summarise(rows: list, wall_seconds: float, interrupted: bool, workers: str) 
             "retried": [r["id"] for r in rows if r["attempts"] > 1],
             "resumed": sum(bool(r.get("resumed")) for r in rows),
             "seconds": round(wall_seconds, 3), "job_seconds": round(sum(r["seconds"] for r in rows), 3),
+            "job_cpu_seconds": round(sum(r["cpu_seconds"] for r in rows if not r.get("resumed")), 3),
             "slowest": [{"id": r["id"], "seconds": r["seconds"]}
                         for r in sorted(rows, key=lambda r: -r["seconds"])[:SLOWEST]],
             "results": rows}

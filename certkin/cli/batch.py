@@ -119,7 +119,7 @@ def run_job(job: dict, out: str) -> dict:
     previous = done(out, job, verdict)
     if previous is not None:
         return previous
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     try:
         module, args = parse_job(job)
         answer = module.compute(args, robot_of(job))
@@ -131,7 +131,8 @@ def run_job(job: dict, out: str) -> dict:
         else:
             certificate_path(out, job["id"]).unlink(missing_ok=True)
         write_document(out, job, answer.document)
-        return row(job, verdict(job["command"], answer.document), time.perf_counter() - t0, 1, facts)
+        return row(job, verdict(job["command"], answer.document), time.perf_counter() - t0, 1, facts,
+                   cpu_seconds=time.process_time() - c0)
     except InputError as exc:
         return write_error(out, job, ERROR, str(exc), time.perf_counter() - t0)
     except MemoryError:
