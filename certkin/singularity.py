@@ -297,7 +297,7 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
     idx = np.stack(np.meshgrid(*[np.arange(c) for c in counts], indexing="ij"), -1).reshape(-1, len(counts))
     clo = np.stack([grids[i][idx[:, i]] for i in range(len(counts))], axis=1)
     chi = np.stack([grids[i][idx[:, i] + 1] for i in range(len(counts))], axis=1)
-    inner = inner_box(texts, robot) if len(idx) == 1 else None      # cells: their float bounds are exact
+    inner = inner_box(texts, robot) if len(idx) == 1 and texts is not None else None   # cells: exact floats
     problem = SingularityProblem(robot, len(idx), inner)
     scale = np.where(free, hi0 - lo0, np.inf)         # a fixed coordinate is never bisected
     res = search(problem, clo, chi, scale=scale, budget=budget.within(clock.left()), progress=progress)

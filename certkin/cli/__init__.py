@@ -28,6 +28,8 @@ COMMANDS = {
     "workspace": ("certkin.cli.workspace",
                   "constant-orientation workspace: section (exact arcs, area) or volume bracket"),
     "check": ("certkin.cli.check", "re-verify a certificate with the independent checker"),
+    "batch": ("certkin.cli.batch", "answer a file of jobs (JSONL) on a local pool or a Dask cluster, resumably"),
+    "jobs": ("certkin.cli.jobs", "print jobs (JSONL) for exhaustive campaigns: certkin jobs grid ..."),
     "demo": ("certkin.cli.demo", "run the seed examples on the bundled robots"),
 }
 

@@ -11,16 +11,19 @@ from __future__ import annotations
 
 import argparse
 from contextlib import contextmanager
+from dataclasses import dataclass
 import json
 import os
 from pathlib import Path
 import re
 import sys
 import tempfile
+from typing import Callable
 
 from tqdm import tqdm
 
-from ..engine import Budget
+from ..certificates.writing import atomic_path
+from ..engine import Budget, interrupt
 from ..engine.budgets import MAX_MEMORY, positive_integer, positive_number
 from ..errors import InputError
 from ..plots.figure import pyplot
@@ -223,7 +226,23 @@ def with_angles(robot, angles):
     return robot.with_angles(angles)
 
 
-def write_certificate(path, document):
+@dataclass
+class Answer:
+    """What a command computed, before anything is written or printed: the robot, the result (or
+    results), the ``--json`` document, and how to describe, certify, report and plot it.  ``run``
+    writes and prints it (``show``); ``certkin batch`` writes the same document and certificate
+    per job."""
+
+    robot: object
+    result: object
+    document: dict
+    describe: Callable[[], str]
+    certificate: Callable[[], object] | None = None     # a certificates.Document; None: no certificate
+    report: Callable[[str, str | None], None] | None = None     # (path, certificate file or None)
+    plot: Callable[[str], None] | None = None
+
+
+def write_certificate(path, document) -> None:
     """Write ``--certificate`` (atomically: nothing half-written); a directory or an unwritable path is
     bad input (exit 2, one line)."""
     if os.path.isdir(path):
@@ -234,14 +253,40 @@ def write_certificate(path, document):
         raise InputError("--certificate", "", f"cannot write {path}: {exc.strerror or exc}") from None
 
 
-def answer(args, robot, result, certificate, report, describe):
-    """Write ``--certificate`` and ``--report`` of one result, then print its JSON document
-    (``--json``) or its description."""
-    if args.certificate:
-        write_certificate(args.certificate, certificate(result))
-    if args.report:
-        report(robot, result, args.report)
-    print(json.dumps(result.to_json()) if args.json else describe(robot, result))
+def write_outputs(args, answer: Answer) -> None:
+    """Write the files the options ask for: ``--certificate``, ``--report``, ``--plot``."""
+    if getattr(args, "certificate", None) and answer.certificate is not None:
+        write_certificate(args.certificate, answer.certificate())
+    if getattr(args, "report", None) and answer.report is not None:
+        answer.report(args.report, getattr(args, "certificate", None))
+    if getattr(args, "plot", None) and answer.plot is not None:
+        with atomic_path(args.plot) as path:
+            answer.plot(path)
+
+
+def show(args, answer: Answer, out=None) -> int:
+    """Write the outputs of an answer, then print its JSON document (``--json``) or its description
+    (on ``out``, default stdout)."""
+    write_outputs(args, answer)
+    (out or sys.stdout).write((json.dumps(answer.document) if args.json else answer.describe()) + "\n")
+    return 0
+
+
+def run_answer(args, compute, names: dict, out=None) -> int:
+    """``compute(args)``, then write and print its answer.  Ctrl-C while it computes stops the
+    searches (``engine.interrupt``): the answer proved so far is written (a partial certificate
+    that still checks) and printed, marked interrupted, and the exit code is 130."""
+    with interrupt.interruptible():
+        answer = compute(args)
+    stopped = interrupt.cut_short()
+    if stopped:
+        answer.document["interrupted"] = True
+        describe = answer.describe
+        answer.describe = lambda: ("INTERRUPTED (Ctrl-C): what was proved before the interrupt; the boxes "
+                                   "not finished are undecided\n" + describe())
+    with options(names):
+        show(args, answer, out)
+    return 130 if stopped else 0
 
 
 def refuse(args, option: str, reason: str, *given: str) -> None:

@@ -6,7 +6,8 @@ runs the certified seed examples: seed 003 planar example 2 (the full box
 is singular: its vertex signs differ, Annex C.1) and its 10×10×10 cell
 classification; the 6 assembly modes of that robot for one set of leg
 lengths; the seed 000 Fig. 1.8 trajectory of the MEL robot (legs 1-2 and
-2-5 collide).  Each certificate is re-checked by the independent checker.
+2-5 collide).  Each certificate is re-checked by the independent checker.  Last, a small batch:
+50 forward-kinematics jobs of that robot on 2 workers, with the campaign's report.
 """
 from __future__ import annotations
 
@@ -16,12 +17,16 @@ import time
 import proofs
 
 from .. import display
+from ..batch import run_batch
+from ..batch.grid import fk_jobs
 from ..certificates import singularity_certificate
 from ..errors import InputError
 from ..fk import forward_kinematics
 from ..robots import load_robot
 from ..singularity import certify_singularity_free, classify_cells
+from ..report import batch_report
 from ..trajectory import verify_trajectory
+from .batch import run_job, table
 
 
 def bundled_robots_dir() -> Path:
@@ -46,7 +51,7 @@ def summarise(robot) -> list[str]:
     return lines
 
 
-def run_demo(directory=None, out=print) -> int:
+def run_demo(directory=None, out=print, results="certkin-demo") -> int:
     directory = Path(directory) if directory else bundled_robots_dir()
     files = sorted(directory.glob("*.toml"))
     if not files:
@@ -61,7 +66,24 @@ def run_demo(directory=None, out=print) -> int:
     _singularity_demo(robots, out)
     _fk_demo(robots, out)
     _trajectory_demo(robots, out)
+    _batch_demo(robots, out, Path(results))
     return 0
+
+
+def _batch_demo(robots, out, results: Path):
+    """50 planar FK jobs (a grid of leg lengths) on 2 workers, and the report of the campaign."""
+    name = next((k for k in robots if "planar-example-2" in k), None)
+    if name is None:
+        return
+    robot = robots[name]
+    jobs = fk_jobs(robot.source, robot, "L1=28:30:5,L2=13:14:5,L3=40:41:2", "demo-fk")
+    out("")
+    out(f"== A batch: {len(jobs)} forward-kinematics jobs of {name} on 2 workers, into {results}/")
+    summary = run_batch(jobs, results, run_job, workers=2)
+    for line in table(summary, results).splitlines():
+        out("  " + line)
+    batch_report(summary, results, results / "report.html")
+    out(f"  report of the campaign: {results / 'report.html'}")
 
 
 def _check(out, result, what):
@@ -135,7 +157,9 @@ def _singularity_demo(robots, out):
 
 def add_arguments(d):
     d.add_argument("--robots", help="directory of robot files (default: the bundled examples)")
+    d.add_argument("--out", default="certkin-demo", metavar="DIR",
+                   help="directory of the demo batch's results and report (default certkin-demo)")
 
 
 def run(args):
-    return run_demo(args.robots)
+    return run_demo(args.robots, results=args.out)

@@ -11,7 +11,8 @@ from ..engine import budgets
 from ..fk import forward_kinematics, kernels
 from ..report import fk_report
 from ..robots import load_robot
-from .common import add_budget, add_outputs, answer, budget, check_outputs, options, progress, refuse, with_angles
+from .common import (Answer, add_budget, add_outputs, budget, check_outputs, options, progress, refuse, run_answer,
+                     with_angles)
 
 OPTIONS = {"lengths": "--lengths", "domain": "--domain", "track": "--track"}
 
@@ -27,19 +28,25 @@ def add_arguments(f):
     add_budget(f, budgets.FORWARD_KINEMATICS)
 
 
-def run(args):
+def compute(args, robot=None) -> Answer:
+    """The answer of ``certkin fk`` (``robot``: the robot file already loaded, else ``args.robot``)."""
     if args.track is not None:
         refuse(args, "--domain", "not with --track (a tracked posture is not searched in a domain)", "domain")
-    check_outputs(args)
     with options(OPTIONS):
-        robot = with_angles(load_robot(args.robot), args.angles)
+        robot = with_angles(robot or load_robot(args.robot), args.angles)
         if robot.kind != "planar-3rpr" and not kernels_cached():
             sys.stderr.write("certkin: compiling kernels, once (about 15 s; cached on disk afterwards)\n")
         result = forward_kinematics(robot, args.lengths, domain=args.domain, budget=budget(args),
                                     progress=progress(args.progress), track=args.track,
-                                    record=bool(args.certificate))
-        answer(args, robot, result, fk_certificate, fk_report, describe)
-    return 0
+                                    record=bool(getattr(args, "certificate", None)))
+    return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
+                  lambda: fk_certificate(result),
+                  lambda path, cert: fk_report(robot, result, path, cert, budget(args)))
+
+
+def run(args):
+    check_outputs(args)
+    return run_answer(args, compute, OPTIONS)
 
 
 def kernels_cached() -> bool:

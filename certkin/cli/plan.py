@@ -7,7 +7,7 @@ from ..engine import budgets
 from ..report import plan_report
 from ..robots import load_robot
 from ..trajectory import plan
-from .common import add_budget, add_outputs, answer, budget, check_outputs, count, options, progress
+from .common import Answer, add_budget, add_outputs, budget, check_outputs, count, options, progress, run_answer
 
 OPTIONS = {"start": "--from", "goal": "--to", "constraints": "--constraints", "divisions": "--divisions",
            "margin": "--margin", "max_edges": "--max-edges"}
@@ -27,18 +27,24 @@ def add_arguments(pl):
     add_budget(pl, budgets.PLAN, boxes_help="box budget of each batch of segments verified")
 
 
-def run(args):
-    check_outputs(args)
+def compute(args, robot=None) -> Answer:
+    """The answer of ``certkin plan`` (``robot``: the robot file already loaded, else ``args.robot``);
+    a certificate only when the plan has segments (else a note on stderr when one was asked for)."""
     with options(OPTIONS):
-        robot = load_robot(args.robot)
+        robot = robot or load_robot(args.robot)
         result = plan(robot, args.start, args.goal, constraints=args.constraints,
                       divisions=args.divisions, margin=args.margin, max_edges=args.max_edges, budget=budget(args),
                       progress=progress(args.progress, "segments verified", "batch"))
-        if args.certificate and not result.segments:
-            sys.stderr.write(f"certkin: {result.status}: no certificate written to {args.certificate}\n")
-            args.certificate = None
-        answer(args, robot, result, lambda r: r.certificate(), plan_report, describe)
-    return 0
+    if getattr(args, "certificate", None) and not result.segments:
+        sys.stderr.write(f"certkin: {result.status}: no certificate written to {args.certificate}\n")
+    return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
+                  result.certificate if result.segments else None,
+                  lambda path, cert: plan_report(robot, result, path, cert, budget(args)))
+
+
+def run(args):
+    check_outputs(args)
+    return run_answer(args, compute, OPTIONS)
 
 
 def describe(robot, result):

@@ -1,8 +1,6 @@
 """``certkin singular``: prove a box of poses singularity-free, or find a singularity in it."""
 from __future__ import annotations
 
-import json
-
 from .. import display
 from ..certificates import singularity_certificate
 from ..engine import budgets
@@ -11,9 +9,8 @@ from ..plots import plot_cells
 from ..report import singularity_report
 from ..robots import load_robot
 from ..singularity import classify_cells, largest_free_box
-from ..certificates.writing import atomic_path
-from .common import (add_budget, add_outputs, budget, check_outputs, count, options, progress, refuse, with_angles,
-                     write_certificate)
+from .common import (Answer, add_budget, add_outputs, budget, check_outputs, count, options, progress, refuse,
+                     run_answer, with_angles)
 
 OPTIONS = {"box": "--box", "pose": "--around", "scale": "--scale", "plot": "--plot", "n": "--cells"}
 
@@ -22,7 +19,7 @@ def add_arguments(s):
     s.add_argument("robot", help="robot file (TOML)")
     s.add_argument("--box", help='box of poses, e.g. "x=-20:20,y=-20:20,phi=0:0.7853981634"')
     s.add_argument("--cells", type=count(), metavar="N", help="split the box into N^k cells and classify each")
-    s.add_argument("--plot", metavar="FILE.png", help="picture of the cells (needs matplotlib)")
+    s.add_argument("--plot", metavar="FILE.png", help="picture of the cells (PNG, SVG or PDF)")
     s.add_argument("--around", metavar="POSE", help="largest singularity-free box centred at POSE")
     s.add_argument("--scale", metavar="S1,S2,...", help="half-widths of the unit box for --around")
     s.add_argument("--angles", choices=["zyz", "tilt-torsion"],
@@ -41,39 +38,41 @@ def _check(args):
         refuse(args, "--scale", "only with --around", "scale")
         if args.box is None:
             raise InputError("--box", "", "give --box \"name=lo:hi,...\" or --around POSE")
-    check_outputs(args)
 
 
-def run(args):
+def compute(args, robot=None) -> Answer:
+    """The answer of ``certkin singular`` (``robot``: the robot file already loaded, else ``args.robot``)."""
     _check(args)
     with options(OPTIONS):
-        robot = with_angles(load_robot(args.robot), args.angles)
+        robot = with_angles(robot or load_robot(args.robot), args.angles)
         if args.around is not None:
             bar = progress(args.progress, "boxes tried", "scale")
             results = [largest_free_box(robot, args.around, scale=args.scale, budget=budget(args), progress=bar)]
         else:
             results = classify_cells(robot, args.box, args.cells or 1, budget(args), progress(args.progress))
-        if args.certificate:
-            write_certificate(args.certificate, singularity_certificate(results))
-        if args.plot:
-            with atomic_path(args.plot) as path:
-                plot_cells(robot, results, path)
-        if args.report:
-            singularity_report(robot, results, args.report)
     if args.cells:
         doc = {"problem": "singularity", "robot": robot.name, "kind": robot.kind, "cells": args.cells,
                "counts": _counts(results), "results": [r.to_json() for r in results]}
     else:
         doc = results[0].to_json()
-    if args.json:
-        print(json.dumps(doc))
-    elif args.cells:
+    return Answer(robot, results, doc, lambda: _text(robot, results, doc, args.cells),
+                  lambda: singularity_certificate(results),
+                  lambda path, cert: singularity_report(robot, results, path, cert, budget(args)),
+                  lambda path: plot_cells(robot, results, path))
+
+
+def run(args):
+    _check(args)
+    check_outputs(args)
+    return run_answer(args, compute, OPTIONS)
+
+
+def _text(robot, results, doc, cells):
+    if cells:
         c = doc["counts"]
-        print(f"{robot.name}: {len(results)} cells: {c['singularity-free']} singularity-free, "
-              f"{c['singular']} singular, {c['undecided']} undecided")
-    else:
-        print(describe(robot, results[0]))
-    return 0
+        return (f"{robot.name}: {len(results)} cells: {c['singularity-free']} singularity-free, "
+                f"{c['singular']} singular, {c['undecided']} undecided")
+    return describe(robot, results[0])
 
 
 def _counts(results):

@@ -2,12 +2,11 @@
 from __future__ import annotations
 
 from .. import display
-from ..certificates import trajectory_certificate
 from ..engine import budgets
 from ..report import trajectory_report
 from ..robots import load_robot
 from ..trajectory import verify_trajectory
-from .common import add_budget, add_outputs, answer, budget, check_outputs, options, progress
+from .common import Answer, add_budget, add_outputs, budget, check_outputs, options, progress, run_answer
 
 OPTIONS = {"start": "--from", "goal": "--to", "waypoints": "--via", "constraints": "--constraints"}
 
@@ -23,14 +22,19 @@ def add_arguments(t):
     add_budget(t, budgets.TRAJECTORY, boxes_help="budget of t-intervals")
 
 
-def run(args):
-    check_outputs(args)
+def compute(args, robot=None) -> Answer:
+    """The answer of ``certkin trajectory`` (``robot``: the robot file already loaded, else ``args.robot``)."""
     with options(OPTIONS):
-        robot = load_robot(args.robot)
+        robot = robot or load_robot(args.robot)
         result = verify_trajectory(robot, args.start, args.goal, waypoints=list(args.via or []),
                                    constraints=args.constraints, budget=budget(args), progress=progress(args.progress))
-        answer(args, robot, result, trajectory_certificate, trajectory_report, describe)
-    return 0
+    return Answer(robot, result, result.to_json(), lambda: describe(robot, result), result.certificate,
+                  lambda path, cert: trajectory_report(robot, result, path, cert, budget(args)))
+
+
+def run(args):
+    check_outputs(args)
+    return run_answer(args, compute, OPTIONS)
 
 
 def describe(robot, r):

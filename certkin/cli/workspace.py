@@ -1,11 +1,7 @@
 """``certkin workspace``: a constant-orientation section (exact arcs, area) or a volume bracket."""
 from __future__ import annotations
 
-import json
-import sys
-
 from .. import display
-from ..certificates.writing import atomic_path
 from ..engine import budgets
 from ..errors import InputError
 from ..plots import plot_section, plot_volume
@@ -15,7 +11,7 @@ from ..workspace import VolumeResult, workspace_section, workspace_volume
 from ..workspace.annuli import ORIENTATION, check_robot
 from ..workspace.section import ignored_limits
 from ..workspace.volume import DEFAULT_SLABS, MAX_SLABS
-from .common import add_budget, add_outputs, budget, check_outputs, count, options, progress, refuse, write_certificate
+from .common import Answer, add_budget, add_outputs, budget, check_outputs, count, options, progress, refuse, run_answer
 
 OPTIONS = {"orientation": "--orientation", "z": "--z", "z_range": "--z-range", "slabs": "--slabs", "plot": "--plot"}
 DEFAULT = budgets.WORKSPACE
@@ -30,36 +26,44 @@ def add_arguments(parser) -> None:
     parser.add_argument("--z-range", metavar="LO:HI", help="volume bracket of the workspace between two heights")
     parser.add_argument("--slabs", metavar="N", type=count(MAX_SLABS),
                         help=f"number of z slabs for --z-range, 1 to {MAX_SLABS} (default {DEFAULT_SLABS})")
-    parser.add_argument("--plot", metavar="FILE.png", help="picture of the paving and arcs (needs matplotlib)")
+    parser.add_argument("--plot", metavar="FILE.png", help="picture of the paving and arcs (PNG, SVG or PDF)")
     add_outputs(parser)
     add_budget(parser, DEFAULT, width_help="smallest box side still split, relative to the size of the section")
 
 
-def run(args, out=None) -> int:
-    """``certkin workspace``: prints a summary (or ``--json``), writes ``--certificate``/``--report``/
-    ``--plot``; returns 0.  Bad input raises ``InputError`` (the CLI prints it on one line, exit 2)."""
-    out = out or sys.stdout
+def _check(args):
+    """Conflicting or ignored options, before anything is read or solved."""
     if args.z_range is not None:
         refuse(args, "--z-range", "give either --z (a section) or --z-range (a volume), not both", "z")
     else:
         refuse(args, "--slabs", "only with --z-range", "slabs")
-    check_outputs(args)
+
+
+def compute(args, robot=None) -> Answer:
+    """The answer of ``certkin workspace`` (``robot``: the robot file already loaded, else ``args.robot``).
+
+    Bad input raises ``InputError`` (the CLI prints it on one line and exits 2).
+    """
+    _check(args)
     with options(OPTIONS):
-        result = _solve(args)
-        if args.certificate:
-            write_certificate(args.certificate, result.certificate())
-        if args.report:
-            workspace_report(result.robot, result, args.report)
-        if args.plot:
-            with atomic_path(args.plot) as path:
-                (plot_volume if isinstance(result, VolumeResult) else plot_section)(result, path)
-    out.write((json.dumps(result.to_json()) if args.json else describe(result)) + "\n")
-    return 0
+        result = _solve(args, robot)
+    plot = plot_volume if isinstance(result, VolumeResult) else plot_section
+    return Answer(result.robot, result, result.to_json(), lambda: describe(result), result.certificate,
+                  lambda path, cert: workspace_report(result.robot, result, path, cert, budget(args)),
+                  lambda path: plot(result, path))
 
 
-def _solve(args):
+def run(args, out=None) -> int:
+    """``certkin workspace``: prints a summary (or ``--json``), writes ``--certificate``/``--report``/
+    ``--plot``; returns 0."""
+    _check(args)
+    check_outputs(args)
+    return run_answer(args, compute, OPTIONS, out)
+
+
+def _solve(args, robot=None):
     """The section or the volume the options ask for."""
-    robot = load_robot(args.robot)
+    robot = robot or load_robot(args.robot)
     check_robot(robot)
     if args.z_range is not None:
         return workspace_volume(robot, args.orientation, args.z_range, args.slabs or DEFAULT_SLABS,

@@ -15,7 +15,7 @@ their own reason and evidence): a contracted box becomes the child of the
 box it came from, and the status is about the contracted box.  Open boxes are bisected
 (widest side scaled by ``scale``, split off-centre at ``SPLIT_RATIO`` so
 that symmetric roots do not land on faces) until they are decided, narrower
-than ``min_width``, or a budget (boxes, seconds) runs out.  When few boxes
+than ``min_width``, or a budget (boxes, seconds, Ctrl-C: ``interrupt``) runs out.  When few boxes
 are open, each is halved several times at once (up to ``d`` times) so that
 one batch keeps numpy busy; the tree still records binary splits.
 
@@ -42,8 +42,10 @@ import time
 
 import numpy as np
 
+from . import interrupt
 from .budgets import Budget
-from .tree import BUDGET, CONTRACTED, EXCLUDED, NOT_NEEDED, OPEN, PROVED, RESOLUTION, SPLIT, UNDECIDED, Evidence, Store, Tree
+from .tree import BUDGET, CONTRACTED, EXCLUDED, INTERRUPTED, NOT_NEEDED, OPEN, PROVED, RESOLUTION, SPLIT, UNDECIDED, \
+    Evidence, Store, Tree
 
 SPLIT_RATIO = 0.4921875  # off-centre bisection ratio (exact in binary)
 
@@ -127,6 +129,10 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
         if processed >= budget.max_boxes or left <= 0 or _memory(store, evidence) > budget.max_memory:
             exhausted = True
             break
+        if interrupt.requested():
+            exhausted = True
+            interrupt.cut()
+            break
         ids = _pop(frontier, _batch_size(batch, per_box, left, budget.max_boxes - processed))
         done = finished[store.root[ids]]
         if done.any():
@@ -141,22 +147,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
         per_box = (time.perf_counter() - t_batch) / len(ids)
         processed += len(ids)
         if dec.contracted is not None:   # contracted boxes become children; the decisions apply to them
-            if isinstance(dec.contracted, list):     # successive contractions: a chain of children
-                stages = zip(dec.contracted, dec.contraction_reason, dec.contraction_evidence)
-            else:
-                stages = [(dec.contracted, dec.contraction_reason, dec.contraction_evidence)]
-            for (clo, chi), creason, cev in stages:
-                changed = np.nonzero(np.any((clo != blo) | (chi != bhi), axis=1))[0]
-                if len(changed):
-                    parents = ids[changed]
-                    kids = store.add(clo[changed], chi[changed], store.root[parents], parents)
-                    store.kind[parents] = CONTRACTED
-                    store.first_child[parents] = kids
-                    store.reason[parents] = np.asarray(creason)[changed]
-                    evidence.add(parents, cev, changed)
-                    ids = ids.copy()
-                    ids[changed] = kids
-                    blo, bhi = clo, chi
+            ids, blo, bhi = _contractions(store, evidence, dec, ids, blo, bhi)
         status = np.asarray(dec.status)
         decided = status != OPEN
         store.kind[ids[decided]] = np.where(status[decided] == PROVED, PROVED,
@@ -186,10 +177,33 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
             progress(processed, sum(len(f) for f in frontier))
     for ids in frontier:
         store.kind[ids] = UNDECIDED
-        store.reason[ids] = BUDGET
+        store.reason[ids] = INTERRUPTED if interrupt.requested() else BUDGET
     ev, rows = evidence.finish(store.n)
     tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows, complete_record=not compacted)
     return SearchResult(tree, processed, time.perf_counter() - t0, exhausted)
+
+
+def _contractions(store, evidence, dec, ids, blo, bhi):
+    """Record the contractions of a decision: each box that changed gets its contracted box as its
+    one child (a chain of children for successive contractions).  Returns the ids and boxes the
+    decisions apply to."""
+    if isinstance(dec.contracted, list):
+        stages = zip(dec.contracted, dec.contraction_reason, dec.contraction_evidence)
+    else:
+        stages = [(dec.contracted, dec.contraction_reason, dec.contraction_evidence)]
+    for (clo, chi), creason, cev in stages:
+        changed = np.nonzero(np.any((clo != blo) | (chi != bhi), axis=1))[0]
+        if len(changed):
+            parents = ids[changed]
+            kids = store.add(clo[changed], chi[changed], store.root[parents], parents)
+            store.kind[parents] = CONTRACTED
+            store.first_child[parents] = kids
+            store.reason[parents] = np.asarray(creason)[changed]
+            evidence.add(parents, cev, changed)
+            ids = ids.copy()
+            ids[changed] = kids
+            blo, bhi = clo, chi
+    return ids, blo, bhi
 
 
 def _compact(store, evidence, frontier):

@@ -14,8 +14,9 @@ OPEN, PROVED, EXCLUDED = 0, 1, 2
 UNDECIDED, SPLIT, CONTRACTED = 3, 4, 5
 
 # reasons of undecided leaves (engine codes, negative to keep them apart from the problem's)
-BUDGET, RESOLUTION, NOT_NEEDED = -1, -2, -3
+BUDGET, RESOLUTION, NOT_NEEDED, INTERRUPTED = -1, -2, -3, -4
 UNDECIDED_REASONS = {BUDGET: "budget: boxes or time exhausted",
+                     INTERRUPTED: "interrupted: Ctrl-C stopped the search",
                      RESOLUTION: "resolution: box narrower than min_width",
                      NOT_NEEDED: "not needed: the answer for this box was found"}
 
@@ -28,7 +29,7 @@ class Store:
 
     Compact types: node ids and roots are int32 (fewer than 2³¹ nodes), kinds,
     reasons and split dimensions int8 (reason codes are small, engine codes
-    -1..-3); the boxes and split points stay float64.  16 d + 33 bytes per node.
+    -1..-4); the boxes and split points stay float64.  16 d + 33 bytes per node.
     """
 
     def __init__(self, d: int, capacity: int = 1024, n_roots: int = 1):

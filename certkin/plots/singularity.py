@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import display
+from ..display import outward
 from .figure import pyplot
 
 COLOURS = {"free+": "#4c72b0", "free-": "#55a868", "singular": "#c44e52", "undecided": "#bbbbbb"}
@@ -20,10 +20,13 @@ def _key(r):
     return r.status
 
 
+def _label(robot, name) -> str:
+    return f"{name} ({'rad' if name in robot.angle_names else 'length unit of the robot file'})"
+
+
 def plot_cells(robot, results, path, max_slices: int = 6):
     """Draw the cells of ``results`` (SingularityResult list) into ``path`` (PNG/SVG/PDF)."""
     plt = pyplot()
-    from matplotlib.collections import PatchCollection
     from matplotlib.patches import Patch, Rectangle
     names = robot.pose_names
     lo = np.array([r.lo for r in results])
@@ -44,18 +47,18 @@ def plot_cells(robot, results, path, max_slices: int = 6):
     cols = min(3, len(slabs))
     rows = int(np.ceil(len(slabs) / cols))
     fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 4 * rows), squeeze=False)
-    colours = [COLOURS[_key(r)] for r in results]
     for a, slab in zip(axes.flat, slabs):
-        mine = np.arange(len(results)) if slab is None else np.nonzero((lo[:, k] == slab[0]) & (hi[:, k] == slab[1]))[0]
-        rects = [Rectangle((lo[i, ax_x], lo[i, ax_y]), hi[i, ax_x] - lo[i, ax_x], hi[i, ax_y] - lo[i, ax_y]) for i in mine]
-        edge = "white" if len(mine) <= 2500 else "none"          # one collection: many cells draw fast
-        a.add_collection(PatchCollection(rects, facecolors=[colours[i] for i in mine], edgecolors=edge, linewidths=0.3))
+        for r, l, h in zip(results, lo, hi):
+            if slab is not None and (l[k], h[k]) != slab:
+                continue
+            a.add_patch(Rectangle((l[ax_x], l[ax_y]), h[ax_x] - l[ax_x], h[ax_y] - l[ax_y],
+                                  facecolor=COLOURS[_key(r)], edgecolor="white", linewidth=0.3))
         a.set_xlim(lo[:, ax_x].min(), hi[:, ax_x].max())
         a.set_ylim(lo[:, ax_y].min(), hi[:, ax_y].max())
-        a.set_xlabel(names[ax_x])
-        a.set_ylabel(names[ax_y])
+        a.set_xlabel(_label(robot, names[ax_x]))
+        a.set_ylabel(_label(robot, names[ax_y]))
         if slab is not None:
-            a.set_title(f"{names[k]} in {display.outward(slab[0], slab[1], 4)}", fontsize=9)
+            a.set_title(f"{names[k]} in {outward(slab[0], slab[1], 4)}", fontsize=9)
     for a in list(axes.flat)[len(slabs):]:
         a.axis("off")
     legend = [Patch(color=COLOURS[c], label=t) for c, t in

@@ -1,26 +1,79 @@
-"""The margins of a trajectory along its path (needs the ``plot`` extra: matplotlib)."""
+"""The margins of a trajectory along its path, one panel per constraint family (matplotlib).
+
+Each curve is the certified lower bound of one margin on each leaf of the search, against
+s = segment + t; the t-ranges where a constraint is proved violated are shaded red, those where it
+may fail orange, the undecided ones grey.  The singularity panel shows the lower bound of |det(A)|
+on a logarithmic axis (nothing clipped).
+"""
 from __future__ import annotations
 
 import numpy as np
 
 from .figure import pyplot
 
+UNITS = {"leg-length": "margin (length unit)", "interference": "clearance margin (length unit)",
+         "joints": "margin (cosine / direction)", "singularity": "|det(A)| lower bound"}
+SHADES = (("proved violated", "#d62728", 0.25), ("may fail", "#ff7f0e", 0.18), ("undecided", "#999999", 0.2))
+
+
+def families(result) -> list[str]:
+    """The constraint families of a result, in the order of its instances."""
+    out = []
+    for inst in result.constraints.instances:
+        if inst.constraint not in out:
+            out.append(inst.constraint)
+    return out
+
 
 def plot_margins(result, png):
-    """The certified lower bound of every margin (det(A) aside) on each leaf of the search, against
-    s = segment + t, clipped to [−50, 200]."""
+    """One panel per constraint family of ``result`` (a ``TrajectoryResult``) into ``png``."""
     plt = pyplot()
+    names = families(result)
     L = result.leaves
     s_lo, s_hi = L["segment"] + L["tlo"], L["segment"] + L["thi"]
-    fig, ax = plt.subplots(figsize=(8, 4))
-    for k, inst in enumerate(result.constraints.instances):
-        if k == result.constraints.det_column:
-            continue
-        lo = np.clip(L["mlo"][:, k], -50, 200)
-        ax.hlines(lo, s_lo, s_hi, lw=1, color=f"C{k % 10}")
-    ax.axhline(0, color="k", lw=0.8)
-    ax.set_xlabel("s (segment index + t)")
-    ax.set_ylabel("margin lower bound (clipped)")
-    fig.tight_layout()
+    order = np.argsort(s_lo, kind="stable")
+    fig, axes = plt.subplots(len(names), 1, figsize=(8, 2.3 * len(names) + 0.6), sharex=True, squeeze=False)
+    for ax, family in zip(axes[:, 0], names):
+        for k, inst in enumerate(result.constraints.instances):
+            if inst.constraint != family:
+                continue
+            if k == result.constraints.det_column:
+                lo, hi = L["mlo"][:, k], L["mhi"][:, k]
+                y = np.where(lo > 0, lo, np.where(hi < 0, -hi, np.nan))
+                ax.set_yscale("log")
+            else:
+                y = L["mlo"][:, k]
+            label = family if not inst.legs else f"{'-'.join(map(str, inst.legs))} {inst.detail or ''}".strip()
+            ax.step(np.r_[s_lo[order], s_hi[order][-1:]], np.r_[y[order], y[order][-1:]], where="post", lw=1,
+                    label=label)
+        if family != "singularity":
+            ax.axhline(0, color="black", lw=0.8)
+        _shade(ax, result, family)
+        ax.set_ylabel(UNITS.get(family, "margin"), fontsize=7)
+        ax.set_title(family, fontsize=8, loc="left")
+        ax.tick_params(labelsize=7)
+        handles, labels = ax.get_legend_handles_labels()
+        ax.legend(handles, labels, fontsize=6, ncol=min(5, max(1, len(labels) // 3 + 1)), loc="upper right",
+                  title="legs", title_fontsize=6)
+    axes[-1, 0].set_xlabel("s = segment index + t (t in [0, 1] along each segment)", fontsize=8)
+    fig.suptitle(f"{result.robot.name}: certified margins along the path ({result.status})", fontsize=9)
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
     fig.savefig(png, dpi=90)
     plt.close(fig)
+
+
+def _shade(ax, result, family):
+    """Shade the forbidden, possibly forbidden and undecided s-ranges of a family."""
+    from matplotlib.patches import Patch
+    used = set()
+    for v in result.violations:
+        if v["constraint"] == family:
+            label, colour, alpha = SHADES[0] if v["certain"] else SHADES[1]
+            ax.axvspan(v["s"][0], v["s"][1], color=colour, alpha=alpha, lw=0)
+            used.add(label)
+    for u in result.undecided:
+        ax.axvspan(u["s"][0], u["s"][1], color=SHADES[2][1], alpha=SHADES[2][2], lw=0)
+        used.add("undecided")
+    if used:
+        patches = [Patch(color=c, alpha=a, label=n) for n, c, a in SHADES if n in used]
+        ax.add_artist(ax.legend(handles=patches, fontsize=6, loc="lower left"))

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
+from ..display import lower, outward, upper
 from ..engine import EXCLUDED, PROVED, UNDECIDED
-from .. import display
 from .figure import pyplot
 
 COLOURS = {"inside": "#55a868", "boundary": "#f2c14e", "outside": "#e6e6e6", "arc": "#1f3b73"}
@@ -42,15 +42,15 @@ def plot_section(result, path):
         t = a0 + np.linspace(0.0, sweep, 400)
         ax.plot(cx + r * np.cos(t), cy + r * np.sin(t), color=COLOURS["arc"], linewidth=1.2)
     ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    ax.set_xlabel("x (length unit of the robot file)")
+    ax.set_ylabel("y (length unit of the robot file)")
     names = [n for n in result.robot.pose_names if n in result.robot.angle_names]
     orient = ", ".join(f"{n}={v}" for n, v in zip(names, result.orientation))
     zpart = "" if result.z is None else f"z = {result.z}, "
     area = result.boundary.area
-    exact = f"exact area {display.interval(area)}" if area is not None else "exact area undecided"
-    ax.set_title(f"{result.robot.name}\n{zpart}{orient}: {exact}\npaving: area in "
-                 f"[{display.lower(result.inner, 6)}, {display.upper(result.outer, 6)}]", fontsize=9)
+    exact = f"exact area {outward(float(area.lo), float(area.hi))}" if area is not None else "exact area undecided"
+    ax.set_title(f"{result.robot.name}\n{zpart}{orient}: {exact}\npaving: area between "
+                 f"{lower(result.inner, 6)} and {upper(result.outer, 6)}", fontsize=9)
     legend = [Patch(color=COLOURS["inside"], label="inside"), Patch(color=COLOURS["boundary"], label="boundary"),
               Patch(color=COLOURS["outside"], label="outside"), Patch(color=COLOURS["arc"], label="exact arcs")]
     ax.legend(handles=legend, loc="upper right", fontsize=7)
@@ -68,9 +68,9 @@ def plot_volume(result, path):
     ax.stairs(ar[:, 1], z, color="#f2c14e", fill=True, label="outer (inside + boundary)")
     ax.stairs(ar[:, 0], z, color="#55a868", fill=True, label="inner (inside)")
     vin, vout = result.volume()
-    ax.set_xlabel("z")
-    ax.set_ylabel("section area")
-    ax.set_title(f"{result.robot.name}: volume in [{display.lower(vin, 6)}, {display.upper(vout, 6)}]", fontsize=9)
+    ax.set_xlabel("z (length unit of the robot file)")
+    ax.set_ylabel("section area (length unit squared)")
+    ax.set_title(f"{result.robot.name}: volume between {lower(vin, 6)} and {upper(vout, 6)}", fontsize=9)
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=120)

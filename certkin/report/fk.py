@@ -1,27 +1,40 @@
-"""The report of a forward-kinematics result: every assembly mode with its proved box."""
+"""The report of a forward-kinematics result: every assembly mode with its proved box, drawn."""
 from __future__ import annotations
 
-import html
-
-from ..certificates import write_text
-from .page import interval_text, page, robot_table
+from .page import enclosure, esc, evidence_section, robot_section, table, tree_evidence, write_report
 
 
-def fk_report(robot, result, path) -> None:
-    """The assembly modes of one forward-kinematics result."""
-    names = list(result.solutions[0]["pose"]) if result.solutions else list(robot.pose_names)
-    rows = "".join("<tr><td>" + str(k + 1) + "</td>" + "".join(
-        f"<td>{html.escape(interval_text(s['pose'][n]))}</td>" for n in names) + "</tr>"
-        for k, s in enumerate(result.solutions))
-    verdict = (f"{len(result.solutions)} assembly modes, each proved unique in its box; "
-               + ("the rest of the domain is proved to hold no posture (complete)." if result.complete else
-                  f"incomplete: {len(result.unresolved)} unresolved regions."))
+def fk_verdict(result) -> str:
+    n = len(result.solutions)
     if result.tracked:
-        verdict = "tracked: exactly one posture in the box around the previous pose."
-    body = "<h2>Robot</h2>" + robot_table(robot)
-    body += (f"<h2>Question</h2><p>Every real posture for the leg lengths "
-             f"{html.escape(', '.join(result.lengths))}.</p>")
-    body += f'<h2>Verdict</h2><p class="v">{html.escape(verdict)}</p>'
-    body += "<table><tr><th>#</th>" + "".join(f"<th>{html.escape(n)}</th>" for n in names) + f"</tr>{rows}</table>"
-    body += f"<p>{result.boxes} boxes, {result.seconds:.3f} s.</p>"
-    write_text(path, page(f"Forward kinematics: {robot.name}", body))
+        return "Tracked: exactly one posture in the box around the previous pose (proved unique there)."
+    if result.complete:
+        return f"{n} assembly modes, each proved unique in its box; the rest of the domain is proved to hold none (complete)."
+    return (f"INCOMPLETE: {n} assembly modes proved unique, and {len(result.unresolved)} regions left unresolved "
+            "(a budget ran out, or the search was interrupted).")
+
+
+def fk_report(robot, result, path, certificate=None, budget=None) -> None:
+    """Verdict, robot drawn in each assembly mode, the question, the evidence, every mode's box."""
+    names = list(result.solutions[0]["pose"]) if result.solutions else list(robot.pose_names)
+    mids = [[0.5 * (float(v.lo) + float(v.hi)) for v in s["pose"].values()] for s in result.solutions]
+    poses = [(f"mode {k + 1}", m) for k, m in enumerate(mids)] if names == list(robot.pose_names) else []
+    sections = [("Robot", robot_section(robot, poses, "Drawn in each assembly mode (at the midpoint of its proved box)."
+                                        if poses else "No assembly mode to draw."))]
+    domain = "the domain given with --domain (positions narrow the search, angles filter the modes)" \
+        if result.user_domain else "every real posture (the full rotation range)"
+    sections.append(("Question and assumptions", (
+        f"<p>Which postures of the platform give the leg lengths <code>{esc(', '.join(result.lengths))}</code> "
+        f"(exact decimals, enclosed outward)? Domain searched: {domain}. The limits of the robot file are not "
+        "applied: every real posture for these lengths is listed.</p>")))
+    used = {"boxes decided": result.boxes, "seconds": f"{result.seconds:.3f}"}
+    evidence = tree_evidence(result.tree, [result.node]) if result.tree is not None else None
+    sections.append(("Evidence", evidence_section(evidence, budget, used) + (
+        "<p>Each mode's box is proved to hold exactly one posture by a Krawczyk test (docs/soundness.md); "
+        "the boxes are enclosures, printed outward.</p>")))
+    rows = [[k + 1] + [enclosure((float(s["pose"][n].lo), float(s["pose"][n].hi))) for n in names]
+            for k, s in enumerate(result.solutions)]
+    rows += [[f"unresolved {k + 1}"] + [enclosure((float(s["pose"][n].lo), float(s["pose"][n].hi))) for n in names]
+             for k, s in enumerate(result.unresolved)]
+    sections.append(("Assembly modes", table(["mode"] + names, rows) if rows else "<p>No posture.</p>"))
+    write_report(path, f"Forward kinematics: {robot.name}", fk_verdict(result), sections, certificate)

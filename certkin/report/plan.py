@@ -1,35 +1,30 @@
-"""The report of a plan: the waypoints of the path found and, per segment, its certified margins."""
+"""The report of a plan: the path found (every segment certified feasible) or why none was."""
 from __future__ import annotations
 
-import html
-
-from .. import display
-from ..certificates import write_text
-from .page import page, robot_table
+from .page import esc, robot_section, table, write_report
+from .trajectory import trajectory_sections
 
 
-def plan_report(robot, result, path) -> None:
-    """Verdict, waypoints (exact decimals) and the smallest certified margin of each segment."""
-    body = "<h2>Robot</h2>" + robot_table(robot)
-    body += f'<h2>Verdict</h2><p class="v">{html.escape(result.status)}</p>'
-    if result.waypoints:
-        names = list(robot.pose_names)
-        rows = "".join("<tr><td>" + str(k) + "</td>" + "".join(f"<td>{html.escape(v)}</td>" for v in w) + "</tr>"
-                       for k, w in enumerate(result.waypoints))
-        body += ("<h2>Waypoints</h2><table><tr><th>#</th>" + "".join(f"<th>{html.escape(n)}</th>" for n in names)
-                 + f"</tr>{rows}</table>")
-        rows = ""
-        for k, seg in enumerate(result.segments):
-            worst = min((m for m in seg.margins if m["margin"][0] is not None), key=lambda m: m["margin"][0],
-                        default=None)
-            low = "" if worst is None else (f"{html.escape(worst['constraint'])} {'-'.join(map(str, worst['legs']))}: "
-                                            f"&ge; {display.lower(worst['margin'][0])}")
-            rows += f"<tr><td>{k}&rarr;{k + 1}</td><td>{html.escape(seg.status)}</td><td>{low}</td></tr>"
-        body += ("<h2>Segments</h2><table><tr><th>segment</th><th>verdict</th><th>smallest margin (certified lower "
-                 f"bound)</th></tr>{rows}</table>")
-    if result.endpoint:
-        e = result.endpoint
-        body += (f"<p>The {html.escape(e['pose'])} pose is {html.escape(e['status'])}: " + html.escape("; ".join(
-            f"{v['constraint']} {'-'.join(map(str, v['legs']))}" for v in e["violations"])) + ".</p>")
-    body += f"<p>{result.stats.get('edges_verified', 0)} segments verified, {result.stats.get('seconds', 0):.2f} s.</p>"
-    write_text(path, page(f"Plan: {robot.name}", body))
+def plan_verdict(result) -> str:
+    if result.status == "found":
+        return f"Path found: {len(result.segments)} segments, each certified feasible."
+    if result.status == "infeasible-endpoint" and result.endpoint:
+        return f"No path: the {result.endpoint['pose']} pose is {result.endpoint['status']}."
+    return "No path found within the grid and the budget (this proves nothing about other paths)."
+
+
+def plan_report(robot, result, path, certificate=None, budget=None) -> None:
+    w = result.waypoints
+    poses = [("start", w[0]), ("goal", w[-1])] if w else []
+    sections = [("Robot", robot_section(robot, poses, "Drawn at the start and the goal." if poses else
+                                        "No path to draw."))]
+    rows = [(k, ",".join(p)) for k, p in enumerate(w)]
+    sections.append(("Question and assumptions", (
+        "<p>A path from the start to the goal whose every straight segment is certified feasible for all "
+        "the constraints the robot file allows to check; waypoints are searched on a grid between the two "
+        f"poses.</p>{table(('waypoint', 'pose'), rows) if rows else ''}"
+        f"<p>{esc(', '.join(f'{k}: {v}' for k, v in result.stats.items()))}</p>")))
+    for k, seg in enumerate(result.segments):
+        for heading, html in trajectory_sections(robot, seg, budget):
+            sections.append((f"Segment {k + 1}: {heading.lower()}", html))
+    write_report(path, f"Plan: {robot.name}", plan_verdict(result), sections, certificate)

@@ -1,34 +1,57 @@
-"""The report of a singularity run: the question, the verdict (with its witnesses) or the cell
-counts with their picture."""
+"""The report of a singularity run: one box (verdict and witnesses) or its cells (counts and the
+picture of their classification); the robot drawn at the centre of the box."""
 from __future__ import annotations
 
-import html
+import numpy as np
 
-from .. import display
-from ..certificates import write_text
+from ..display import inward, outward, point
 from ..plots import plot_cells
-from .page import figure, page, robot_table
+from .page import esc, evidence_section, figure, robot_section, table, tree_evidence, write_report
 
 
-def singularity_report(robot, results, path) -> None:
-    counts = {}
-    for r in results:
-        counts[r.status] = counts.get(r.status, 0) + 1
+def singularity_verdict(results) -> str:
     if len(results) == 1:
         r = results[0]
-        show = display.inward if r.status == "singularity-free" else display.outward   # a free box: inward
-        box = ", ".join(f"{n} ∈ {show(a, b)}" for n, a, b in zip(robot.pose_names, r.lo, r.hi))
-        verdict = r.status + (f" (det(A) {'>' if r.sign > 0 else '<'} 0)" if r.status == "singularity-free" else "")
-        body = f"<h2>Question</h2><p>Does det(A) vanish on the box {html.escape(box)}?</p>"
-        body += f'<h2>Verdict</h2><p class="v">{html.escape(verdict)}</p>'
+        if r.status == "singularity-free":
+            return f"Singularity-free: det(A) {'>' if r.sign > 0 else '<'} 0 on the whole box."
+        if r.status == "singular":
+            return "Singular: det(A) changes sign in the box (two poses of certified opposite signs)."
+        return "UNDECIDED: the budget ran out before the whole box was decided."
+    counts = {s: sum(r.status == s for r in results) for s in ("singularity-free", "singular", "undecided")}
+    whole = "singular" if counts["singular"] else "undecided" if counts["undecided"] else "singularity-free"
+    return (f"The box is {whole}: {len(results)} cells, {counts['singularity-free']} singularity-free, "
+            f"{counts['singular']} singular, {counts['undecided']} undecided.")
+
+
+def _box_text(robot, lo, hi, claim: bool) -> str:
+    show = inward if claim else outward
+    return ", ".join(f"{n} ∈ {show(a, b)}" for n, a, b in zip(robot.pose_names, lo, hi))
+
+
+def singularity_report(robot, results, path, certificate=None, budget=None) -> None:
+    lo = np.min([r.lo for r in results], axis=0)
+    hi = np.max([r.hi for r in results], axis=0)
+    centre = list(0.5 * (lo + hi))
+    sections = [("Robot", robot_section(robot, [("centre of the box", centre)], "Drawn at the centre of the box."))]
+    box = _box_text(robot, lo, hi, False)
+    cells = "" if len(results) == 1 else f", cut into {len(results)} cells"
+    sections.append(("Question and assumptions", (
+        f"<p>Does det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) vanish on the box {esc(box)}{cells}? "
+        "The box as searched encloses the decimal box given (outward); limits of the robot file are not "
+        "used (the question is about det(A) only).</p>")))
+    tree = results[0].tree
+    evidence = tree_evidence(tree) if tree is not None else None
+    used = {"boxes decided": sum(r.boxes for r in results) if len(results) == 1 else results[0].boxes,
+            "seconds": f"{sum(r.seconds for r in results):.3f}"}
+    sections.append(("Evidence", evidence_section(evidence, budget, used)))
+    if len(results) == 1:
+        r = results[0]
+        rows = [("box", _box_text(robot, r.lo, r.hi, r.status == "singularity-free"))]
         if r.witnesses:
-            body += "<p>Witnesses (certified signs): " + "; ".join(
-                f"det(A) {'>' if k == 'positive' else '<'} 0 at ({', '.join(display.point(x) for x in v)})"
-                for k, v in r.witnesses.items()) + "</p>"
-        body += f"<p>{r.boxes} boxes, {r.seconds:.3f} s.</p>"
+            rows += [(f"det(A) {'>' if k == 'positive' else '<'} 0 at", ", ".join(point(x) for x in v))
+                     for k, v in r.witnesses.items()]
+        sections.append(("Answer", table(("", ""), rows)))
     else:
-        body = f"<h2>Question</h2><p>Classify {len(results)} cells of poses.</p><h2>Verdict</h2><ul>"
-        body += "".join(f"<li>{k}: {v}</li>" for k, v in sorted(counts.items())) + "</ul>"
-        body += figure(lambda p: plot_cells(robot, results, p))
-    body = "<h2>Robot</h2>" + robot_table(robot) + body
-    write_text(path, page(f"Singularity analysis: {robot.name}", body))
+        sections.append(("Cell classification", figure(lambda p: plot_cells(robot, results, p),
+                                                        "certified classification of the cells")))
+    write_report(path, f"Singularity analysis: {robot.name}", singularity_verdict(results), sections, certificate)

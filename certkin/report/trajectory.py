@@ -1,35 +1,53 @@
-"""The report of a trajectory: verdict, certified minimum margins, forbidden instants, and the
-margins along the path."""
+"""The report of a trajectory (and of a plan: its segments are trajectories): verdict, the robot
+at the start and goal, the constraints checked and skipped, certified margins, forbidden instants,
+and one panel of margins per constraint family."""
 from __future__ import annotations
 
-import html
-
-from .. import display
-from ..certificates import write_text
+from ..display import outward
 from ..plots import plot_margins
-from .page import figure, page, robot_table
+from .page import enclosure, esc, evidence_section, figure, robot_section, table, write_report
+
+VERDICTS = {"feasible": "Feasible: every constraint checked holds at every instant of the motion.",
+            "infeasible": "Infeasible: a constraint is proved violated on part of the motion.",
+            "undecided": "UNDECIDED: some instants are not decided (budget, resolution or interrupt)."}
 
 
-def trajectory_report(robot, result, path) -> None:
-    """Verdict, certified margins and forbidden t-intervals of one trajectory, with a plot of the
-    margin enclosures along the path."""
+def _legs(m) -> str:
+    return "-".join(map(str, m["legs"])) + (f" {m['detail']}" if m.get("detail") else "")
+
+
+def trajectory_sections(robot, result, budget=None) -> list:
+    """Question, evidence, margins, forbidden instants and the plot of one trajectory."""
     j = result.to_json()
-    pts = " &rarr; ".join(html.escape(",".join(p.values())) for p in j["path"])
-    body = "<h2>Robot</h2>" + robot_table(robot)
-    body += f"<h2>Question</h2><p>Is the motion {pts} feasible (constraints: {', '.join(j['constraints'])})?</p>"
-    for k, why in j["skipped"].items():
-        body += f"<p>Not checked: {html.escape(k)} ({html.escape(why)}).</p>"
-    body += f'<h2>Verdict</h2><p class="v">{html.escape(result.status)}</p>'
-    rows = "".join(f"<tr><td>{html.escape(m['constraint'])}</td><td>{'-'.join(map(str, m['legs']))} "
-                   f"{html.escape(m.get('detail', ''))}</td><td>{display.pair(m['margin'])}</td></tr>"
-                   for m in j["margins"])
-    body += "<h2>Certified minimum margins</h2><table><tr><th>constraint</th><th>legs</th><th>min margin</th></tr>"
-    body += rows + "</table>"
+    motion = " → ".join(",".join(p.values()) for p in j["path"])
+    skipped = "".join(f"<li>not checked: {esc(k)} ({esc(why)})</li>" for k, why in j["skipped"].items())
+    out = [("Question and assumptions", (
+        f"<p>Is the straight-line motion {esc(motion)} (linear in the pose variables, t from 0 to 1 on each "
+        f"segment) feasible? Constraints checked: {esc(', '.join(j['constraints']))}, with the limits of the "
+        f"robot file shown above.</p><ul>{skipped or '<li>every constraint family was checked</li>'}</ul>"))]
+    L = result.leaves
+    states = {"leaves (t-intervals) of the search": len(L["tlo"]) if L else 0}
+    states.update({k: v for k, v in j["stats"].items() if k != "seconds"})
+    states["seconds"] = f"{j['stats'].get('seconds', 0.0):.3f}"
+    out.append(("Evidence", evidence_section(None, budget, states) +
+                "<p>Each constraint is bounded over each t-interval with outward-rounded enclosures "
+                "(mean-value forms and Bernstein bounds, docs/soundness.md).</p>"))
+    rows = [(m["constraint"], _legs(m), enclosure(m["margin"]), m.get("sign", "")) for m in j["margins"]]
+    out.append(("Certified minimum margins", table(("constraint", "legs", "minimum margin over the motion (enclosure)",
+                                                    "det(A) sign"), rows)))
     if j["violations"]:
-        rows = "".join(f"<tr><td>{html.escape(v['constraint'])}</td><td>{'-'.join(map(str, v['legs']))}</td>"
-                       f"<td>{display.pair(v['s'], 12)}</td><td>{'proved' if v['certain'] else 'possible'}</td></tr>"
-                       for v in j["violations"])
-        body += ("<h2>Forbidden instants (their union contains every violation)</h2><table><tr><th>constraint</th>"
-                 "<th>legs</th><th>s interval</th><th>violation</th></tr>" + rows + "</table>")
-    body += figure(lambda png: plot_margins(result, png))
-    write_text(path, page(f"Trajectory: {robot.name}", body))
+        rows = [(v["constraint"], _legs(v), outward(*v["s"]), "proved" if v["certain"] else "possible")
+                for v in j["violations"]]
+        out.append(("Forbidden instants", "<p>Their union contains every violation (s = segment + t).</p>" +
+                    table(("constraint", "legs", "s interval", "violation"), rows)))
+    out.append(("Margins along the motion", figure(lambda p: plot_margins(result, p),
+                                                    "certified margin lower bounds per constraint family")))
+    return out
+
+
+def trajectory_report(robot, result, path, certificate=None, budget=None) -> None:
+    texts = result.path.texts
+    poses = [("start", texts[0]), ("goal", texts[-1])]
+    sections = [("Robot", robot_section(robot, poses, "Drawn at the start and the goal of the motion."))]
+    sections += trajectory_sections(robot, result, budget)
+    write_report(path, f"Trajectory: {robot.name}", VERDICTS[result.status], sections, certificate)

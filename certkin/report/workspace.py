@@ -1,40 +1,66 @@
-"""The report of a workspace section (exact area, paving bracket, picture) or volume bracket."""
+"""The report of a workspace section or volume: the area (or volume) bracket, the paving with its
+inner and outer parts, the robot drawn at the centre of the section."""
 from __future__ import annotations
 
-import html
+from fractions import Fraction
 
-from .. import display
-from ..certificates import write_text
+import numpy as np
+
+from ..display import lower, outward, upper
 from ..plots import plot_section, plot_volume
-from .page import figure, page, robot_table
+from ..workspace import VolumeResult
+from ..workspace.section import ignored_limits
+from .page import esc, evidence_section, figure, robot_section, table, write_report
 
 
-def workspace_report(robot, result, path) -> None:
-    """Verdict and certified brackets of one section or volume (inner bounds rounded down, outer up)."""
-    doc = result.to_json()
-    orientation = ", ".join(f"{k} = {v}" for k, v in doc["orientation"].items())
-    body = "<h2>Robot</h2>" + robot_table(robot)
-    if doc["problem"] == "workspace-volume":
-        lo, hi = doc["z_range"]
-        body += (f"<h2>Question</h2><p>Volume of the constant-orientation workspace ({html.escape(orientation)}) "
-                 f"for z in [{html.escape(lo)}, {html.escape(hi)}], {doc['slabs']} slabs.</p>")
-        body += f'<h2>Verdict</h2><p class="v">{html.escape(result.status)}</p>'
-        v = doc["volume"]
-        body += f"<p>{display.lower(v['inner'])} &le; volume &le; {display.upper(v['outer'])}</p>"
-        body += figure(lambda png: plot_volume(result, png))
+def _pose(robot, result, z) -> list:
+    """A pose at the centre of the searched domain with the result's orientation (for the drawing)."""
+    dom = getattr(result, "domain", None) or next((d for d in getattr(result, "domains", []) if d), None)
+    x, y = (0.5 * (np.asarray(dom[0], float) + np.asarray(dom[1], float))).tolist()[:2] if dom else (0.0, 0.0)
+    angles = list(result.orientation)
+    if robot.kind == "planar-3rpr":
+        return [x, y] + angles
+    return [x, y, z] + angles
+
+
+def workspace_verdict(result) -> str:
+    if isinstance(result, VolumeResult):
+        vin, vout = result.volume()
+        return f"Workspace volume {result.status}: between {lower(vin)} and {upper(vout)} (certified bracket)."
+    return (f"Workspace section {result.status}: area between {lower(result.inner)} and {upper(result.outer)} "
+            "(certified bracket).")
+
+
+def workspace_report(robot, result, path, certificate=None, budget=None) -> None:
+    volume = isinstance(result, VolumeResult)
+    if volume:
+        z = float((Fraction(result.z_range[0]) + Fraction(result.z_range[1])) / 2)
     else:
-        where = "" if doc["z"] is None else f" at z = {html.escape(doc['z'])}"
-        body += (f"<h2>Question</h2><p>Section{where} of the constant-orientation workspace "
-                 f"({html.escape(orientation)}).</p>")
-        body += f'<h2>Verdict</h2><p class="v">{html.escape(result.status)}</p>'
-        a = doc["area"]
-        if a["exact"] is not None:
-            body += f"<p>Exact area in {display.outward(*a['exact'])}.</p>"
-        else:
-            body += f"<p>Exact boundary undecided: {html.escape(str(doc.get('exact_undecided')))}.</p>"
-        body += f"<p>Paving: {display.lower(a['inner'])} &le; area &le; {display.upper(a['outer'])}.</p>"
-        body += figure(lambda png: plot_section(result, png))
-    if doc["ignored_limits"]:
-        body += f"<p>Leg-length limits only; ignored: {html.escape(', '.join(doc['ignored_limits']))}.</p>"
-    body += f"<p>{doc['stats']['boxes']} boxes, {doc['stats']['seconds']:.3f} s.</p>"
-    write_text(path, page(f"Workspace: {robot.name}", body))
+        z = result.z if result.z is not None else 0
+    pose = _pose(robot, result, z)
+    sections = [("Robot", robot_section(robot, [("centre of the section", pose)],
+                                        "Drawn at the centre of the searched domain, with the section's orientation."))]
+    ignored = ignored_limits(robot)
+    where = f"between z = {result.z_range[0]} and {result.z_range[1]}" if volume else \
+        ("" if result.z is None else f"at z = {result.z}")
+    sections.append(("Question and assumptions", (
+        f"<p>The positions reachable {esc(where)} with the orientation {esc(', '.join(result.orientation))} "
+        "(constant-orientation workspace, seed 004), within the leg-length limits of the robot file. "
+        + (f"Limits not used: {esc(', '.join(ignored))}." if ignored else "") + "</p>")))
+    c = result.counts()
+    used = {"boxes inside (proved)": c["inner_boxes"], "boxes outside (proved)": c["outside_boxes"],
+            "boundary boxes (undecided)": c["boundary_boxes"], **{k: v for k, v in result.stats.items()}}
+    sections.append(("Evidence", evidence_section(None, budget, used)))
+    if volume:
+        vin, vout = result.volume()
+        rows = [("volume, inner bound (inside boxes)", lower(vin)), ("volume, outer bound", upper(vout))]
+        draw, alt = (lambda p: plot_volume(result, p)), "inner and outer section areas per slab"
+    else:
+        rows = [("area, inner bound (inside boxes)", lower(result.inner)), ("area, outer bound", upper(result.outer))]
+        b = result.boundary
+        if b.decided and b.area is not None:
+            rows.append(("exact area (enclosure)", outward(float(b.area.lo), float(b.area.hi))))
+        draw, alt = (lambda p: plot_section(result, p)), "the paving: inside, boundary and outside boxes, exact arcs"
+    sections.append(("Answer", table(("quantity", "value"), rows)))
+    sections.append(("Paving", figure(draw, alt)))
+    write_report(path, f"Workspace: {robot.name}", workspace_verdict(result), sections, certificate)

@@ -71,7 +71,8 @@ def limited(argv, tmp_path, memory=MEMORY_LIMIT, timeout=300) -> Run:
     before = set(_files(tmp_path))
     t0 = time.perf_counter()
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, timeout=timeout,
-                       env={**os.environ, "PYTHONWARNINGS": "default"})
+                       env={**os.environ, "PYTHONWARNINGS": "default",        # this checkout's certkin
+                            "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])})
     return Run(p.returncode, p.stdout, p.stderr, time.perf_counter() - t0, sorted(set(_files(tmp_path)) - before))
 
 

@@ -1,0 +1,32 @@
+"""Jobs on a Dask cluster (the ``dask`` extra: ``dask.distributed``, imported here only).
+
+``dask.distributed.Client(address)`` runs one task per job; Dask itself moves the tasks of a worker
+that dies to another one (up to the scheduler's ``distributed.scheduler.allowed-failures``, 3 by
+default) and then gives up with ``KilledWorker``, which is reported as ``Died``.  The work
+function writes each job's files, so the output directory and the robot files must be reachable
+by the workers at the same paths (one machine, or a shared file system).
+"""
+from __future__ import annotations
+
+from .local import Died
+
+
+def run_dask(tasks: list, work, address: str, report) -> bool:
+    """Run ``work(*tasks[i])`` for every i on the Dask cluster at ``address``; ``report(i, value)``
+    as each ends.  Returns True when Ctrl-C stopped the run."""
+    from dask.distributed import Client, as_completed
+
+    with Client(address) as client:
+        futures = {client.submit(work, *task, pure=False): i for i, task in enumerate(tasks)}
+        try:
+            for future in as_completed(futures):
+                i = futures[future]
+                try:
+                    value = future.result()
+                except Exception as exc:        # KilledWorker, or a bug in the work function
+                    value = Died(1, f"{type(exc).__name__}: {exc}")
+                report(i, value)
+        except KeyboardInterrupt:
+            client.cancel(list(futures))
+            return True
+    return False

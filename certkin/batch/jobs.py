@@ -1,0 +1,74 @@
+"""The jobs file of ``certkin batch``: one JSON object a line.
+
+``{"id": "j1", "command": "fk", "robot": "robot.toml" or an inline robot table, <options of that
+command by their long names>}``.  Numbers keep their exact decimal text (``parse_float=Decimal``),
+so ``0.1`` in a job is the decimal 0.1, as on the command line.  A line that cannot be a job (not
+JSON, no usable id, an id used twice) still becomes a job, with an ``error`` and an id of its own
+(``line-N``), so the batch reports it and carries on.
+"""
+from __future__ import annotations
+
+from decimal import Decimal
+import json
+import re
+
+from ..errors import InputError
+
+ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,127}")     # a file name on every system: no separator
+ERROR = "error"                                           # key of a job that is already broken
+
+
+def read_jobs(path) -> list[dict]:
+    """The jobs of a JSONL file, in file order (empty lines and lines starting with '#' skipped).
+
+    Raises ``InputError`` only when the file itself cannot be read; a bad line becomes a job with
+    an ``error`` (its id: ``line-N`` when it has no usable one)."""
+    try:
+        with open(path, encoding="utf-8") as fh:
+            lines = fh.read().splitlines()
+    except FileNotFoundError:
+        raise InputError(str(path), "", "no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(str(path), "", f"cannot read the jobs file ({exc})") from None
+    jobs, seen = [], set()
+    for n, line in enumerate(lines, 1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        jobs.append(_job(path, n, line, seen))
+    return jobs
+
+
+def _job(path, n: int, line: str, seen: set) -> dict:
+    where = f"{path}: line {n}"
+    try:
+        job = json.loads(line, parse_float=Decimal)
+    except json.JSONDecodeError as exc:
+        return {"id": f"line-{n}", ERROR: f"{where}: not valid JSON ({exc.msg})"}
+    if not isinstance(job, dict):
+        return {"id": f"line-{n}", ERROR: f"{where}: expected a JSON object (a job)"}
+    jid = job.get("id")
+    if not isinstance(jid, str) or not ID.fullmatch(jid):
+        return {**job, "id": f"line-{n}",
+                ERROR: f"{where}: id: expected a name of letters, digits, '.', '_' or '-' (at most 128), "
+                       f"got {jid!r}"}
+    if jid in seen:
+        return {**job, "id": f"line-{n}", ERROR: f"{where}: id: {jid!r} is used by an earlier job"}
+    seen.add(jid)
+    return job
+
+
+def dumps(job: dict) -> str:
+    """A job as one JSON line; exact decimals (``Decimal``) are written as strings of their exact text,
+    which every option reads the same way."""
+    return json.dumps(job, default=_exact, separators=(", ", ": "))
+
+
+def canonical(job: dict) -> str:
+    """A job in one canonical text (sorted keys, no ``error``): two jobs asking the same thing compare equal."""
+    return json.dumps({k: v for k, v in job.items() if k != ERROR}, default=_exact, sort_keys=True)
+
+
+def _exact(value):
+    if isinstance(value, Decimal):
+        return str(value)
+    raise TypeError(f"not JSON: {value!r}")

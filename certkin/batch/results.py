@@ -1,0 +1,120 @@
+"""The files of a batch: ``DIR/<id>.json`` (the command's ``--json`` document, with the job it
+answers under ``"job"``), ``DIR/<id>.cert`` (its certificate) and ``DIR/summary.json``.
+
+Every file is written atomically (a temporary file renamed into place), the certificate before the
+document: a document on disk means its job finished.  A job is *done* when its document answers
+the same job (same canonical text), is not an error, and its certificate re-checks with the
+independent checker ``proofs``: only such jobs are skipped when a batch is run again.
+"""
+from __future__ import annotations
+
+from datetime import datetime, timezone
+import hashlib
+import json
+from pathlib import Path
+
+import proofs
+
+from .. import __version__
+from ..certificates import write_text
+from .jobs import canonical
+
+SUMMARY = "summary.json"
+ERROR, FAILED = "error", "failed"            # verdicts of jobs without an answer
+SLOWEST = 5
+
+
+def document_path(out, jid: str) -> Path:
+    return Path(out) / f"{jid}.json"
+
+
+def certificate_path(out, jid: str) -> Path:
+    return Path(out) / f"{jid}.cert"
+
+
+def file_facts(path) -> dict:
+    """Name, size and SHA-256 of a file (what a report shows of a certificate)."""
+    data = Path(path).read_bytes()
+    return {"file": Path(path).name, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+
+
+def write_json(path, document: dict) -> None:
+    """A JSON document, written atomically."""
+    write_text(path, json.dumps(document))
+
+
+def write_document(out, job: dict, document: dict) -> None:
+    """``DIR/<id>.json``: the document with the job it answers."""
+    write_json(document_path(out, job["id"]), {"job": json.loads(canonical(job)), **document})
+
+
+def write_error(out, job: dict, verdict: str, message: str, seconds: float = 0.0, attempts: int = 1) -> dict:
+    """The result of a job without an answer (``error``: bad input; ``failed``: its worker died):
+    its document, a stale certificate removed, and its summary row."""
+    certificate_path(out, job["id"]).unlink(missing_ok=True)
+    write_document(out, job, {"status": verdict, "error": message})
+    return row(job, verdict, seconds, attempts, error=message)
+
+
+def row(job: dict, verdict: str, seconds: float, attempts: int = 1, certificate: dict | None = None,
+        error: str | None = None, resumed: bool = False, cpu_seconds: float = 0.0) -> dict:
+    """One job's line of ``summary.json`` (``seconds``: wall clock, ``cpu_seconds``: CPU of its worker)."""
+    out = {"id": job["id"], "command": job.get("command"), "verdict": verdict, "seconds": round(seconds, 6),
+           "cpu_seconds": round(cpu_seconds, 6), "attempts": attempts, "document": f"{job['id']}.json",
+           "certificate": certificate}
+    if error is not None:
+        out["error"] = error
+    if resumed:
+        out["resumed"] = True
+    return out
+
+
+def done(out, job: dict, verdict) -> dict | None:
+    """The summary row of a job already answered in ``out`` (its document answers this very job and
+    its certificate re-checks), else None.  ``verdict(command, document)`` names the answer."""
+    path, cert = document_path(out, job["id"]), certificate_path(out, job["id"])
+    try:
+        document = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(document, dict) or document.get("status") in (ERROR, FAILED) or \
+            json.dumps(document.get("job"), sort_keys=True) != canonical(job) or not cert.exists():
+        return None
+    try:
+        if not proofs.check_file(cert).ok:
+            return None
+    except (OSError, ValueError):
+        return None
+    document.pop("job")
+    seconds = document.get("stats", {}).get("seconds", 0.0) if isinstance(document.get("stats"), dict) else 0.0
+    return row(job, verdict(job.get("command"), document), seconds, 0, file_facts(cert), resumed=True)
+
+
+def summarise(rows: list, wall_seconds: float, interrupted: bool, workers: str) -> dict:
+    """``summary.json``: counts by command and verdict, the undecided, failed and broken jobs, the
+    times, and every job's row (in the order of the jobs file)."""
+    counts: dict = {}
+    for r in rows:
+        key = f"{r['command'] or '?'} {r['verdict']}"
+        counts[key] = counts.get(key, 0) + 1
+    finished = [r for r in rows if r["verdict"] not in (ERROR, FAILED)]
+    return {"format": "certkin-batch", "version": 1, "certkin": __version__,
+            "date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), "workers": workers,
+            "jobs": len(rows), "interrupted": interrupted, "counts": dict(sorted(counts.items())),
+            "undecided": [r["id"] for r in finished if r["verdict"] in UNDECIDED],
+            "errors": [{"id": r["id"], "error": r["error"]} for r in rows if r["verdict"] == ERROR],
+            "failed": [{"id": r["id"], "error": r["error"]} for r in rows if r["verdict"] == FAILED],
+            "retried": [r["id"] for r in rows if r["attempts"] > 1],
+            "resumed": sum(bool(r.get("resumed")) for r in rows),
+            "seconds": round(wall_seconds, 3), "job_seconds": round(sum(r["seconds"] for r in rows), 3),
+            "job_cpu_seconds": round(sum(r["cpu_seconds"] for r in rows if not r.get("resumed")), 3),
+            "slowest": [{"id": r["id"], "seconds": r["seconds"]}
+                        for r in sorted(rows, key=lambda r: -r["seconds"])[:SLOWEST]],
+            "results": rows}
+
+
+UNDECIDED = ("undecided", "incomplete")      # verdicts of answers a budget cut short
+
+
+def write_summary(out, summary: dict) -> None:
+    write_json(Path(out) / SUMMARY, summary)

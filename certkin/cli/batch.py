@@ -1,0 +1,195 @@
+"""``certkin batch JOBS.jsonl --out DIR``: every job answered as its command answers it.
+
+A job's options go through its command's own parser (``"max_seconds": 5`` is ``--max-seconds=5``,
+``true`` a flag, a list of ``via`` poses a repeated option, any other list joined with commas), so
+a bad job gets exactly the one-line message the command line prints, and its command's
+``compute`` gives the same ``--json`` document.  ``run_job`` is the work done per job in a worker;
+robots are loaded once per worker.  The pool, the cluster, resuming and the summary are
+``certkin.batch``.
+"""
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+
+from tqdm import tqdm
+
+from ..batch import PENDING, read_jobs, run_batch
+from ..batch.results import ERROR, certificate_path, done, file_facts, row, write_document, \
+    write_error
+from ..errors import InputError
+from ..report import batch_report
+from ..robots import load_robot, robot_from_dict
+from . import fk, plan, singular, trajectory, workspace
+from .common import Parser, write_certificate
+
+COMMANDS = {"fk": fk, "singular": singular, "trajectory": trajectory, "plan": plan, "workspace": workspace}
+OUTPUTS = ("json", "certificate", "report", "plot", "progress")   # the batch writes a job's outputs itself
+FIXED = ("id", "command", "robot")
+
+
+class JobParser(Parser):
+    """A command's parser that raises the message it would print (``InputError``) instead of exiting."""
+
+    def error(self, message):
+        raise InputError("", "", message)
+
+
+_PARSERS: dict = {}
+_ROBOTS: dict = {}
+
+
+def parse_job(job: dict):
+    """The command module of a job and its options parsed by that command's own parser."""
+    command = job.get("command")
+    if command not in COMMANDS:
+        raise InputError("command", "", f"expected one of {', '.join(COMMANDS)}, got {command!r}")
+    if command not in _PARSERS:
+        _PARSERS[command] = JobParser(prog=f"certkin {command}")
+        COMMANDS[command].add_arguments(_PARSERS[command])
+    return COMMANDS[command], _PARSERS[command].parse_args(job_argv(job))
+
+
+def job_argv(job: dict) -> list[str]:
+    """The command-line arguments of a job (``--name=value``, so a value may start with '-')."""
+    robot = job.get("robot")
+    argv = [robot if isinstance(robot, str) else "<inline robot>"]
+    for key, value in job.items():
+        if key in FIXED:
+            continue
+        if key in OUTPUTS:
+            raise InputError(key, "", "not an option of a job: the batch writes DIR/<id>.json and DIR/<id>.cert")
+        option = "--" + key.replace("_", "-")
+        if value is True:
+            argv.append(option)
+        elif value is False or value is None:
+            continue
+        elif isinstance(value, list) and key == "via":
+            argv += [f"{option}={_text(v)}" for v in value]
+        else:
+            argv.append(f"{option}={_text(value)}")
+    return argv
+
+
+def _text(value) -> str:
+    if isinstance(value, list):
+        return ",".join(_text(v) for v in value)
+    if isinstance(value, dict):
+        return ",".join(f"{k}={_text(v)}" for k, v in value.items())
+    return str(value)
+
+
+def robot_of(job: dict):
+    """The job's robot, loaded once per worker process (a file path, or an inline robot table)."""
+    robot = job.get("robot")
+    if isinstance(robot, str):
+        key = ("file", robot)
+    elif isinstance(robot, dict):
+        key = ("table", json.dumps(robot, sort_keys=True, default=str))
+    else:
+        raise InputError("robot", "", "expected a robot file path or an inline robot table")
+    if key not in _ROBOTS:
+        try:
+            _ROBOTS[key] = load_robot(robot) if key[0] == "file" else robot_from_dict(robot, "robot")
+        except InputError as exc:
+            _ROBOTS[key] = exc
+    if isinstance(_ROBOTS[key], InputError):
+        raise _ROBOTS[key]
+    return _ROBOTS[key]
+
+
+def verdict(command, document: dict) -> str:
+    """The answer of a job in one word: fk ``complete``/``incomplete``/``tracked``; singular cells:
+    ``singular`` if a cell is, ``singularity-free`` if all are, else ``undecided``; else its status."""
+    if command == "fk":
+        return "tracked" if document.get("tracked") else "complete" if document["complete"] else "incomplete"
+    if command == "singular" and "counts" in document:
+        c = document["counts"]
+        return "singular" if c["singular"] else "undecided" if c["undecided"] else "singularity-free"
+    return document.get("status", "?")
+
+
+def run_job(job: dict, out: str) -> dict:
+    """Answer one job into ``out`` (nothing done if it is answered there already); its summary row.
+
+    Bad input becomes an ``error`` result with the command line's message; a budget that runs out
+    is an answer (``undecided``/``incomplete``)."""
+    previous = done(out, job, verdict)
+    if previous is not None:
+        return previous
+    t0, c0 = time.perf_counter(), time.process_time()
+    try:
+        module, args = parse_job(job)
+        answer = module.compute(args, robot_of(job))
+        facts = None
+        if answer.certificate is not None:
+            path = certificate_path(out, job["id"])
+            write_certificate(path, answer.certificate())
+            facts = file_facts(path)
+        else:
+            certificate_path(out, job["id"]).unlink(missing_ok=True)
+        write_document(out, job, answer.document)
+        return row(job, verdict(job["command"], answer.document), time.perf_counter() - t0, 1, facts,
+                   cpu_seconds=time.process_time() - c0)
+    except InputError as exc:
+        return write_error(out, job, ERROR, str(exc), time.perf_counter() - t0)
+    except MemoryError:
+        return write_error(out, job, ERROR, "out of memory", time.perf_counter() - t0)
+    except Exception as exc:                       # a bug: recorded, and the batch carries on
+        return write_error(out, job, ERROR, f"internal error: {type(exc).__name__}: {exc}", time.perf_counter() - t0)
+
+
+def add_arguments(b):
+    b.add_argument("jobs", metavar="JOBS.jsonl", help="one job a line (see docs/index.md)")
+    b.add_argument("--out", required=True, metavar="DIR", help="directory of the results (DIR/<id>.json, .cert)")
+    b.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                   help=f"local worker processes (default {os.cpu_count() or 1}, the number of cores)")
+    b.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="run on this Dask cluster (the dask extra)")
+    b.add_argument("--report", metavar="FILE.html", help="write a report of the whole campaign")
+    b.add_argument("--json", action="store_true", help="print summary.json instead of the table")
+    b.add_argument("--progress", action="store_true", help="show progress on stderr")
+
+
+def run(args):
+    if args.workers < 1:
+        raise InputError("--workers", "", f"expected a positive number of workers, got {args.workers}")
+    jobs = read_jobs(args.jobs)
+    bar = tqdm(total=len(jobs), desc="jobs", unit="job", file=sys.stderr, leave=False) if args.progress else None
+    summary = run_batch(jobs, args.out, run_job, args.workers, args.scheduler,
+                        (lambda r: bar.update(1)) if bar else None)
+    if bar:
+        bar.close()
+    if args.report:
+        batch_report(summary, args.out, args.report)
+    print(json.dumps(summary) if args.json else table(summary, args.out))
+    return 130 if summary["interrupted"] else 0
+
+
+SHOWN = 8       # ids listed per line of the table
+
+
+def table(summary: dict, out) -> str:
+    """The summary on one screen: counts by verdict, undecided, broken and failed jobs, times."""
+    lines = [f"certkin batch: {summary['jobs']} jobs -> {out} ({summary['workers']} workers): "
+             f"{summary['seconds']:.2f} s, {summary['job_seconds']:.2f} s in jobs"]
+    width = max([len(k) for k in summary["counts"]] + [10])
+    for key, n in summary["counts"].items():
+        lines.append(f"  {key:{width}s} {n:7d}")
+    lines.append(f"  resumed (already done) {summary['resumed']}, retried after a worker died "
+                 f"{len(summary['retried'])}")
+    for name, ids in (("undecided", summary["undecided"]), ("retried", summary["retried"])):
+        if ids:
+            lines.append(f"  {name}: " + ", ".join(ids[:SHOWN]) + (" ..." if len(ids) > SHOWN else ""))
+    for name in ("errors", "failed"):
+        for e in summary[name][:SHOWN // 2]:
+            lines.append(f"  {name[:-1] if name == 'errors' else 'failed'} {e['id']}: {e['error']}")
+        if len(summary[name]) > SHOWN // 2:
+            lines.append(f"  ... {len(summary[name]) - SHOWN // 2} more {name} (summary.json)")
+    if summary["slowest"]:
+        lines.append("  slowest: " + ", ".join(f"{s['id']} {s['seconds']:.3f} s" for s in summary["slowest"]))
+    pending = sum(r["verdict"] == PENDING for r in summary["results"])
+    if summary["interrupted"]:
+        lines.append(f"  INTERRUPTED: {pending} jobs not run; the same command resumes the batch")
+    return "\n".join(lines)

@@ -1,0 +1,59 @@
+"""``certkin jobs grid ROBOT --command ...``: print jobs (JSONL) for ``certkin batch``.
+
+``--command fk --lengths "L1=a:b:n,..."``; ``--command singular --box "x=a:b,..." --cells n``;
+``--command trajectory --from "x=a:b,...,z=520,..." --to ... [--count N --seed S]`` (see
+``certkin.batch.grid``).  ``--set KEY=VALUE`` adds an option to every job (``max_seconds=5``).
+"""
+from __future__ import annotations
+
+from ..batch.grid import cell_jobs, fk_jobs, trajectory_jobs
+from ..batch.jobs import dumps
+from ..errors import InputError
+from ..robots import load_robot
+
+
+def add_arguments(j):
+    sub = j.add_subparsers(dest="generator", required=True, parser_class=type(j))
+    g = sub.add_parser("grid", help="a grid (or random draw) of jobs of one command on one robot")
+    g.add_argument("robot", help="robot file (TOML), written into every job as given")
+    g.add_argument("--command", required=True, choices=["fk", "singular", "trajectory"])
+    g.add_argument("--lengths", metavar="L1=a:b:n,...", help="fk: the grid of leg lengths")
+    g.add_argument("--box", metavar="x=a:b,...", help="singular: the box to cut into cells")
+    g.add_argument("--cells", type=int, help="singular: cells per varying variable")
+    g.add_argument("--from", dest="start", metavar="x=a:b[:n],...", help="trajectory: start poses")
+    g.add_argument("--to", dest="goal", metavar="x=a:b[:n],...", help="trajectory: goal poses")
+    g.add_argument("--count", type=int, help="trajectory: number of random start/goal pairs")
+    g.add_argument("--seed", type=int, default=0, help="trajectory: seed of the random draw (default 0)")
+    g.add_argument("--decimals", type=int, default=3, help="trajectory: decimal places of drawn values (default 3)")
+    g.add_argument("--prefix", help="prefix of the job ids (default: the command)")
+    g.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="an option of every job, by its long name (repeatable): max_seconds=5")
+
+
+NEEDS = {"fk": ("lengths",), "singular": ("box", "cells"), "trajectory": ("start", "goal")}
+OPTION = {"lengths": "--lengths", "box": "--box", "cells": "--cells", "start": "--from", "goal": "--to"}
+
+
+def run(args):
+    for name in NEEDS[args.command]:
+        if getattr(args, name) is None:
+            raise InputError(OPTION[name], "", f"--command {args.command} needs {OPTION[name]}")
+    if not 0 <= args.decimals <= 15:
+        raise InputError("--decimals", "", f"expected 0 to 15 decimal places, got {args.decimals}")
+    extra = {}
+    for item in args.set:
+        key, eq, value = item.partition("=")
+        if not eq or not key.strip():
+            raise InputError("--set", item, "expected KEY=VALUE")
+        extra[key.strip().replace("-", "_")] = True if value.strip() == "true" else value.strip()
+    robot = load_robot(args.robot)
+    prefix = args.prefix or args.command
+    if args.command == "fk":
+        jobs = fk_jobs(args.robot, robot, args.lengths, prefix)
+    elif args.command == "singular":
+        jobs = cell_jobs(args.robot, robot, args.box, args.cells, prefix)
+    else:
+        jobs = trajectory_jobs(args.robot, robot, args.start, args.goal, args.count, args.seed, args.decimals, prefix)
+    for job in jobs:
+        print(dumps({**job, **extra}))
+    return 0

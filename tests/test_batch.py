@@ -1,0 +1,329 @@
+"""certkin batch: the same answers whatever runs the jobs, resumable, resistant to dead workers and
+broken jobs; the job generators."""
+from __future__ import annotations
+
+from fractions import Fraction
+import itertools
+import json
+import os
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+import proofs
+from certkin.batch import read_jobs, run_batch
+from certkin.batch.jobs import dumps
+from certkin.cli import main
+from certkin.cli.batch import run_job
+
+sys.path.insert(0, str(Path(__file__).parent))
+from batch_work import dies_on_boom  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+PLANAR = str(ROOT / "examples" / "robots" / "seed003-planar-example-2.toml")
+MEL = str(ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml")
+TIMING = {"seconds", "cpu_seconds", "job_seconds", "job_cpu_seconds", "slowest", "date", "workers", "attempts", "resumed", "retried"}
+
+
+def untimed(doc):
+    """A document without its timing fields (and the batch's bookkeeping of attempts)."""
+    if isinstance(doc, dict):
+        return {k: untimed(v) for k, v in doc.items() if k not in TIMING}
+    if isinstance(doc, list):
+        return [untimed(v) for v in doc]
+    return doc
+
+
+def exit_code(argv) -> int:
+    """The exit code of the command line (a parser error exits through ``SystemExit``)."""
+    try:
+        return main(argv)
+    except SystemExit as exc:
+        return exc.code
+
+
+def generate(*argv, capsys) -> list[str]:
+    assert main(["jobs", "grid", *argv]) == 0
+    return capsys.readouterr().out.splitlines()
+
+
+@pytest.fixture(scope="module")
+def jobs_file(tmp_path_factory):
+    """8 singularity cells, 6 seed 000 trajectories and 2 planar FK jobs, generated."""
+    path = tmp_path_factory.mktemp("jobs") / "jobs.jsonl"
+    lines = []
+    out = subprocess.run([sys.executable, "-m", "certkin.cli", "jobs", "grid", PLANAR, "--command", "singular",
+                          "--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "2"],
+                         capture_output=True, text=True, check=True).stdout
+    lines += out.splitlines()
+    out = subprocess.run([sys.executable, "-m", "certkin.cli", "jobs", "grid", MEL, "--command", "trajectory",
+                          "--from", "x=-60:60,y=-60:60,z=520,psi=85deg,theta=10deg,phi=0",
+                          "--to", "x=-60:60,y=-60:60,z=520,psi=85deg,theta=10deg,phi=0", "--count", "6"],
+                         capture_output=True, text=True, check=True).stdout
+    lines += out.splitlines()
+    lines += [dumps({"id": "fk-a", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"}),
+              dumps({"id": "fk-b", "command": "fk", "robot": PLANAR, "lengths": [29, "13.7", 40.5],
+                     "max_boxes": 100000})]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def outputs(out: Path) -> dict:
+    """Every file of a batch directory: documents and summary without timing, certificates as bytes."""
+    files = {}
+    for p in sorted(out.iterdir()):
+        if p.suffix == ".json":
+            files[p.name] = untimed(json.loads(p.read_text()))
+        elif p.suffix == ".cert":
+            files[p.name] = p.read_bytes()
+    return files
+
+
+@pytest.fixture(scope="module")
+def reference(jobs_file, tmp_path_factory):
+    out = tmp_path_factory.mktemp("one") / "out"
+    assert main(["batch", str(jobs_file), "--out", str(out), "--workers", "1"]) == 0
+    return out
+
+
+def test_one_worker_answers_every_job_as_its_command(reference, jobs_file, capsys):
+    summary = json.loads((reference / "summary.json").read_text())
+    assert summary["jobs"] == 16 and not summary["errors"] and not summary["failed"]
+    by_command = {}
+    for key, n in summary["counts"].items():
+        by_command[key.split()[0]] = by_command.get(key.split()[0], 0) + n
+    assert by_command == {"singular": 8, "trajectory": 6, "fk": 2}
+    capsys.readouterr()
+    for job in read_jobs(jobs_file)[::5]:       # the same document as the command line prints
+        argv = [job["command"], job["robot"], "--json"] + [f"--{k.replace('_', '-')}="
+                                                           f"{','.join(map(str, v)) if isinstance(v, list) else v}"
+                                                           for k, v in job.items() if k not in ("id", "command", "robot")]
+        assert main(argv) == 0
+        printed = json.loads(capsys.readouterr().out)
+        written = json.loads((reference / f"{job['id']}.json").read_text())
+        assert written.pop("job") == json.loads(dumps(job))
+        assert untimed(written) == untimed(printed)
+    for row in summary["results"]:
+        cert = reference / row["certificate"]["file"]
+        assert proofs.check_file(cert).ok
+        assert row["certificate"]["bytes"] == cert.stat().st_size
+
+
+def test_two_workers_and_a_dask_cluster_give_identical_results(reference, jobs_file, tmp_path):
+    expected = outputs(reference)
+    assert main(["batch", str(jobs_file), "--out", str(tmp_path / "two"), "--workers", "2"]) == 0
+    assert outputs(tmp_path / "two") == expected
+    distributed = pytest.importorskip("dask.distributed", reason="the dask extra is not installed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        assert main(["batch", str(jobs_file), "--out", str(tmp_path / "dask"),
+                     "--scheduler", cluster.scheduler_address]) == 0
+    assert outputs(tmp_path / "dask") == expected
+
+
+BROKEN = [
+    ({"command": "fk", "robot": PLANAR, "lengths": "1,2"}, ["fk", PLANAR, "--lengths", "1,2"]),
+    ({"command": "fk", "robot": "no-such-robot.toml", "lengths": "1,2,3"},
+     ["fk", "no-such-robot.toml", "--lengths", "1,2,3"]),
+    ({"command": "fk", "robot": PLANAR, "lengths": "1,2,3", "max_seconds": "soon"},
+     ["fk", PLANAR, "--lengths", "1,2,3", "--max-seconds", "soon"]),
+    ({"command": "singular", "robot": PLANAR, "box": "x=0:1,y=0:1"}, ["singular", PLANAR, "--box", "x=0:1,y=0:1"]),
+    ({"command": "trajectory", "robot": MEL, "from": "0,0,500,0,0,0"}, ["trajectory", MEL, "--from", "0,0,500,0,0,0"]),
+]
+
+
+def test_broken_jobs_write_the_command_line_message_and_the_batch_carries_on(tmp_path, capsys):
+    bad_robot = tmp_path / "bad.toml"
+    bad_robot.write_text('kind = "planar-3rpr"\nbase = [[0, 0], [1, 0]]\nplatform = [[0, 0], [1, 0], [0, 1]]\n')
+    cases = BROKEN + [({"command": "fk", "robot": str(bad_robot), "lengths": "1,1,1"},
+                       ["fk", str(bad_robot), "--lengths", "1,1,1"])]
+    lines = [dumps({"id": f"bad-{k}", **job}) for k, (job, _) in enumerate(cases)]
+    lines += ["{not json", dumps({"id": "a/b", "command": "fk"}), dumps({"id": "bad-0", "command": "fk"}),
+              dumps({"id": "cert", "command": "fk", "robot": PLANAR, "lengths": "1,2,3", "certificate": "x"}),
+              dumps({"id": "good", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"})]
+    (tmp_path / "jobs.jsonl").write_text("\n".join(lines) + "\n")
+    capsys.readouterr()
+    assert main(["batch", str(tmp_path / "jobs.jsonl"), "--out", str(tmp_path / "out"), "--workers", "2"]) == 0
+    table = capsys.readouterr().out
+    for k, (_, argv) in enumerate(cases):
+        doc = json.loads((tmp_path / "out" / f"bad-{k}.json").read_text())
+        assert doc["status"] == "error" and not (tmp_path / "out" / f"bad-{k}.cert").exists()
+        assert exit_code(argv) == 2
+        assert capsys.readouterr().err == f"certkin: error: {doc['error']}\n"
+    errors = {e["id"]: e["error"] for e in json.loads((tmp_path / "out" / "summary.json").read_text())["errors"]}
+    n = len(cases)
+    assert "not valid JSON" in errors[f"line-{n + 1}"]
+    assert "id: expected a name" in errors[f"line-{n + 2}"]
+    assert "is used by an earlier job" in errors[f"line-{n + 3}"]
+    assert errors["cert"].startswith("certificate: not an option of a job")
+    assert len(errors) == n + 4
+    good = json.loads((tmp_path / "out" / "good.json").read_text())
+    assert good["complete"] and len(good["solutions"]) == 6
+    assert "fk complete" in table and "error bad-1: no-such-robot.toml: no such file" in table
+
+
+def test_a_job_that_kills_its_worker_is_tried_three_times_then_failed(tmp_path):
+    jobs = [{"id": "boom", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"},
+            {"id": "fine", "command": "trajectory", "robot": MEL, "from": "-69,-50,500,85deg,10deg,0",
+             "to": "84,92,500,85deg,10deg,0"}]
+    summary = run_batch(jobs, tmp_path, dies_on_boom, workers=2)
+    rows = {r["id"]: r for r in summary["results"]}
+    assert rows["boom"]["verdict"] == "failed" and rows["boom"]["attempts"] == 3
+    assert "died 3 times" in rows["boom"]["error"]
+    assert json.loads((tmp_path / "boom.json").read_text())["status"] == "failed"
+    assert rows["fine"]["verdict"] == "infeasible" and proofs.check_file(tmp_path / "fine.cert").ok
+
+
+def _descendants(pid: int) -> list[int]:
+    out, todo = [], [pid]
+    while todo:
+        p = todo.pop()
+        for task in Path(f"/proc/{p}/task").glob("*"):
+            try:
+                kids = [int(c) for c in (task / "children").read_text().split()]
+            except OSError:
+                kids = []
+            out += kids
+            todo += kids
+    return out
+
+
+def _start(jobs_file, out):
+    return subprocess.Popen([sys.executable, "-m", "certkin.cli", "batch", str(jobs_file), "--out", str(out),
+                             "--workers", "2"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def _wait_for_documents(out: Path, n: int, process, limit=120.0):
+    t0 = time.time()
+    while len([p for p in out.glob("*.json")]) < n:
+        assert process.poll() is None, process.communicate()
+        assert time.time() - t0 < limit
+        time.sleep(0.05)
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs /proc to find the worker processes")
+def test_a_killed_worker_loses_no_result_and_its_job_is_retried(reference, jobs_file, tmp_path):
+    out = tmp_path / "out"
+    process = _start(jobs_file, out)
+    _wait_for_documents(out, 3, process)
+    parent_kids = set(int(c) for t in Path(f"/proc/{process.pid}/task").glob("*")
+                      for c in (t / "children").read_text().split())
+    workers = [p for p in _descendants(process.pid) if p not in parent_kids]     # the fork server's children
+    assert workers
+    os.kill(workers[0], signal.SIGKILL)
+    stdout, stderr = process.communicate(timeout=300)
+    assert process.returncode == 0, stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["retried"] and not summary["failed"]
+    assert outputs(out) == outputs(reference)
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs /proc to find the worker processes")
+def test_a_batch_killed_midway_resumes_where_it_stopped(reference, jobs_file, tmp_path):
+    out = tmp_path / "out"
+    process = _start(jobs_file, out)
+    _wait_for_documents(out, 4, process)
+    workers = _descendants(process.pid)
+    process.kill()
+    process.wait()
+    t0 = time.time()
+    while any(Path(f"/proc/{p}").exists() and "zombie" not in Path(f"/proc/{p}/status").read_text().lower()
+              for p in workers):
+        assert time.time() - t0 < 10, "worker processes outlived the batch"
+        time.sleep(0.1)
+    finished = {p.stem for p in out.glob("*.json")} - {"summary"}
+    assert finished and len(finished) < 16 and not (out / "summary.json").exists()
+    summary = run_batch(read_jobs(jobs_file), out, run_job, workers=2)
+    assert summary["resumed"] == len(finished)
+    assert {r["id"] for r in summary["results"] if r.get("resumed")} == finished
+    assert outputs(out) == outputs(reference)
+
+
+def test_a_changed_job_or_a_tampered_certificate_is_run_again(reference, jobs_file, tmp_path):
+    jobs = read_jobs(jobs_file)
+    cells = [j for j in jobs if j["command"] == "singular"][:2]
+    run_batch(cells, tmp_path, run_job)
+    cert = tmp_path / f"{cells[0]['id']}.cert"
+    data = json.loads(cert.read_text())
+    claim = data["claims"][0]
+    if "witnesses" in claim:
+        claim["witnesses"]["positive"], claim["witnesses"]["negative"] = \
+            claim["witnesses"]["negative"], claim["witnesses"]["positive"]
+    else:
+        claim["sign"] = -claim["sign"]
+    cert.write_text(json.dumps(data))
+    changed = {**cells[1], "max_boxes": 5000}
+    summary = run_batch([cells[0], changed], tmp_path, run_job)
+    assert summary["resumed"] == 0
+    assert proofs.check_file(cert).ok
+    assert json.loads((tmp_path / f"{cells[1]['id']}.json").read_text())["job"]["max_boxes"] == 5000
+
+
+# ----------------------------------------------------------------- generators
+def test_fk_grid_round_trip(tmp_path, capsys):
+    lines = generate(PLANAR, "--command", "fk", "--lengths", "L1=28:29:3,L2=13.66,L3=40:40.5:2",
+                     "--set", "max_seconds=30", capsys=capsys)
+    jobs = [json.loads(line) for line in lines]
+    expected = list(itertools.product([Fraction(28), Fraction(57, 2), Fraction(29)], [Fraction("13.66")],
+                                      [Fraction(40), Fraction(81, 2)]))
+    assert [tuple(Fraction(v) for v in j["lengths"].split(",")) for j in jobs] == expected
+    assert len({j["id"] for j in jobs}) == 6 and all(j["max_seconds"] == "30" for j in jobs)
+    (tmp_path / "jobs.jsonl").write_text("\n".join(lines) + "\n")
+    assert main(["batch", str(tmp_path / "jobs.jsonl"), "--out", str(tmp_path / "out"), "--workers", "2"]) == 0
+    for job in jobs:
+        doc = json.loads((tmp_path / "out" / f"{job['id']}.json").read_text())
+        assert doc["lengths"] == job["lengths"].split(",") and doc["complete"]
+
+
+def test_cell_grid_covers_the_box_exactly(capsys):
+    jobs = [json.loads(line) for line in generate(PLANAR, "--command", "singular", "--box",
+                                                  "x=-50:50,y=0:10,phi=0:1", "--cells", "3", capsys=capsys)]
+    assert len(jobs) == 27
+    volume = Fraction(0)
+    cuts = set()
+    for job in jobs:
+        v = Fraction(1)
+        for part in job["box"].split(","):
+            name, rng = part.split("=")
+            a, b = (Fraction(t) for t in rng.split(":"))
+            assert a < b
+            v *= b - a
+            cuts |= {(name, a), (name, b)}
+        volume += v
+    assert volume == 100 * 10 * 1
+    assert sorted(a for n, a in cuts if n == "y") == [0, Fraction("3.33333333333333"), Fraction("6.66666666666667"), 10]
+
+
+def test_trajectory_pairs_are_reproducible_from_their_seed(capsys):
+    spec = ["--from", "x=-60:60,y=-60:60,z=520,psi=85deg,theta=10deg,phi=0",
+            "--to", "x=-60:60,y=-60:60,z=520,psi=85deg,theta=10deg,phi=0", "--count", "20"]
+    a = generate(MEL, "--command", "trajectory", *spec, "--seed", "7", capsys=capsys)
+    b = generate(MEL, "--command", "trajectory", *spec, "--seed", "7", capsys=capsys)
+    c = generate(MEL, "--command", "trajectory", *spec, "--seed", "8", capsys=capsys)
+    assert a == b and a != c and len(a) == 20
+    for job in map(json.loads, a):
+        for pose in (job["from"], job["to"]):
+            x, y, z, psi, theta, phi = pose.split(",")
+            assert -60 <= Fraction(x) <= 60 and -60 <= Fraction(y) <= 60 and (z, psi, theta, phi) == \
+                ("520", "85deg", "10deg", "0")
+            assert Fraction(x) * 1000 == int(Fraction(x) * 1000)
+    grid = [json.loads(line) for line in generate(
+        MEL, "--command", "trajectory", "--from", "x=-60:60:3,y=0,z=520,psi=80deg:90deg:2,theta=10deg,phi=0",
+        "--to", "x=0,y=0,z=520,psi=85deg,theta=10deg,phi=0", capsys=capsys)]
+    assert [j["from"] for j in grid] == [f"{x},0,520,{p},10deg,0" for x in ("-60", "0", "60") for p in ("80deg", "90deg")]
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--command", "fk", "--lengths", "L1=1:2:0,L2=1,L3=1"], "--lengths: L1: expected a positive count"),
+    (["--command", "fk", "--lengths", "L1=1,L2=1"], "--lengths: L3: missing"),
+    (["--command", "singular", "--box", "x=0:1,y=0:1,phi=0:1"], "--cells: --command singular needs --cells"),
+    (["--command", "trajectory", "--from", "x=0:1,y=0,phi=0", "--to", "x=0,y=0,phi=0"],
+     "--count: random start and goal poses need --count"),
+])
+def test_generator_errors_name_the_option(argv, message, capsys):
+    assert main(["jobs", "grid", PLANAR, *argv]) == 2
+    assert capsys.readouterr().err.startswith(f"certkin: error: {message}")

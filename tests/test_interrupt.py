@@ -1,0 +1,93 @@
+"""Ctrl-C: a long command prints what it proved so far, marked interrupted, and writes a partial
+certificate that still checks; a batch stops, says so, and resumes."""
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+import proofs
+from certkin.cli import fk, singular, trajectory
+from certkin.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+PLANAR = str(ROOT / "examples" / "robots" / "seed003-planar-example-2.toml")
+MEL = str(ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml")
+
+
+@pytest.fixture
+def ctrl_c_after_first_batch(monkeypatch):
+    """The progress callback of the engine sends this process a real SIGINT after its first batch."""
+    def progress(enabled):
+        if not enabled:
+            return None
+        sent = []
+
+        def update(processed, frontier):
+            if not sent:
+                sent.append(True)
+                os.kill(os.getpid(), signal.SIGINT)
+        return update
+    for module in (fk, singular, trajectory):
+        monkeypatch.setattr(module, "progress", progress)
+
+
+@pytest.mark.parametrize("argv", [
+    ["singular", PLANAR, "--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "8"],
+    ["fk", PLANAR, "--lengths", "28.99,13.66,40.53"],
+    ["trajectory", MEL, "--from", "-69,-50,500,85deg,10deg,0", "--to", "84,92,500,85deg,10deg,0"],
+])
+def test_ctrl_c_prints_the_partial_answer_and_writes_a_checkable_certificate(argv, ctrl_c_after_first_batch,
+                                                                            tmp_path, capsys):
+    cert = tmp_path / "partial.cert"
+    assert main(argv + ["--progress", "--certificate", str(cert)]) == 130
+    assert capsys.readouterr().out.startswith("INTERRUPTED (Ctrl-C): what was proved before the interrupt")
+    assert main(argv + ["--progress", "--json"]) == 130
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["interrupted"] is True
+    if argv[0] == "fk":
+        assert doc["complete"] is False
+    elif argv[0] == "singular":
+        assert doc["counts"]["undecided"] > 0
+    else:
+        assert doc["status"] == "undecided" or doc["status"] == "infeasible"
+    report = proofs.check_file(cert)
+    assert report.ok, report.summary()
+    assert main(argv) == 0                      # without Ctrl-C: the whole answer, not marked
+    assert not capsys.readouterr().out.startswith("INTERRUPTED")
+
+
+def test_ctrl_c_stops_a_batch_which_then_resumes(tmp_path):
+    lines = subprocess.run([sys.executable, "-m", "certkin.cli", "jobs", "grid", MEL, "--command", "trajectory",
+                            "--from", "x=-60:60,y=-60:60,z=520,psi=85deg,theta=10deg,phi=0",
+                            "--to", "x=-60:60,y=-60:60,z=520,psi=85deg,theta=10deg,phi=0", "--count", "400"],
+                           capture_output=True, text=True, check=True).stdout
+    (tmp_path / "jobs.jsonl").write_text(lines)
+    out = tmp_path / "out"
+    argv = [sys.executable, "-m", "certkin.cli", "batch", str(tmp_path / "jobs.jsonl"), "--out", str(out),
+            "--workers", "2"]
+    process = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    t0 = time.time()
+    while len(list(out.glob("*.json"))) < 3:
+        assert process.poll() is None and time.time() - t0 < 120
+        time.sleep(0.05)
+    process.send_signal(signal.SIGINT)
+    stdout, _ = process.communicate(timeout=60)
+    summary = json.loads((out / "summary.json").read_text())
+    if process.returncode == 0:
+        pytest.skip("the batch finished before the interrupt arrived")
+    assert process.returncode == 130 and summary["interrupted"]
+    assert "INTERRUPTED" in stdout and "jobs not run" in stdout
+    done = [r for r in summary["results"] if r["verdict"] != "pending"]
+    assert 0 < len(done) < 400
+    rerun = subprocess.run(argv, capture_output=True, text=True, timeout=600)
+    assert rerun.returncode == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["resumed"] >= len(done) and not summary["interrupted"]
+    assert all(r["verdict"] in ("feasible", "infeasible", "undecided") for r in summary["results"])
