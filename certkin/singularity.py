@@ -297,7 +297,7 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
     idx = np.stack(np.meshgrid(*[np.arange(c) for c in counts], indexing="ij"), -1).reshape(-1, len(counts))
     clo = np.stack([grids[i][idx[:, i]] for i in range(len(counts))], axis=1)
     chi = np.stack([grids[i][idx[:, i] + 1] for i in range(len(counts))], axis=1)
-    inner = inner_box(texts, robot) if len(idx) == 1 and texts is not None else None   # cells: exact floats
+    inner = inner_box(texts, robot) if len(idx) == 1 else None      # cells: their float bounds are exact
     problem = SingularityProblem(robot, len(idx), inner)
     scale = np.where(free, hi0 - lo0, np.inf)         # a fixed coordinate is never bisected
     res = search(problem, clo, chi, scale=scale, budget=budget.within(clock.left()), progress=progress)
@@ -375,7 +375,7 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
         nonlocal tried, proved
         lo, hi = center.lo - s * sc, center.hi + s * sc
         iv = Interval.from_bounds(lo, hi)
-        r = classify_cells(robot, (iv, None), 1, budget.within(clock.left()))[0]
+        r = classify_cells(robot, (iv, _cell_texts(robot, lo, hi)), 1, budget.within(clock.left()))[0]
         r.scale_factor = s
         tried += 1
         if r.status == "singularity-free":

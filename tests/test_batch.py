@@ -15,13 +15,14 @@ import time
 import pytest
 
 import proofs
+from batch_work import dies_on_boom
+from certfile import Doc
 from certkin.batch import read_jobs, run_batch
 from certkin.batch.jobs import dumps
 from certkin.cli import main
 from certkin.cli.batch import run_job
 
-sys.path.insert(0, str(Path(__file__).parent))
-from batch_work import dies_on_boom  # noqa: E402
+
 
 ROOT = Path(__file__).resolve().parent.parent
 PLANAR = str(ROOT / "examples" / "robots" / "seed003-planar-example-2.toml")
@@ -248,14 +249,15 @@ def test_a_changed_job_or_a_tampered_certificate_is_run_again(reference, jobs_fi
     cells = [j for j in jobs if j["command"] == "singular"][:2]
     run_batch(cells, tmp_path, run_job)
     cert = tmp_path / f"{cells[0]['id']}.cert"
-    data = json.loads(cert.read_text())
-    claim = data["claims"][0]
+    data = Doc(cert)
+    claim = data.claim()
     if "witnesses" in claim:
         claim["witnesses"]["positive"], claim["witnesses"]["negative"] = \
             claim["witnesses"]["negative"], claim["witnesses"]["positive"]
     else:
         claim["sign"] = -claim["sign"]
-    cert.write_text(json.dumps(data))
+    data.write(cert)
+    assert not proofs.check_file(cert).ok
     changed = {**cells[1], "max_boxes": 5000}
     summary = run_batch([cells[0], changed], tmp_path, run_job)
     assert summary["resumed"] == 0
