@@ -245,6 +245,7 @@ def _certkin_vs_oracle(robot: dict, lengths, record=None, check_certificate=CHEC
         record("certkin_solutions", len(result.solutions))
         record("certkin_unresolved", len(result.unresolved))
         record("certkin_complete", result.complete)
+        record("certkin_boxes", result.to_json()["stats"]["boxes"])
         record("certkin_cpu_seconds", round(seconds, 2))
         record("msolve_seconds", round(oracle.seconds, 2))
     counts = M.compare(result, oracle)
