@@ -63,7 +63,6 @@ import mpmath
 from mpmath import iv
 
 PRECISION = 256                 # bits of the mpmath interval arithmetic
-GENERIC_COUNT = 40              # complex postures of a general 6-6 robot (Raghavan 1991, Ronga-Vust 1995)
 
 
 class OracleError(RuntimeError):
@@ -115,9 +114,8 @@ def study_of_pose(position, quaternion):
 
 
 def pose_of_study(q, y):
-    """(position p, q / |q|²) of Study parameters: p = 2 y q̄ / |q|² (its scalar part is q·y / |q|²·2,
-    zero on the Study quadric, and dropped).  Returns the position and the rotation in the form R(q) v
-    = q v q̄ / |q|², i.e. q itself: normalise it with ``unit_quaternion``."""
+    """(p, q): the platform origin p = 2 y q̄ / |q|² (the vector part; the scalar part, 2 q·y / |q|², is
+    zero on the Study quadric) and the rotation q, unnormalised (``rotate`` and ``unit_quaternion``)."""
     n = dot(q, q)
     p = qmul(y, qconj(q))
     return tuple(2 * c / n for c in p[1:]), tuple(q)
