@@ -322,7 +322,7 @@ def gap_splits(system, lo, hi, L: Interval, at_least: float):
     HC4's square roots (``root``), when that gap spans at least ``at_least`` of the side (dim −1,
     at NaN otherwise).
 
-    Floats from the box (R b_i over it estimated from its midpoint): for the norm equation r_k² = 1 − Σ_{j≠k} r_j² ≥ t, so r_k ∉ (−√t, √t); for
+    Floats from the box: for the norm equation r_k² = 1 − Σ_{j≠k} r_j² ≥ t, so r_k ∉ (−√t, √t); for
     leg i and coordinate k, (p_k + m_ik)² = ρ_i² − Σ_{k'≠k} ell_ik'² ≥ t with m_i = R b_i − a_i and
     ell_i = p + m_i, so p_k ∉ (−√t − m̲_ik, √t − m̄_ik).  ``root`` keeps the hull of the branches, so a
     box holding both (a robot's mirror postures z and −z, a rotation and its reverse) is never
@@ -347,25 +347,20 @@ def gap_splits(system, lo, hi, L: Interval, at_least: float):
         dim = np.where(better, k, dim)
         at = np.where(better, 0.5 * (glo[rows, j] + ghi[rows, j]), at)
 
-    with np.errstate(all="ignore"):      # floats throughout: a hint needs no rounding control
-        squares = np.maximum(lo[:, p:] ** 2, hi[:, p:] ** 2)             # upper bounds of r_j²
+    with np.errstate(all="ignore"):
+        X = Interval.from_bounds(lo, hi)
+        squares = sqr(X[:, p:]).hi
         total = squares.sum(axis=1)
         for k in range(p, n):
             t = 1.0 - (total - squares[:, k - p])
             g = np.sqrt(np.maximum(t, 0.0))[:, None]
             consider(k, -g, g, t[:, None])
         if p:
-            # R b_i − a_i over the box, about: R(c) b_i − a_i ± 4 |b_i| (half the widest rotation side)
-            a, b = system.float_geometry()
-            c = 0.5 * (lo + hi)
-            mc = np.einsum("nkj,ij->nik", system.float_rotation(c), b) - a[None]
-            rad = 4.0 * np.sqrt(np.sum(b * b, axis=-1))[None, :, None] * np.max(0.5 * (hi[:, p:] - lo[:, p:]), axis=1)[:, None, None]
-            mlo, mhi = mc - rad, mc + rad
-            elo, ehi = mlo + lo[:, None, :p], mhi + hi[:, None, :p]
-            e2 = np.maximum(elo ** 2, ehi ** 2)
+            m = system.rotated(system.rotation(X)) - system.a[None]
+            e2 = sqr(m + X[:, None, :p]).hi
             for k in range(p):
                 t = L.lo - (e2.sum(axis=-1) - e2[..., k])
                 g = np.sqrt(np.maximum(t, 0.0))
-                consider(k, -g - mlo[..., k], g - mhi[..., k], t)
+                consider(k, -g - m.lo[..., k], g - m.hi[..., k], t)
     use = best >= at_least
     return np.where(use, dim, -1), np.where(use, at, np.nan)
