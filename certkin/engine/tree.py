@@ -71,7 +71,6 @@ class Store:
         self.n += k
         return ids
 
-
     def compact(self, keep, evidence) -> np.ndarray:
         """Keep only the nodes ``keep`` (sorted ids): the others are forgotten (counted per root in
         ``forgotten``) with their evidence; the kept nodes lose their parent and child links.
@@ -87,14 +86,13 @@ class Store:
         self.parent[:len(keep)] = -1
         self.first_child[:len(keep)] = -1
         self.n = len(keep)
+        evidence.nbytes = 0
         for name, parts in evidence.parts.items():
-            kept = []
-            for ids, rows in parts:
-                ids = new[ids]
-                mask = ids >= 0
-                if mask.any():
-                    kept.append((ids[mask], rows[mask]))
-            evidence.parts[name] = kept
+            ids = new[np.concatenate([i for i, _ in parts])]
+            rows = np.concatenate([r for _, r in parts])
+            mask = ids >= 0                       # one part per name, possibly empty (dtype and shape kept)
+            evidence.parts[name] = [(ids[mask], rows[mask])]
+            evidence.nbytes += ids[mask].nbytes + rows[mask].nbytes
         return new
 
 
