@@ -278,9 +278,13 @@ def run_msolve(text: str, precision: int = 128, timeout: float = 600.0, parametr
         cmd = [msolve_binary(), "-f", str(src), "-o", str(dst), "-t", "1", "-p", str(precision)]
         if parametrisation:
             cmd += ["-P", "1"]
-        t = time.perf_counter()
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-        seconds = time.perf_counter() - t
+        for attempt in range(3):         # msolve 0.10 is seen to die by a signal, rarely, on a loaded host:
+            dst.unlink(missing_ok=True)  # the same input is run again (a crash is not an answer)
+            t = time.perf_counter()
+            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+            seconds = time.perf_counter() - t
+            if proc.returncode >= 0:
+                break
         if proc.returncode != 0 or not dst.exists():
             raise OracleError(f"msolve failed (exit {proc.returncode}): {proc.stderr.strip()[:300]}")
         return parse_msolve_output(dst.read_text()), seconds
