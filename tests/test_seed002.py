@@ -12,12 +12,15 @@ from decimal import ROUND_HALF_UP, Decimal
 from fractions import Fraction
 from pathlib import Path
 
+import mpmath as mp
 import numpy as np
 import pytest
 
 import proofs
 from certkin import load_robot, robot_from_dict, verify_trajectory
 from certkin.fk import forward_kinematics
+from seedref import encloses, exact, gough_legs, prints_as
+from test_proofs import _rx, _rz
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples" / "robots"
@@ -150,3 +153,28 @@ def test_general_6_6_has_exactly_the_24_postures_of_table_vi2():
                        for bp, vp in zip(bx, P) for (lo, hi), v in zip(bp, vp))]
         assert len(hits) == 1
     checked(result)
+
+
+# ----- the robot files' home poses (values in their comments) ---------------------------------------
+def test_robot_file_home_leg_lengths():
+    """6-6: home is posture 1 of Table VI.2 to about 1e-8, with leg lengths 1.093, 2.279999998, 2.031000002,
+    2.523999999, 3.136000014, 1.844999999 (its comment).  5-5: the home leg lengths agree with Table VI.1
+    left to 1e-9 (its comment).  40-digit mpmath from the exact decimals, enclosed by certkin's."""
+    texts = "1.093, 2.279999998, 2.031000002, 2.523999999, 3.136000014, 1.844999999"
+    path = EXAMPLES / "seed002-general-6-6-24-solutions.toml"
+    assert texts in " ".join(line.lstrip("# ") for line in path.read_text().splitlines())
+    for path, expected, tol in ((path, texts.split(", "), None),
+                                (EXAMPLES / "seed002-innocenti-5-5.toml", INNOCENTI, mp.mpf("1e-9"))):
+        robot = load_robot(path)
+        lengths = gough_legs(robot, robot.home)
+        enc = robot.leg_lengths(robot.home_box())
+        for k, text in enumerate(expected):
+            assert encloses(enc, lengths[k], k)
+            assert prints_as(lengths[k], text) if tol is None else abs(lengths[k] - exact(text)) < tol
+    robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
+    with mp.workdps(40):
+        x, y, z, psi, theta, phi = (exact(v) for v in robot.home)
+        R = _rz(psi) * _rx(theta) * _rz(phi)
+        B = [mp.matrix([x, y, z]) + R * mp.matrix([exact(c) for c in p]) for p in robot.platform]
+        posture_1 = table_vi2_exact()[0]
+        assert max(abs(B[i][k] - exact(posture_1[i][k])) for i in range(6) for k in range(3)) < mp.mpf("1e-7")
