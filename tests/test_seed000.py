@@ -191,3 +191,25 @@ def test_fig_1_8_mean_margins(table):
         lo, hi = indices[("interference", (1, 4))]
         assert lo <= ref <= hi and hi - lo < 1
     checked(r)
+
+
+def test_interior_minimum_counter_example_e4():
+    """Erratum E4 (Rule 7, "rho is monotone on [0, 1]" is false): A at the origin, B moving from (-1, 0.1)
+    to (1, 0.1), rho_min = 2.  rho = sqrt(1.01) at both ends, but its minimum is 0.1 at the midpoint, so
+    the leg-length margin over the path is 0.1 - 2 = -1.9, not the ends' sqrt(1.01) - 2.  Built as leg 1
+    of a planar 3-RPR (B_1 at the platform origin, phi = 0); legs 2 and 3 stay well inside their limits."""
+    from certkin import robot_from_dict
+    robot = robot_from_dict({"kind": "planar-3rpr", "base": [["0", "0"], ["100", "0"], ["0", "100"]],
+                             "platform": [["0", "0"], ["1", "0"], ["0", "1"]],
+                             "limits": {"leg_length": [["2", "1000"], ["1", "1000"], ["1", "1000"]]}})
+    r = verify_trajectory(robot, "-1,0.1,0", "1,0.1,0", constraints=["leg-length"])
+    assert r.status == "infeasible"
+    (v,) = [v for v in r.violations if v["legs"] == [1]]
+    assert v["certain"] and v["t"] == [0.0, 1.0]
+    margin = next(m["margin"] for m in r.margins if m["legs"] == [1])
+    exact_min, ends = mp.mpf("0.1") - 2, mp.sqrt(mp.mpf("1.01")) - 2
+    assert mp.mpf(margin[0]) <= exact_min <= mp.mpf(margin[1])
+    # a monotone rule would report the ends' -0.995; the enclosure is far below it.  (Margins of violated
+    # constraints are not refined, only those of satisfied ones, so this one is not tight.)
+    assert margin[1] < ends - mp.mpf("0.8")
+    checked(r)

@@ -14,9 +14,10 @@ import mpmath as mp
 import pytest
 
 import proofs
-from certkin import load_robot, verify_trajectory
+from certkin import load_robot, robot_from_dict, verify_trajectory
 from certkin.workspace import workspace_section
 from seedref import encloses, exact, gough_legs, prints_as
+from test_trajectory import _seg_dist
 from test_workspace import TABLE
 
 FILE = Path(__file__).resolve().parents[1] / "examples" / "robots" / "seed004-micro-manipulator.toml"
@@ -175,3 +176,27 @@ def test_u_vectors_and_least_pair_distances(micro):
             assert sorted(d, key=d.get)[:3] == sorted(printed_pairs, key=d.get)     # the three least
             for pair, text in printed_pairs.items():
                 assert prints_as(d[pair], text)
+
+
+def test_segment_distance_counter_example_of_section_5_1():
+    """Digest seed-004 §5 item 1: A1 = (0,0,0), B1 = (10,0,0), A2 = (-1,1,0), B2 = (20,30,0).  The paper's
+    rule (only endpoints projecting inside the other segment) gives 9.496 (B1 to line 2); the true distance
+    is |A1A2| = sqrt(2).  Legs 3-6 are far away; with radius 0.1 the (1, 2) margin is sqrt(2) - 0.2."""
+    base = [["0", "0", "0"], ["-1", "1", "0"], ["100", "0", "0"], ["0", "100", "0"], ["-100", "0", "0"], ["0", "-100", "0"]]
+    plat = [["10", "0", "0"], ["20", "30", "0"], ["100", "0", "50"], ["0", "100", "50"], ["-100", "0", "50"],
+            ["0", "-100", "50"]]
+    robot = robot_from_dict({"kind": "gough-stewart", "base": base, "platform": plat,
+                             "limits": {"leg_radius": ["0.1"] * 6}})
+    with mp.workdps(DPS):
+        A, B = [mp.matrix([exact(c) for c in p]) for p in base], [mp.matrix([exact(c) for c in p]) for p in plat]
+        assert abs(_seg_dist(A[0], B[0], A[1], B[1]) - mp.sqrt(2)) < mp.mpf(10) ** -30
+        u = B[1] - A[1]
+        rule = mp.norm(B[0] - A[1] - (mp.fdot(B[0] - A[1], u) / mp.fdot(u, u)) * u)   # B1 to line 2
+        assert prints_as(rule, "9.496")
+        expected = mp.sqrt(2) - mp.mpf("0.2")
+    pose = "0,0,0,0,0,0"
+    r = verify_trajectory(robot, pose, pose, constraints=["interference"])
+    assert r.status == "feasible"
+    m = next(m["margin"] for m in r.margins if m["legs"] == [1, 2])
+    assert mp.mpf(m[0]) <= expected <= mp.mpf(m[1]) and m[1] - m[0] < 1e-9
+    assert proofs.check(r.certificate()).ok
