@@ -72,7 +72,8 @@ def planar_legs(robot, pose):
     with mp.workdps(DPS):
         x, y, phi = (exact(v) for v in pose)
         R = mp.matrix([[mp.cos(phi), -mp.sin(phi)], [mp.sin(phi), mp.cos(phi)]])
-        return [mp.norm(mp.matrix([x, y]) + R * b - a) for a, b in zip(points(robot, "base"), points(robot, "platform"))]
+        C = mp.matrix([x, y])
+        return [mp.norm(C + R * b - a) for a, b in zip(points(robot, "base"), points(robot, "platform"))]
 
 
 def gough_legs(robot, pose):

@@ -16,7 +16,7 @@ import mpmath as mp
 import pytest
 
 import proofs
-from certkin import load_robot, verify_trajectory
+from certkin import load_robot, robot_from_dict, verify_trajectory
 from seedref import encloses, exact, gough_legs, prints_as
 from test_trajectory import GOAL, START, _dist_at, _legs_mp, _pose, _seg_dist
 
@@ -198,7 +198,6 @@ def test_interior_minimum_counter_example_e4():
     to (1, 0.1), rho_min = 2.  rho = sqrt(1.01) at both ends, but its minimum is 0.1 at the midpoint, so
     the leg-length margin over the path is 0.1 - 2 = -1.9, not the ends' sqrt(1.01) - 2.  Built as leg 1
     of a planar 3-RPR (B_1 at the platform origin, phi = 0); legs 2 and 3 stay well inside their limits."""
-    from certkin import robot_from_dict
     robot = robot_from_dict({"kind": "planar-3rpr", "base": [["0", "0"], ["100", "0"], ["0", "100"]],
                              "platform": [["0", "0"], ["1", "0"], ["0", "1"]],
                              "limits": {"leg_length": [["2", "1000"], ["1", "1000"], ["1", "1000"]]}})

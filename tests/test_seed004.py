@@ -69,7 +69,8 @@ def section(robot, z):
                     continue
                 if s < 0:                            # an inner circle is run clockwise around the region
                     t0, t1 = t1, t0
-                area += (r * r * (t1 - t0) + c[0] * r * (mp.sin(t1) - mp.sin(t0)) - c[1] * r * (mp.cos(t1) - mp.cos(t0))) / 2
+                area += (r * r * (t1 - t0) + c[0] * r * (mp.sin(t1) - mp.sin(t0))
+                         - c[1] * r * (mp.cos(t1) - mp.cos(t0))) / 2
                 perimeter += r * abs(t1 - t0)
                 arcs[s < 0] += 1
         return area, perimeter, arcs[0], arcs[1]
@@ -182,7 +183,8 @@ def test_segment_distance_counter_example_of_section_5_1():
     """Digest seed-004 §5 item 1: A1 = (0,0,0), B1 = (10,0,0), A2 = (-1,1,0), B2 = (20,30,0).  The paper's
     rule (only endpoints projecting inside the other segment) gives 9.496 (B1 to line 2); the true distance
     is |A1A2| = sqrt(2).  Legs 3-6 are far away; with radius 0.1 the (1, 2) margin is sqrt(2) - 0.2."""
-    base = [["0", "0", "0"], ["-1", "1", "0"], ["100", "0", "0"], ["0", "100", "0"], ["-100", "0", "0"], ["0", "-100", "0"]]
+    base = [["0", "0", "0"], ["-1", "1", "0"], ["100", "0", "0"], ["0", "100", "0"], ["-100", "0", "0"],
+            ["0", "-100", "0"]]
     plat = [["10", "0", "0"], ["20", "30", "0"], ["100", "0", "50"], ["0", "100", "50"], ["-100", "0", "50"],
             ["0", "-100", "50"]]
     robot = robot_from_dict({"kind": "gough-stewart", "base": base, "platform": plat,
