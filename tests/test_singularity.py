@@ -70,6 +70,7 @@ def test_example2_ten_cells_per_side_counts():
     cells = classify_cells(robot, FULL, 10)
     counts = {s: sum(c.status == s for c in cells) for s in ("singularity-free", "singular", "undecided")}
     assert counts == {"singularity-free": 743, "singular": 257, "undecided": 0}
+    checked(cells)
 
 
 def test_example1_touching_cells_are_never_called_free():

@@ -1,8 +1,8 @@
 """Constant-orientation workspace (seed 004): sections, exact arcs, volumes, certificates, input errors.
 
-Reference values: spec §6.4 (micro-manipulator, ψ = θ = φ = 0), derived
-independently at 30-50 digits (exact arcs and slice integrals agree to
-1e-25); a printed value is taken as ± half a unit of its last digit.
+Reference values (micro-manipulator, ψ = θ = φ = 0): the exact arc arrangement
+at 40 digits with mpmath, derived in ``test_seed004.py`` (which checks TABLE
+against it); a printed value is taken as ± half a unit of its last digit.
 Closed-form cases (a disk, an annulus, a lens) are recomputed here with
 sympy/mpmath from the exact decimals of the robot.
 """
