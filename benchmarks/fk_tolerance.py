@@ -5,7 +5,8 @@ decimals) and certkin returns one box per mode, proved to hold that mode's postu
 vector in the ranges.  The reference is the true spread of each mode: its postures at the 2^n corners
 of the length box, found by Newton's method (float64, own equations: |p + R b_i − a_i|² = ρ_i² and the
 unit constraint, written here, not certkin's) started at the box midpoint.  Per unknown, the ratio
-box width / spread is reported (max and median over the modes); a ratio below 1 would mean a corner
+box width / spread is reported (max and median over the modes proved unique; a mode whose
+uniqueness cannot be proved over the whole length box is returned as a cluster and counted); a ratio below 1 would mean a corner
 posture outside its box, which is counted and must be 0.
 
     python benchmarks/fk_tolerance.py [--only NAME ...] [--tolerances 1e-3 1e-6]
@@ -112,14 +113,14 @@ def main():
     ap.add_argument("--only", nargs="*", choices=list(CASES))
     ap.add_argument("--tolerances", nargs="*", default=["1e-3", "1e-6"])
     args = ap.parse_args()
-    print("| case | relative tolerance | modes | complete | boxes | CPU s | box/spread per unknown, max over modes "
-          "| median over modes | corner postures outside their box |")
-    print("|---|---|---:|---|---:|---:|---|---|---:|")
+    print("| case | relative tolerance | unique modes | clusters | complete | boxes | CPU s "
+          "| box/spread per unknown, max over unique modes | median | corner postures outside their box |")
+    print("|---|---|---:|---:|---|---:|---:|---|---|---:|")
     for name in args.only or CASES:
         for tol in args.tolerances:
             d = measure(name, tol)
             fmt = lambda v: "-" if v is None else " ".join(f"{x:.2f}" for x in v)  # noqa: E731
-            print(f"| {name} | {tol} | {d['modes']} | {d['complete']} | {d['boxes']} | {d['cpu']:.2f} | {fmt(d['max'])} | "
+            print(f"| {name} | {tol} | {d['modes']} | {d['clusters']} | {d['complete']} | {d['boxes']} | {d['cpu']:.2f} | {fmt(d['max'])} | "
                   f"{fmt(d['median'])} | {d['outside']} |", flush=True)
 
 
