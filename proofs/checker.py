@@ -119,7 +119,17 @@ def read_robot(path) -> dict:
             data = tomllib.load(fh, parse_float=Decimal)
     except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError, RecursionError) as exc:
         raise Unreadable(f"{path}: cannot read the robot file ({exc})") from None
-    return {k: data[k] for k in ("name", "kind", "base", "platform", "limits") if k in data}
+    robot = {k: data[k] for k in ("name", "kind", "base", "platform", "limits") if k in data}
+    limits = robot.get("limits")
+    if isinstance(limits, dict):                  # the file's shorthands: one radius for every leg; comments
+        limits = robot["limits"] = dict(limits)
+        if "leg_radius" in limits and not isinstance(limits["leg_radius"], list):
+            limits["leg_radius"] = [limits["leg_radius"]] * len(robot.get("base", []))
+        for key in ("base_joints", "platform_joints"):
+            if isinstance(limits.get(key), list):
+                limits[key] = [{k: v for k, v in j.items() if k != "comment"} if isinstance(j, dict) else j
+                               for j in limits[key]]
+    return robot
 
 
 def load(path) -> container.Certificate:
