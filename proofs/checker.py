@@ -149,14 +149,18 @@ def run(path, robot=None, as_json=False, progress=False) -> int:
     except (Unreadable, MemoryError, RecursionError) as exc:
         print(f"{path}: cannot read the certificate: {exc or type(exc).__name__}", file=sys.stderr)
         return 2
-    if progress:
-        print(file=sys.stderr)
+    if progress:                                  # the bar completed (also for a certificate without trees)
+        print(f"\r[{'#' * 40}] checked" + " " * 20, file=sys.stderr)
+        _bar.shown = -1
     print(json.dumps(report.to_json(), indent=1) if as_json else "\n".join(report.lines()))
     return 0 if report.ok else 1
 
 
-def _bar(done, total, shown=[-1]):
+def _bar(done, total):
     k = 40 * done // max(total, 1)
-    if k != shown[0]:
-        shown[0] = k
+    if k != _bar.shown:
+        _bar.shown = k
         print(f"\r[{'#' * k}{'.' * (40 - k)}] {done}/{total} tree nodes", end="", file=sys.stderr, flush=True)
+
+
+_bar.shown = -1
