@@ -119,7 +119,17 @@ def read_robot(path) -> dict:
             data = tomllib.load(fh, parse_float=Decimal)
     except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError, RecursionError) as exc:
         raise Unreadable(f"{path}: cannot read the robot file ({exc})") from None
-    return {k: data[k] for k in ("name", "kind", "base", "platform", "limits") if k in data}
+    robot = {k: data[k] for k in ("name", "kind", "base", "platform", "limits") if k in data}
+    limits = robot.get("limits")
+    if isinstance(limits, dict):                  # the file's shorthands: one radius for every leg; comments
+        limits = robot["limits"] = dict(limits)
+        if "leg_radius" in limits and not isinstance(limits["leg_radius"], list):
+            limits["leg_radius"] = [limits["leg_radius"]] * len(robot.get("base", []))
+        for key in ("base_joints", "platform_joints"):
+            if isinstance(limits.get(key), list):
+                limits[key] = [{k: v for k, v in j.items() if k != "comment"} if isinstance(j, dict) else j
+                               for j in limits[key]]
+    return robot
 
 
 def load(path) -> container.Certificate:
@@ -139,14 +149,18 @@ def run(path, robot=None, as_json=False, progress=False) -> int:
     except (Unreadable, MemoryError, RecursionError) as exc:
         print(f"{path}: cannot read the certificate: {exc or type(exc).__name__}", file=sys.stderr)
         return 2
-    if progress:
-        print(file=sys.stderr)
+    if progress:                                  # the bar completed (also for a certificate without trees)
+        print(f"\r[{'#' * 40}] checked" + " " * 20, file=sys.stderr)
+        _bar.shown = -1
     print(json.dumps(report.to_json(), indent=1) if as_json else "\n".join(report.lines()))
     return 0 if report.ok else 1
 
 
-def _bar(done, total, shown=[-1]):
+def _bar(done, total):
     k = 40 * done // max(total, 1)
-    if k != shown[0]:
-        shown[0] = k
+    if k != _bar.shown:
+        _bar.shown = k
         print(f"\r[{'#' * k}{'.' * (40 - k)}] {done}/{total} tree nodes", end="", file=sys.stderr, flush=True)
+
+
+_bar.shown = -1

@@ -288,10 +288,34 @@ def _contraction(system, forest, code, ids, lo, hi, child, L, at):
     else:                                # slope-gs
         z, empty = system.slope_gauss_seidel(lo, hi, _evidence(forest, "tree.C", ids, stored), L)
     bad = ~empty & ~np.all((z.lo >= clo) & (z.hi <= chi), axis=1)
+    if bad.any():                        # the part of the checker's result outside the child: proved root-free?
+        bad[bad] = ~_root_free_outside(system, z.lo[bad], z.hi[bad], clo[bad], chi[bad], L[bad], hi[bad] - lo[bad])
     if bad.any():
         i = np.nonzero(bad)[0][0]
         k = np.nonzero(~((z.lo[i] >= clo[i]) & (z.hi[i] <= chi[i])))[0][0]
         raise Rejected(at(i, f"the checker's result is not inside the child box on {system.names[k]}"))
+
+
+def _root_free_outside(system, zlo, zhi, clo, chi, L, scale, depth=6):
+    """Per row, whether Z minus the child Y holds no root: Z \\ Y lies in the slabs of Z beyond a face of Y
+    (closed boxes), each proved root-free by the slope sweep on pieces bisected up to ``depth`` times."""
+    rows, plo, phi = [], [], []
+    for k in range(system.n):
+        for below in (True, False):
+            m = np.nonzero(zlo[:, k] < clo[:, k] if below else zhi[:, k] > chi[:, k])[0]
+            a, b = zlo[m].copy(), zhi[m].copy()
+            (b if below else a)[:, k] = (clo if below else chi)[m, k]
+            rows.append(m), plo.append(a), phi.append(b)
+    row, plo, phi = np.concatenate(rows), np.concatenate(plo), np.concatenate(phi)
+    for _ in range(depth + 1):
+        _, empty = system.slope_gauss_seidel(plo, phi, None, L[row])
+        row, plo, phi = row[~empty], plo[~empty], phi[~empty]
+        j, r = np.argmax((phi - plo) / scale[row], axis=1), np.arange(len(row))
+        mid = 0.5 * plo[r, j] + 0.5 * phi[r, j]
+        upper_lo, lower_hi = plo.copy(), phi.copy()
+        upper_lo[r, j], lower_hi[r, j] = mid, mid
+        row, plo, phi = np.concatenate([row, row]), np.concatenate([plo, upper_lo]), np.concatenate([lower_hi, phi])
+    return ~np.isin(np.arange(len(zlo)), row) & np.all(np.isfinite(zlo) & np.isfinite(zhi), axis=1)   # NaN: no
 
 
 def _leaf(system, forest, code, ids, lo, hi, L, claims, at):

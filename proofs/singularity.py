@@ -88,9 +88,16 @@ def check(cert, report) -> None:
     text = ", ".join(f"{n} {s}" for s, n in status_count.items())
     first = h["claims"][0]
     box = first.get("requested") or dict(zip(model.pose, first.get("box", [])))
-    report.about["question"] = (f"does det(A) vanish in {len(h['claims'])} box(es) of poses "
-                                f"({', '.join(model.pose)}); first: {box}")
-    report.proved.append(f"{len(h['claims'])} boxes of poses: {text}")
+    report.about["question"] = (f"does det(A) vanish in {len(h['claims'])} box(es) of poses; first: "
+                                + ", ".join(f"{v} in [{a}, {b}]" for v, (a, b) in box.items()))
+    if len(h["claims"]) > 1:
+        return report.proved.append(f"{len(h['claims'])} boxes of poses: {text}")
+    if first["status"] == "singular":
+        w = first["witnesses"]
+        return report.proved.append(f"singular: det(A) > 0 at ({', '.join(map(str, w['positive']))}), "
+                                    f"< 0 at ({', '.join(map(str, w['negative']))}): it vanishes between")
+    report.proved.append(f"{first['status']}" + (f": det(A) {'> 0' if first['sign'] > 0 else '< 0'} on the whole box "
+                                                 f"({counts['leaves']} leaves)" if first["status"] != "undecided" else ""))
 
 
 def _requested(req, pose, lo, hi, where):

@@ -384,6 +384,11 @@ def check(cert, report) -> None:
                                 f"constraints: {', '.join(sorted({i['constraint'] for i in first['instances']}))}")
     report.proved.append(", ".join(f"{n} path{'s' * (n > 1)} {s}" for s, n in verdicts.items())
                          + " (each relative to its listed constraints)")
+    for c, claim in list(enumerate(h["claims"]))[:5]:
+        report.proved.append(f"path {c + 1}: {claim['status']}" + "".join(
+            f"; {v['constraint']} (legs {', '.join(map(str, v.get('legs', [])))}) "
+            f"{'fails' if v['certain'] else 'not proved'} for s in [{v['s'][0]}, {v['s'][1]}]"
+            for v in claim["violations"]))
 
 
 def _path(geo, path, where):

@@ -118,8 +118,8 @@ def check(cert, report) -> None:
         report.checked["leaves"] += len(ids)
 
     forest.walk(visit, report.progress)
-    report.about["question"] = (f"the workspace at orientation {h.get('orientation')}, "
-                                + (f"z in {h.get('requested', {}).get('z')}" if volume else f"{len(claims)} section(s)"))
+    report.about["question"] = ("the workspace at orientation " + ", ".join(f"{a} = {v}" for a, v in h["orientation"].items())
+                                + (f", z in {h.get('requested', {}).get('z')}" if volume else f", {len(claims)} section(s)"))
     totals = [(Fraction(0), Fraction(0)) for _ in claims]
     for j, k in enumerate(roots):
         inside = Fraction(sums[j][0], 2 ** _SHIFT)
@@ -127,7 +127,9 @@ def check(cert, report) -> None:
     for k, claim in enumerate(claims):
         _bounds(claim.get("area"), *totals[k], f"claims[{k}].area")
     if not volume:
-        report.proved.append(f"{len(claims)} section(s): area bracketed by the inside and boundary boxes")
+        for claim in claims[:5]:
+            report.proved.append(f"section{' z = ' + str(claim['z']) if 'z' in claim else ''}: area in "
+                                 f"[{claim['area']['inner']!r}, {claim['area']['outer']!r}] (inside, inside + boundary boxes)")
         return
     req = h.get("requested")
     if not isinstance(req, dict) or not isinstance(req.get("z"), list) or len(req["z"]) != 2:
@@ -137,7 +139,8 @@ def check(cert, report) -> None:
         raise Rejected(f"requested.z: [{req['z'][0]}, {req['z'][1]}] is not covered by the slabs")
     dz = [Fraction(float(z.hi)) - Fraction(float(z.lo)) for z in Z]
     _bounds(h.get("volume"), sum(d * t[0] for d, t in zip(dz, totals)), sum(d * t[1] for d, t in zip(dz, totals)), "volume")
-    report.proved.append(f"{len(claims)} slabs covering z in [{req['z'][0]}, {req['z'][1]}]: volume bracketed")
+    report.proved.append(f"{len(claims)} slabs covering z in [{req['z'][0]}, {req['z'][1]}]: volume in "
+                         f"[{h['volume']['inner']!r}, {h['volume']['outer']!r}]")
 
 
 _SHIFT = 2 * 1100       # areas are integers times 2^-_SHIFT (products of float differences)

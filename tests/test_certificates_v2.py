@@ -282,3 +282,25 @@ def test_clusters_and_length_ranges(fk_file):
     assert report.ok and report.proved[0].startswith("lengths in [14.98, 14.98]"), report.step
     ranged.claim()["length_ranges"][0] = ["14.99", "14.97"]
     assert "leg lengths must satisfy 0 <= lo <= hi" in ranged.check().step
+
+
+def test_a_contraction_result_beyond_the_child_needs_the_excess_proved_root_free(fk_file):
+    """The checker accepts a contraction whose own result Z overshoots the child Y only when Z \\ Y (slabs
+    beyond Y's faces) is proved root-free; a child that leaves out a root is refused (proofs.fk)."""
+    from proofs import container, fk
+    from proofs.fk_system import System
+    cert = container.read(fk_file)
+    system = System(cert.header["model"], cert.header["robot"])
+    L = fk._read_claim(system, cert, cert.header["claims"][0], "claims[0]").L
+    R = cert.array("fk.region.box")                      # a proved root box of each posture
+    lo, hi = R[:, :, 0], R[:, :, 1]
+    w = hi - lo
+    Lk = type(L)(np.repeat(L.lo[None], len(R), 0), np.repeat(L.hi[None], len(R), 0))
+    zlo, zhi = lo - 4 * w, hi + 4 * w                    # Z: around each root
+    keeps = fk._root_free_outside(system, zlo, zhi, lo - w, hi + w, Lk, zhi - zlo)
+    assert keeps.all()                                   # Y holds the root: the rest of Z is root-free
+    misses = fk._root_free_outside(system, zlo, zhi, hi + w, hi + 2 * w, Lk, zhi - zlo)
+    assert not misses.any()                              # Y beside the root: never accepted
+    nan = zlo.copy()
+    nan[:, 0] = np.nan
+    assert not fk._root_free_outside(system, nan, zhi, lo - w, hi + w, Lk, zhi - zlo).any()
