@@ -95,7 +95,8 @@ def test_fraction_intervals_outward_and_inward(x, y, digits):
 @given(st.integers(-10 ** 30, 10 ** 30), st.integers(-2000, 2000), st.integers(1, 17))
 def test_mpf_is_bounded_exactly(man, exp, digits):
     """An mpmath number (man * 2^exp, beyond float range too) is not rounded to a float first."""
-    x = mpmath.mpf((0 if man >= 0 else 1, abs(man), exp, abs(man).bit_length())) if man else mpmath.mpf(0)
+    with mpmath.workprec(128):                       # 10^30 < 2^100: man is exact
+        x = mpmath.ldexp(mpmath.mpf(man), exp)
     q = Fraction(man) * Fraction(2) ** exp
     assert _exact_text(display.lower(x, digits)) <= q <= _exact_text(display.upper(x, digits))
 
