@@ -44,6 +44,8 @@ def _job(path, n: int, line: str, seen: set) -> dict:
         job = json.loads(line, parse_float=Decimal)
     except json.JSONDecodeError as exc:
         return {"id": f"line-{n}", ERROR: f"{where}: not valid JSON ({exc.msg})"}
+    except RecursionError:
+        return {"id": f"line-{n}", ERROR: f"{where}: not a job (JSON nested too deeply)"}
     if not isinstance(job, dict):
         return {"id": f"line-{n}", ERROR: f"{where}: expected a JSON object (a job)"}
     jid = job.get("id")

@@ -27,6 +27,7 @@ from ..singularity import certify_singularity_free, classify_cells
 from ..report import batch_report
 from ..trajectory import verify_trajectory
 from .batch import run_job, table
+from .common import check_output_directory
 
 
 def bundled_robots_dir() -> Path:
@@ -162,4 +163,7 @@ def add_arguments(d):
 
 
 def run(args):
+    check_output_directory(args.out, "--out")
+    if args.robots is not None and not Path(args.robots).is_dir():
+        raise InputError("--robots", args.robots, "not a directory")
     return run_demo(args.robots, results=args.out)

@@ -11,6 +11,7 @@ from ..engine import budgets
 from ..fk import forward_kinematics, kernels
 from ..report import fk_report
 from ..robots import load_robot
+from ..robots.poses import parse_pose
 from .common import (Answer, add_budget, add_outputs, budget, check_outputs, options, progress, refuse, run_answer,
                      with_angles)
 
@@ -34,6 +35,8 @@ def compute(args, robot=None) -> Answer:
         refuse(args, "--domain", "not with --track (a tracked posture is not searched in a domain)", "domain")
     with options(OPTIONS):
         robot = with_angles(robot or load_robot(args.robot), args.angles)
+        if args.track is not None:
+            parse_pose(args.track, robot, "track")     # checked as every pose (the search only starts near it)
         if robot.kind != "planar-3rpr" and not kernels_cached():
             sys.stderr.write("certkin: compiling kernels, once (about 15 s; cached on disk afterwards)\n")
         result = forward_kinematics(robot, args.lengths, domain=args.domain, budget=budget(args),

@@ -216,6 +216,9 @@ def _length(value, parameter, field_name):
                 raise InputError(parameter, field_name, f"not a length range: {value!r}") from None
             if not (v.is_finite() and t.is_finite()) or t < 0:
                 raise InputError(parameter, field_name, f"not a length range (tolerance >= 0): {value!r}")
+            if max(abs(v), t) > MAX_MAGNITUDE:
+                raise InputError(parameter, field_name, f"{value.strip()} is out of range (at most "
+                                                        f"{MAX_MAGNITUDE:g} in magnitude)")
             with localcontext() as ctx:     # exact: enough digits for both operands
                 ctx.prec = 2 * (len(centre) + len(tol)) + 10
                 parts = [format(v - t, "f"), format(v + t, "f")]
