@@ -90,7 +90,7 @@ def _range(parts, option, name):
         except ValueError:
             count = 0
         if count < 1 or count > MAX_JOBS:
-            raise InputError(option, name, f"expected a count of values from 1 to {MAX_JOBS}, got {parts[2]!r}")
+            raise InputError(option, name, f"expected a positive count of values, at most {MAX_JOBS}, got {parts[2]!r}")
     elif len(parts) == 1:
         count = 1
     return lo, hi, count, unit

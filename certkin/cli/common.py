@@ -275,15 +275,22 @@ class Answer:
     """What a command computed, before anything is written or printed: the robot, the result (or
     results), the ``--json`` document, and how to describe, certify, report and plot it.  ``run``
     writes and prints it (``show``); ``certkin batch`` writes the same document and certificate
-    per job."""
+    per job.  ``document`` may be given as a function: it is then computed only when asked for
+    (a classification of many cells builds its JSON only for ``--json`` or a batch)."""
 
     robot: object
     result: object
-    document: dict
+    document_source: dict | Callable[[], dict]
     describe: Callable[[], str]
     certificate: Callable[[], object] | None = None     # a certificates.Document; None: no certificate
     report: Callable[[str, str | None], None] | None = None     # (path, certificate file or None)
     plot: Callable[[str], None] | None = None
+
+    @property
+    def document(self) -> dict:
+        if callable(self.document_source):
+            self.document_source = self.document_source()
+        return self.document_source
 
 
 def write_certificate(path, document) -> None:
@@ -324,7 +331,8 @@ def run_answer(args, compute, names: dict, out=None) -> int:
         answer = compute(args)
     stopped = interrupt.cut_short()
     if stopped:
-        answer.document["interrupted"] = True
+        source = answer.document_source
+        answer.document_source = (lambda: {**(source() if callable(source) else source), "interrupted": True})
         describe = answer.describe
         answer.describe = lambda: ("INTERRUPTED (Ctrl-C): what was proved before the interrupt; the boxes "
                                    "not finished are undecided\n" + describe())

@@ -50,12 +50,14 @@ def compute(args, robot=None) -> Answer:
             results = [largest_free_box(robot, args.around, scale=args.scale, budget=budget(args), progress=bar)]
         else:
             results = classify_cells(robot, args.box, args.cells or 1, budget(args), progress(args.progress))
+    counts = _counts(results)
     if args.cells:
-        doc = {"problem": "singularity", "robot": robot.name, "kind": robot.kind, "cells": args.cells,
-               "counts": _counts(results), "results": [r.to_json() for r in results]}
+        def doc():          # built only when printed (--json) or written (batch): 64 000 cells take seconds
+            return {"problem": "singularity", "robot": robot.name, "kind": robot.kind, "cells": args.cells,
+                    "counts": counts, "results": [r.to_json() for r in results]}
     else:
         doc = results[0].to_json()
-    return Answer(robot, results, doc, lambda: _text(robot, results, doc, args.cells),
+    return Answer(robot, results, doc, lambda: _text(robot, results, counts, args.cells),
                   lambda: singularity_certificate(results),
                   lambda path, cert: singularity_report(robot, results, path, cert, budget(args)),
                   lambda path: plot_cells(robot, results, path))
@@ -67,9 +69,9 @@ def run(args):
     return run_answer(args, compute, OPTIONS)
 
 
-def _text(robot, results, doc, cells):
+def _text(robot, results, counts, cells):
     if cells:
-        c = doc["counts"]
+        c = counts
         return (f"{robot.name}: {len(results)} cells: {c['singularity-free']} singularity-free, "
                 f"{c['singular']} singular, {c['undecided']} undecided")
     return describe(robot, results[0])
