@@ -177,9 +177,12 @@ def inner_box(texts: dict, robot):
 # ----------------------------------------------------------------- leg lengths
 def parse_lengths(robot, lengths, parameter="lengths"):
     """(rows of enclosures, rows of exact texts, whether the input was a batch) of one set of leg
-    lengths (sequence or "l1,l2,..." text) or a 2-D array with one row per instance."""
+    lengths (sequence or "l1,l2,..." text) or a 2-D array with one row per instance (or a list of
+    "l1,l2,..." texts, one per instance)."""
     if isinstance(lengths, str):
         lengths = [p.strip() for p in lengths.split(",")]
+    elif isinstance(lengths, (list, tuple)) and lengths and all(isinstance(r, str) and "," in r for r in lengths):
+        lengths = [[p.strip() for p in r.split(",")] for r in lengths]
     arr = np.asarray(lengths, dtype=object)
     batch = arr.ndim == 2
     if arr.ndim == 1:
