@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from decimal import Decimal
 import json
+import os
 import re
 
 from ..errors import InputError
@@ -23,6 +24,8 @@ def read_jobs(path) -> list[dict]:
 
     Raises ``InputError`` only when the file itself cannot be read; a bad line becomes a job with
     an ``error`` (its id: ``line-N`` when it has no usable one)."""
+    if os.path.exists(path) and not os.path.isfile(path) and not os.path.isdir(path):
+        raise InputError(str(path), "", "not a regular file (a device or a pipe is not a jobs file)")
     try:
         with open(path, encoding="utf-8") as fh:
             lines = fh.read().splitlines()

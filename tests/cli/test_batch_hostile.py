@@ -74,6 +74,7 @@ def test_unreadable_or_empty_jobs_files(cli, jobs, content, words):
 
 
 @pytest.mark.parametrize("path, words", [("{tmp}", ["directory"]), ("{tmp}/none.jsonl", ["none.jsonl", "no such file"]),
+                                         ("/dev/zero", ["not a regular file"]),
                                          ("", ["empty file name"])])
 def test_missing_jobs_files(cli, path, words):
     refused(cli("batch", path, "--out", "{tmp}/out"), *words)

@@ -24,6 +24,9 @@ HOSTILE = [
     (["fk", R2], ["--lengths"]),
     (F + ["--track", "30,13,-1.9", "--domain", "x=0:50,y=-10:20,phi=-3:3"], ["--domain", "--track"]),
     (F + ["--track", "30,13"], ["--track"]),
+    (F + ["--track", "1e300,0,0"], ["--track", "x", "out of range"]),        # once: ignored, full search
+    (["fk", R2, "--lengths", "29+-1e300,13.66,40.53"], ["--lengths", "out of range"]),   # once: 300 digits
+    (F + ["--max-seconds", "-inf"], ["--max-seconds"]),
     (F + ["--domain", "x=0:50,y=-10:20"], ["--domain", "phi"]),
     (F + ["--domain", "x=0:1e300,y=-10:20,phi=0:1"], ["--domain", "x"]),
     (F + ["--angles", "zyz"], ["--angles"]),
