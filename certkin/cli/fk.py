@@ -64,6 +64,9 @@ def kernels_cached() -> bool:
     return any(any(p.glob(f"{source.stem}.*.nbi")) for p in places if p.is_dir())
 
 
+SHOWN = 20      # clusters and unresolved regions listed on the terminal (all of them in --json)
+
+
 def describe(robot, r):
     """Each assembly mode's box (an enclosure: printed outward), each cluster and unresolved region
     outward; with length ranges a mode's box holds its posture for every length in the ranges."""
@@ -77,8 +80,10 @@ def describe(robot, r):
     for k, s in enumerate(r.solutions):
         lines.append(f"  {k + 1}: " + ", ".join(f"{n}={display.interval(v, 12)}" for n, v in s["pose"].items()))
     for name, regions in (("cluster", r.clusters), ("unresolved", r.unresolved)):
-        for k, s in enumerate(regions):
+        for k, s in enumerate(regions[:SHOWN]):
             lines.append(f"  {name} {k + 1}: " + ", ".join(f"{n}={display.interval(v, 6)}" for n, v in s["pose"].items()))
+        if len(regions) > SHOWN:
+            lines.append(f"  ... {len(regions) - SHOWN} more {name} regions (all of them in --json and the certificate)")
     if r.message:
         lines.append(f"  note: {r.message}")
     return "\n".join(lines)

@@ -37,6 +37,9 @@ def run(args):
     return run_answer(args, compute, OPTIONS)
 
 
+SHOWN = 20      # undecided ranges listed on the terminal (all of them in --json)
+
+
 def describe(robot, r):
     """The verdict, each certified minimum margin and each forbidden t-range, printed outward (an
     enclosure); a feasible path's margins are lower bounds that hold along the whole path."""
@@ -52,6 +55,8 @@ def describe(robot, r):
         where = f"t in {display.outward(*v['t'], 12)}" if "t" in v else f"s in {display.outward(*v['s'], 12)}"
         lines.append(f"  {'VIOLATED' if v['certain'] else 'may fail'}: {v['constraint']} "
                      f"{'-'.join(map(str, v['legs']))} for {where}")
-    for u in j["undecided"]:
+    for u in j["undecided"][:SHOWN]:
         lines.append(f"  undecided for s in {display.outward(*u['s'], 12)}")
+    if len(j["undecided"]) > SHOWN:
+        lines.append(f"  ... {len(j['undecided']) - SHOWN} more undecided ranges (all of them in --json)")
     return "\n".join(lines)
