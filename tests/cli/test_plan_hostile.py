@@ -63,3 +63,9 @@ def test_max_seconds_bounds_the_whole_plan(cli):
     run = cli(*P, "--divisions", "200", "--max-seconds", "2")
     answered(run)
     assert run.seconds < 2 + 4
+
+
+def test_the_largest_grid_stays_under_the_memory_ceiling(tmp_path):
+    from conftest import limited
+    run = limited(P + ["--divisions", "1000", "--margin", "1000", "--max-edges", "1e9", "--max-seconds", "3"], tmp_path)
+    answered(run)
