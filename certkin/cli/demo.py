@@ -123,8 +123,8 @@ def _trajectory_demo(robots, out):
     out(f"  {r.status} ({time.perf_counter() - t:.2f} s)")
     for v in r.violations:
         if v["certain"]:
-            out(f"    {v['constraint']} legs {'-'.join(map(str, v['legs']))}: forbidden for t in "
-                f"{display.pair(v['t'])}")
+            out(f"    {v['constraint']} legs {'-'.join(map(str, v['legs']))}: proved violated, failing instants "
+                f"within t in {display.pair(v['t'])}")
     legs = [m for m in r.margins if m["constraint"] == "leg-length"]
     worst = min(legs, key=lambda m: m["margin"][0])
     out(f"    smallest leg-length margin: leg {worst['legs'][0]}, in {display.pair(worst['margin'], 8)} mm")
