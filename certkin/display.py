@@ -12,9 +12,10 @@ be at least as safe as the proved one:
 - a *point* (a witness pose) is printed exactly (``repr``: the shortest
   decimal that reads back as the same float64).
 
-Rounding is done on the exact decimal value of each float (``Decimal(x)``
-is exact) with ``ROUND_FLOOR`` / ``ROUND_CEILING``, so the printed decimal
-bounds the float exactly, not up to another rounding.
+Rounding is done on the exact value of each number (``exact``: a float,
+a numpy float of any width, an int, a ``Fraction``, a ``Decimal`` or an
+mpmath ``mpf``, never converted to float first) toward -inf or +inf, so
+the printed decimal bounds the number exactly, not up to another rounding.
 
     >>> outward(-20.439551636576653, -19.560448363423347)
     '[-20.43955164, -19.56044836]'
@@ -26,9 +27,11 @@ bounds the float exactly, not up to another rounding.
 from __future__ import annotations
 
 from decimal import ROUND_CEILING, ROUND_FLOOR, Context, Decimal
+from fractions import Fraction
 import math
 
 DIGITS = 10          # significant digits shown by default
+MAX_DIGITS = 40      # most significant digits shown (a thin inner interval of a Fraction needs more than 17)
 
 
 def decimal_text(d: Decimal) -> str:
@@ -51,15 +54,63 @@ def _text(d: Decimal) -> str:
     return f"{mantissa}e{int(power)}"
 
 
-def _round(x: float, digits: int, mode: str) -> str:
-    x = float(x)
-    if math.isnan(x):
-        return "nan"
-    if math.isinf(x):
-        return "inf" if x > 0 else "-inf"
-    if not 1 <= digits <= 17:
-        raise ValueError("digits must be between 1 and 17")
-    return _text(Context(prec=digits, rounding=mode).plus(Decimal(x)))
+def exact(x) -> Decimal | Fraction | float:
+    """The exact value of a real number: a ``Decimal`` when it has a finite decimal expansion
+    (floats, numpy floats of any width, ints, ``Decimal``, mpmath ``mpf``, dyadic fractions), else a
+    ``Fraction``; nan and infinities as floats.  Nothing is rounded on the way."""
+    if isinstance(x, bool):
+        return Decimal(int(x))
+    if isinstance(x, Decimal):
+        return x if x.is_finite() else float(x)
+    if isinstance(x, Fraction):
+        num, den = x.numerator, x.denominator
+        k = den.bit_length() - 1
+        return Decimal(f"{num * 5 ** k}E-{k}") if den == 1 << k else x     # dyadic: exact decimal
+    if isinstance(x, int) or hasattr(x, "__index__") and not hasattr(x, "as_integer_ratio"):
+        return Decimal(int(x))
+    mpf = getattr(x, "_mpf_", None)
+    if mpf is not None:                                  # mpmath: sign, mantissa, exponent, bit count
+        sign, man, exp, bc = mpf
+        if not man:
+            return Decimal(0) if bc == 0 else float(x)   # zero, or inf/nan
+        return exact(Fraction((-1) ** sign * man * 2 ** exp) if exp >= 0 else
+                     Fraction((-1) ** sign * man, 2 ** -exp))
+    try:
+        num, den = x.as_integer_ratio()                  # float, numpy floats (longdouble too)
+    except (AttributeError, OverflowError, ValueError):
+        f = float(x)
+        if math.isnan(f) or math.isinf(f):
+            return f
+        raise TypeError(f"not a real number: {x!r}") from None
+    return exact(Fraction(num, den))
+
+
+def _directed(q: Fraction, digits: int, up: bool) -> Decimal:
+    """A decimal of ``digits`` significant digits, >= q (``up``) or <= q: exact rational rounding."""
+    if q == 0:
+        return Decimal(0)
+    a = abs(q)
+    e = len(str(a.numerator)) - len(str(a.denominator))        # 10^(e-1) <= |q| < 10^(e+1)
+    if a >= Fraction(10) ** e:
+        e += 1
+    shift = e - digits                                          # q / 10^shift has ``digits`` integer digits
+    scaled = q / Fraction(10) ** shift
+    m = math.ceil(scaled) if up else math.floor(scaled)
+    return Decimal(f"{m}E{shift}")          # exact (scaleb would round to the context's precision)
+
+
+def _round(x, digits: int, mode: str) -> str:
+    """``x`` (any real: float, numpy float, int, ``Fraction``, ``Decimal``, mpmath ``mpf``) rounded
+    toward -inf (``ROUND_FLOOR``) or +inf (``ROUND_CEILING``) to ``digits`` significant digits, from
+    its exact value."""
+    if not 1 <= digits <= MAX_DIGITS:
+        raise ValueError(f"digits must be between 1 and {MAX_DIGITS}")
+    v = exact(x)
+    if isinstance(v, float):
+        return "nan" if math.isnan(v) else "inf" if v > 0 else "-inf"
+    if isinstance(v, Fraction):
+        return _text(_directed(v, digits, mode == ROUND_CEILING))
+    return _text(Context(prec=digits, rounding=mode, Emax=10 ** 9, Emin=-10 ** 9).plus(v))
 
 
 def lower(x: float, digits: int = DIGITS) -> str:
@@ -72,30 +123,37 @@ def upper(x: float, digits: int = DIGITS) -> str:
     return _round(x, digits, ROUND_CEILING)
 
 
-def point(x: float) -> str:
-    """The exact float (shortest round-trip text): for witnesses and other points."""
-    x = float(x)
-    if math.isnan(x) or math.isinf(x):
-        return _round(x, 1, ROUND_FLOOR)
-    return repr(x)
+def point(x) -> str:
+    """A point printed exactly: a float as its shortest round-trip text (``repr``), any other real as
+    its exact decimal (or ``p/q`` when it has none): for witnesses and other points."""
+    v = exact(x)
+    if isinstance(v, float):
+        return "nan" if math.isnan(v) else "inf" if v > 0 else "-inf"
+    if isinstance(x, float) or type(x).__module__ == "numpy" and hasattr(x, "as_integer_ratio") \
+            and float(x) == x:
+        return repr(float(x))
+    return _text(v) if isinstance(v, Decimal) else str(v)
 
 
-def outward(lo: float, hi: float, digits: int = DIGITS) -> str:
-    """``[a, b]`` with a <= lo and b >= hi: for enclosures."""
+def outward(lo, hi, digits: int = DIGITS) -> str:
+    """``[a, b]`` with a <= lo and b >= hi: for enclosures (bounds of any real type, exactly)."""
     return f"[{lower(lo, digits)}, {upper(hi, digits)}]"
 
 
-def inward(lo: float, hi: float, digits: int = DIGITS) -> str:
-    """``[a, b]`` with lo <= a <= b <= hi: for inner claims.
+def inward(lo, hi, digits: int = DIGITS) -> str:
+    """``[a, b]`` with lo <= a <= b <= hi: for inner claims (bounds of any real type, exactly).
 
     When ``digits`` digits cannot show a non-empty inner interval (a very
-    thin one), more digits are used, up to the exact decimal values of the floats."""
-    lo, hi = float(lo), float(hi)
-    for d in range(digits, 18):
-        a, b = upper(lo, d), lower(hi, d)
+    thin one), more digits are used, up to the exact values of the bounds."""
+    elo, ehi = exact(lo), exact(hi)
+    if isinstance(elo, float) or isinstance(ehi, float):        # nan or an infinite side
+        return f"[{upper(lo, digits)}, {lower(hi, digits)}]"
+    for d in range(digits, MAX_DIGITS + 1):
+        a, b = _round(elo, d, ROUND_CEILING), _round(ehi, d, ROUND_FLOOR)
         if Decimal(a) <= Decimal(b):
             return f"[{a}, {b}]"
-    return f"[{_text(Decimal(lo))}, {_text(Decimal(hi))}]"      # the exact values
+    show = [_text(v) if isinstance(v, Decimal) else str(v) for v in (elo, ehi)]
+    return f"[{show[0]}, {show[1]}]"      # the exact values
 
 
 def pair(bounds, digits: int = DIGITS) -> str:
@@ -106,4 +164,9 @@ def pair(bounds, digits: int = DIGITS) -> str:
 
 def interval(iv, digits: int = DIGITS) -> str:
     """An enclosure given as an object with ``lo`` and ``hi`` (an ``Interval``), printed outward."""
-    return outward(float(iv.lo), float(iv.hi), digits)
+    if hasattr(iv, "_mpi_"):                     # an mpmath interval: its endpoints exactly
+        from mpmath import mpf
+        lo, hi = (mpf(e) for e in iv._mpi_)
+    else:
+        lo, hi = iv.lo, iv.hi
+    return outward(lo, hi, digits)

@@ -60,3 +60,68 @@ def test_special_values():
     assert display.lower(0.1) == "0.1"
     with pytest.raises(ValueError):
         display.lower(1.0, 0)
+
+
+# ---- any real input is rounded from its exact value (never through float first)
+from fractions import Fraction
+
+import mpmath
+import numpy as np
+
+fractions = st.fractions(max_denominator=10 ** 40).filter(lambda q: abs(q) < 10 ** 40)
+
+
+def _exact_text(text: str) -> Fraction:
+    return Fraction(Decimal(text))
+
+
+@given(fractions, st.integers(1, 17))
+def test_fractions_are_bounded_exactly(q, digits):
+    a, b = _exact_text(display.lower(q, digits)), _exact_text(display.upper(q, digits))
+    assert a <= q <= b
+    assert b - a <= Fraction(10) ** (len(str(abs(q.numerator))) - len(str(q.denominator)) + 2 - digits)
+
+
+@given(fractions, fractions, st.integers(1, 17))
+def test_fraction_intervals_outward_and_inward(x, y, digits):
+    lo, hi = min(x, y), max(x, y)
+    a, b = (_exact_text(t) for t in display.outward(lo, hi, digits)[1:-1].split(", "))
+    assert a <= lo and hi <= b
+    text = display.inward(lo, hi, digits)[1:-1].split(", ")
+    c, d = (Fraction(t) if "/" in t else _exact_text(t) for t in text)
+    assert lo <= c <= d <= hi
+
+
+@given(st.integers(-10 ** 30, 10 ** 30), st.integers(-2000, 2000), st.integers(1, 17))
+def test_mpf_is_bounded_exactly(man, exp, digits):
+    """An mpmath number (man * 2^exp, beyond float range too) is not rounded to a float first."""
+    with mpmath.workprec(128):                       # 10^30 < 2^100: man is exact
+        x = mpmath.ldexp(mpmath.mpf(man), exp)
+    q = Fraction(man) * Fraction(2) ** exp
+    assert _exact_text(display.lower(x, digits)) <= q <= _exact_text(display.upper(x, digits))
+
+
+def test_issue_defect_an_mpf_or_fraction_just_above_a_float():
+    """float(x) rounds to nearest: for x a hair below 1/10, float(x) is the float 0.1 (above 1/10),
+    whose lower bound "0.1" is above x."""
+    q = Fraction(1, 10) - Fraction(1, 10 ** 25)
+    assert float(q) == 0.1 and display.lower(0.1, 17) == "0.1"
+    assert display.lower(q, 17) == "0.099999999999999999" and _exact_text(display.upper(q, 17)) >= q
+    with mpmath.workdps(50):
+        m = mpmath.mpf(1) / 3                        # 1/3 to 166 bits: not the float 1/3
+    assert display.lower(m, 17) == "0.33333333333333333" and display.upper(m, 17) == "0.33333333333333334"
+    assert display.upper(Fraction(1, 3)) == "0.3333333334" and display.lower(Fraction(-1, 3)) == "-0.3333333334"
+
+
+@given(st.floats(width=32, allow_nan=False, allow_infinity=False), st.integers(1, 17))
+def test_numpy_floats_and_long_doubles(x, digits):
+    for v in (np.float32(x), np.longdouble(x) / 3, np.float64(x)):
+        q = Fraction(*v.as_integer_ratio())
+        assert _exact_text(display.lower(v, digits)) <= q <= _exact_text(display.upper(v, digits))
+
+
+def test_points_and_integers():
+    assert display.point(0.1) == "0.1" and display.point(np.float64(0.1)) == "0.1"
+    assert display.point(Fraction(1, 4)) == "0.25" and display.point(Fraction(1, 3)) == "1/3"
+    assert display.lower(10 ** 400) == "1e400" and display.upper(10 ** 400 + 1) == "1.000000001e400"
+    assert display.interval(mpmath.mpi(1, 2) / 3) == "[0.3333333333, 0.6666666667]"

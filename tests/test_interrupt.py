@@ -91,3 +91,24 @@ def test_ctrl_c_stops_a_batch_which_then_resumes(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["resumed"] >= len(done) and not summary["interrupted"]
     assert all(r["verdict"] in ("feasible", "infeasible", "undecided") for r in summary["results"])
+
+
+def test_ctrl_c_stops_a_plan(monkeypatch, capsys):
+    """The plan's search over the grid stops at the first Ctrl-C (it once went on until its time budget)."""
+    from certkin.cli import plan
+
+    def progress(enabled, *args):
+        sent = []
+
+        def update(done, batch):
+            if not sent:
+                sent.append(True)
+                os.kill(os.getpid(), signal.SIGINT)
+        return update
+    monkeypatch.setattr(plan, "progress", progress)
+    t0 = time.perf_counter()
+    code = main(["plan", MEL, "--from", "-90,140,520,0,0,0", "--to", "55,140,520,0,0,0", "--divisions", "200",
+                 "--max-seconds", "600", "--json"])
+    assert code == 130 and time.perf_counter() - t0 < 60
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["interrupted"] is True and doc["status"] != "found"

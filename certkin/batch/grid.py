@@ -20,12 +20,15 @@ from __future__ import annotations
 from decimal import Context, Decimal, InvalidOperation, ROUND_HALF_EVEN
 from fractions import Fraction
 import itertools
+import math
 
 import numpy as np
 
 from ..errors import InputError
 
 DIGITS = 15
+MAX_JOBS = 10 ** 6          # jobs generated at most (a million lines is about 150 MB of JSONL)
+MAX_MAGNITUDE = 10 ** 12    # as every user value (``robots.poses``)
 
 
 def _number(text: str, option: str, name: str) -> tuple[Fraction, str]:
@@ -39,6 +42,8 @@ def _number(text: str, option: str, name: str) -> tuple[Fraction, str]:
         raise InputError(option, name, f"not a decimal number: {text!r}") from None
     if not d.is_finite():
         raise InputError(option, name, f"not a finite number: {text!r}")
+    if abs(d) > MAX_MAGNITUDE:
+        raise InputError(option, name, f"{t} is out of range (at most 1e+12 in magnitude)")
     return Fraction(d), unit
 
 
@@ -84,8 +89,8 @@ def _range(parts, option, name):
             count = int(parts[2])
         except ValueError:
             count = 0
-        if count < 1:
-            raise InputError(option, name, f"expected a positive count of values, got {parts[2]!r}")
+        if count < 1 or count > MAX_JOBS:
+            raise InputError(option, name, f"expected a positive count of values, at most {MAX_JOBS}, got {parts[2]!r}")
     elif len(parts) == 1:
         count = 1
     return lo, hi, count, unit
@@ -105,6 +110,11 @@ def _end_texts(parts):
     return parts[0], parts[1] if len(parts) > 1 else parts[0]
 
 
+def _check_count(n: int, option: str) -> None:
+    if n > MAX_JOBS:
+        raise InputError(option, "", f"{n} jobs, more than {MAX_JOBS}: split the campaign")
+
+
 def _ids(prefix: str, n: int):
     width = len(str(max(n - 1, 0)))
     return [f"{prefix}-{k:0{width}d}" for k in range(n)]
@@ -120,7 +130,9 @@ def fk_jobs(robot_ref, robot, spec: str, prefix: str = "fk") -> list[dict]:
             raise InputError("--lengths", name, "a leg length has no unit 'deg'")
         if n is None:
             raise InputError("--lengths", name, "expected lo:hi:n (n values) or one value")
-        axes.append(_values(lo, hi, n, "", _end_texts(parts)))
+        axes.append((lo, hi, n, parts))
+    _check_count(math.prod(a[2] for a in axes), "--lengths")
+    axes = [_values(lo, hi, n, "", _end_texts(parts)) for lo, hi, n, parts in axes]
     points = list(itertools.product(*[axes[names.index(n)] for n in names]))
     return [{"id": i, "command": "fk", "robot": robot_ref, "lengths": ",".join(p)}
             for i, p in zip(_ids(prefix, len(points)), points)]
@@ -130,6 +142,9 @@ def cell_jobs(robot_ref, robot, spec: str, cells: int, prefix: str = "cell") -> 
     """One ``singular`` job per cell of the box ``spec`` cut into ``cells`` parts per varying variable."""
     if cells < 1:
         raise InputError("--cells", "", f"expected a positive number of cells per side, got {cells}")
+    varying = sum(len(p) > 1 and _range(p, "--box", n)[0] != _range(p, "--box", n)[1]
+                  for n, p in _spec(spec, robot.pose_names, "--box").items())
+    _check_count(cells ** varying, "--cells")
     axes = []
     for name in robot.pose_names:
         parts = _spec(spec, robot.pose_names, "--box")[name]
@@ -162,10 +177,12 @@ def trajectory_jobs(robot_ref, robot, start: str, goal: str, count: int | None =
     if random:
         if not count or count < 1:
             raise InputError("--count", "", "random start and goal poses need --count N (a positive number)")
+        _check_count(count, "--count")
         rng = np.random.default_rng(seed)
         poses = {o: [_random(rng, r, parts, count, decimals) for r, parts in ends[o]] for o in ends}
         pairs = [(tuple(v[k] for v in poses["--from"]), tuple(v[k] for v in poses["--to"])) for k in range(count)]
     else:
+        _check_count(math.prod(r[2] for o in ends for r, _ in ends[o]), "--from")
         grids = {o: list(itertools.product(*[_values(*r, _end_texts(p))
                                              for r, p in ends[o]])) for o in ends}
         pairs = list(itertools.product(grids["--from"], grids["--to"]))

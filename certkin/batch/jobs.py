@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from decimal import Decimal
 import json
+import os
 import re
 
 from ..errors import InputError
@@ -23,6 +24,8 @@ def read_jobs(path) -> list[dict]:
 
     Raises ``InputError`` only when the file itself cannot be read; a bad line becomes a job with
     an ``error`` (its id: ``line-N`` when it has no usable one)."""
+    if os.path.exists(path) and not os.path.isfile(path) and not os.path.isdir(path):
+        raise InputError(str(path), "", "not a regular file (a device or a pipe is not a jobs file)")
     try:
         with open(path, encoding="utf-8") as fh:
             lines = fh.read().splitlines()
@@ -44,6 +47,8 @@ def _job(path, n: int, line: str, seen: set) -> dict:
         job = json.loads(line, parse_float=Decimal)
     except json.JSONDecodeError as exc:
         return {"id": f"line-{n}", ERROR: f"{where}: not valid JSON ({exc.msg})"}
+    except RecursionError:
+        return {"id": f"line-{n}", ERROR: f"{where}: not a job (JSON nested too deeply)"}
     if not isinstance(job, dict):
         return {"id": f"line-{n}", ERROR: f"{where}: expected a JSON object (a job)"}
     jid = job.get("id")

@@ -9,6 +9,7 @@ robots are loaded once per worker.  The pool, the cluster, resuming and the summ
 """
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 import sys
@@ -23,7 +24,7 @@ from ..errors import InputError
 from ..report import batch_report
 from ..robots import load_robot, robot_from_dict
 from . import fk, plan, singular, trajectory, workspace
-from .common import Parser, write_certificate
+from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, write_certificate
 
 COMMANDS = {"fk": fk, "singular": singular, "trajectory": trajectory, "plan": plan, "workspace": workspace}
 OUTPUTS = ("json", "certificate", "report", "plot", "progress")   # the batch writes a job's outputs itself
@@ -144,7 +145,7 @@ def run_job(job: dict, out: str) -> dict:
 def add_arguments(b):
     b.add_argument("jobs", metavar="JOBS.jsonl", help="one job a line (see docs/index.md)")
     b.add_argument("--out", required=True, metavar="DIR", help="directory of the results (DIR/<id>.json, .cert)")
-    b.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+    b.add_argument("--workers", type=count(MAX_WORKERS), default=os.cpu_count() or 1,
                    help=f"local worker processes (default {os.cpu_count() or 1}, the number of cores)")
     b.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="run on this Dask cluster (the dask extra)")
     b.add_argument("--report", metavar="FILE.html", help="write a report of the whole campaign")
@@ -152,10 +153,32 @@ def add_arguments(b):
     b.add_argument("--progress", action="store_true", help="show progress on stderr")
 
 
+MAX_WORKERS = 1024
+
+
+def _check(args, jobs) -> None:
+    """Every option and output path before any job runs (nothing is created for a refused run)."""
+    check_output_directory(args.out, "--out")
+    if args.report is not None:
+        inside = os.path.abspath(os.path.dirname(args.report) or ".") == os.path.abspath(args.out)
+        if inside and not os.path.isdir(args.out):          # DIR/report.html: DIR is created by the run
+            check_output_path(args.report, "--report", REPORT_SUFFIXES, parent=False)
+        else:
+            check_output_path(args.report, "--report", REPORT_SUFFIXES)
+    if args.scheduler is not None:
+        if not args.scheduler.strip():
+            raise InputError("--scheduler", "", "empty address (expected tcp://HOST:PORT)")
+        if importlib.util.find_spec("dask") is None or importlib.util.find_spec("distributed") is None:
+            raise InputError("--scheduler", args.scheduler, "needs dask.distributed (pip install -e \".[dist]\")")
+    if not jobs:
+        raise InputError(str(args.jobs), "", "no jobs in the file (one JSON object a line)")
+
+
 def run(args):
-    if args.workers < 1:
-        raise InputError("--workers", "", f"expected a positive number of workers, got {args.workers}")
+    if not args.jobs.strip():
+        raise InputError("JOBS.jsonl", "", "empty file name")
     jobs = read_jobs(args.jobs)
+    _check(args, jobs)
     bar = tqdm(total=len(jobs), desc="jobs", unit="job", file=sys.stderr, leave=False) if args.progress else None
     summary = run_batch(jobs, args.out, run_job, args.workers, args.scheduler,
                         (lambda r: bar.update(1)) if bar else None)

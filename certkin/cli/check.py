@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import proofs
 
+from ..errors import InputError
+
 
 def add_arguments(c):
     c.add_argument("certificate", help="certificate file (written by --certificate)")
@@ -14,4 +16,7 @@ def add_arguments(c):
 
 
 def run(args):
+    for option, path in (("CERT", args.certificate), ("--robot", args.robot)):
+        if path is not None and not path.strip():
+            raise InputError(option, "", "empty file name")
     return proofs.run(args.certificate, args.robot, args.json, args.progress)

@@ -41,11 +41,23 @@ class StoreOnce(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+class FlagOnce(argparse._StoreTrueAction):
+    """A flag (``--json``): given twice, it is an error, as every repeated option."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = namespace.__dict__.setdefault("given_options", set())
+        if self.dest in given:
+            parser.error(f"argument {option_string or self.dest}: given twice")
+        given.add(self.dest)
+        super().__call__(parser, namespace, values, option_string)
+
+
 class Parser(argparse.ArgumentParser):
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         self.register("action", None, StoreOnce)
         self.register("action", "store", StoreOnce)
+        self.register("action", "store_true", FlagOnce)
 
     def error(self, message):  # one line, exit 2 (argparse prints usage otherwise)
         sys.stderr.write(f"certkin: error: {message}\n")
@@ -113,9 +125,20 @@ def _integer(text):
     return int(x)
 
 
-def count(most=None):
-    """argparse type: an integer from 1 to ``most``."""
-    return _typed(lambda text: positive_integer(_integer(text), "", most))
+def count(most=None, least=1):
+    """argparse type: an integer from ``least`` (1 or 0) to ``most``; a refused value is quoted as typed."""
+    def check(text):
+        try:
+            value = _integer(text)
+            if least == 0 and value == 0:
+                return 0
+            return positive_integer(value, "", most)
+        except InputError:
+            bound = f" from {least} to {most}" if most is not None else f" from {least}" if least != 1 else ""
+            kind = "a positive integer" if least == 1 else "an integer"
+            raise InputError("", "", f"expected {kind}{bound}, got {text!r}") from None
+    check.__name__ = "count"
+    return _typed(check)
 
 
 positive = _typed(lambda text: positive_number(text, ""))
@@ -173,9 +196,10 @@ def plot_suffixes():
     return tuple("." + k for k in Figure().canvas.get_supported_filetypes())
 
 
-def check_output_path(path, option: str, suffixes=None) -> None:
+def check_output_path(path, option: str, suffixes=None, parent: bool = True) -> None:
     """Before solving: ``path`` can be written (its directory exists and is writable, it is not a
-    directory, it has one of ``suffixes`` if given); else ``InputError`` naming ``option``."""
+    directory, it has one of ``suffixes`` if given); else ``InputError`` naming ``option``.
+    ``parent=False``: the directory is made by the run itself (not checked)."""
     p = Path(path)
     if not str(path).strip():
         raise InputError(option, "", "empty file name")
@@ -184,6 +208,8 @@ def check_output_path(path, option: str, suffixes=None) -> None:
     if suffixes is not None and p.suffix.lower() not in suffixes:
         raise InputError(option, str(path), f"unknown file type {p.suffix or '(none)'!r}; use one of "
                                             f"{', '.join(suffixes)}")
+    if not parent:
+        return
     parent = p.parent
     if not parent.is_dir():
         raise InputError(option, str(path), f"directory {str(parent)!r} does not exist")
@@ -194,6 +220,24 @@ def check_output_path(path, option: str, suffixes=None) -> None:
         raise InputError(option, str(path), f"cannot write in directory {str(parent)!r} ({exc.strerror})") from None
     if p.exists() and not os.access(p, os.W_OK):
         raise InputError(option, str(path), "file exists and cannot be written")
+
+
+def check_output_directory(path, option: str) -> None:
+    """Before running: ``path`` is a directory that exists and can be written, or can be created in
+    one that does (its parent is not created); else ``InputError`` naming ``option``."""
+    if not str(path).strip():
+        raise InputError(option, "", "empty directory name")
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise InputError(option, str(path), "exists and is not a directory")
+    where = p if p.is_dir() else p.parent
+    if not where.is_dir():
+        raise InputError(option, str(path), f"directory {str(where)!r} does not exist")
+    try:
+        with tempfile.TemporaryFile(dir=where):
+            pass
+    except OSError as exc:
+        raise InputError(option, str(path), f"cannot write in directory {str(where)!r} ({exc.strerror})") from None
 
 
 def check_outputs(args, **more) -> None:
@@ -231,15 +275,22 @@ class Answer:
     """What a command computed, before anything is written or printed: the robot, the result (or
     results), the ``--json`` document, and how to describe, certify, report and plot it.  ``run``
     writes and prints it (``show``); ``certkin batch`` writes the same document and certificate
-    per job."""
+    per job.  ``document`` may be given as a function: it is then computed only when asked for
+    (a classification of many cells builds its JSON only for ``--json`` or a batch)."""
 
     robot: object
     result: object
-    document: dict
+    document_source: dict | Callable[[], dict]
     describe: Callable[[], str]
     certificate: Callable[[], object] | None = None     # a certificates.Document; None: no certificate
     report: Callable[[str, str | None], None] | None = None     # (path, certificate file or None)
     plot: Callable[[str], None] | None = None
+
+    @property
+    def document(self) -> dict:
+        if callable(self.document_source):
+            self.document_source = self.document_source()
+        return self.document_source
 
 
 def write_certificate(path, document) -> None:
@@ -280,7 +331,8 @@ def run_answer(args, compute, names: dict, out=None) -> int:
         answer = compute(args)
     stopped = interrupt.cut_short()
     if stopped:
-        answer.document["interrupted"] = True
+        source = answer.document_source
+        answer.document_source = (lambda: {**(source() if callable(source) else source), "interrupted": True})
         describe = answer.describe
         answer.describe = lambda: ("INTERRUPTED (Ctrl-C): what was proved before the interrupt; the boxes "
                                    "not finished are undecided\n" + describe())
@@ -298,13 +350,16 @@ def refuse(args, option: str, reason: str, *given: str) -> None:
             raise InputError(option, "", reason)
 
 
+NEGATIVE = re.compile(r"-(?:[0-9.]|inf|nan)", re.IGNORECASE)      # -1, -.5, -inf, -nan: a value, not an option
+
+
 def join_negative_values(argv):
     """``--from -69,-50,...``, ``--z-range -20010:-20000``: after a long option, a value that starts
-    with '-' then a digit or '.' is that option's value, not an option (argparse would refuse it)."""
+    with '-' then a digit, '.', 'inf' or 'nan' is that option's value, not an option (argparse would refuse it)."""
     out, i = [], 0
     while i < len(argv):
         a = argv[i]
-        if a.startswith("--") and "=" not in a and i + 1 < len(argv) and re.match(r"-[0-9.]", argv[i + 1]):
+        if a.startswith("--") and "=" not in a and i + 1 < len(argv) and NEGATIVE.match(argv[i + 1]):
             out.append(f"{a}={argv[i + 1]}")
             i += 2
             continue

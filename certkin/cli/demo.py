@@ -27,6 +27,7 @@ from ..singularity import certify_singularity_free, classify_cells
 from ..report import batch_report
 from ..trajectory import verify_trajectory
 from .batch import run_job, table
+from .common import check_output_directory
 
 
 def bundled_robots_dir() -> Path:
@@ -122,8 +123,8 @@ def _trajectory_demo(robots, out):
     out(f"  {r.status} ({time.perf_counter() - t:.2f} s)")
     for v in r.violations:
         if v["certain"]:
-            out(f"    {v['constraint']} legs {'-'.join(map(str, v['legs']))}: forbidden for t in "
-                f"{display.pair(v['t'])}")
+            out(f"    {v['constraint']} legs {'-'.join(map(str, v['legs']))}: proved violated, failing instants "
+                f"within t in {display.pair(v['t'])}")
     legs = [m for m in r.margins if m["constraint"] == "leg-length"]
     worst = min(legs, key=lambda m: m["margin"][0])
     out(f"    smallest leg-length margin: leg {worst['legs'][0]}, in {display.pair(worst['margin'], 8)} mm")
@@ -162,4 +163,7 @@ def add_arguments(d):
 
 
 def run(args):
+    check_output_directory(args.out, "--out")
+    if args.robots is not None and not Path(args.robots).is_dir():
+        raise InputError("--robots", args.robots, "not a directory")
     return run_demo(args.robots, results=args.out)

@@ -11,6 +11,7 @@ from ..engine import budgets
 from ..fk import forward_kinematics, kernels
 from ..report import fk_report
 from ..robots import load_robot
+from ..robots.poses import parse_pose
 from .common import (Answer, add_budget, add_outputs, budget, check_outputs, options, progress, refuse, run_answer,
                      with_angles)
 
@@ -34,6 +35,8 @@ def compute(args, robot=None) -> Answer:
         refuse(args, "--domain", "not with --track (a tracked posture is not searched in a domain)", "domain")
     with options(OPTIONS):
         robot = with_angles(robot or load_robot(args.robot), args.angles)
+        if args.track is not None:
+            parse_pose(args.track, robot, "track")     # checked as every pose (the search only starts near it)
         if robot.kind != "planar-3rpr" and not kernels_cached():
             sys.stderr.write("certkin: compiling kernels, once (about 15 s; cached on disk afterwards)\n")
         result = forward_kinematics(robot, args.lengths, domain=args.domain, budget=budget(args),
@@ -61,6 +64,9 @@ def kernels_cached() -> bool:
     return any(any(p.glob(f"{source.stem}.*.nbi")) for p in places if p.is_dir())
 
 
+SHOWN = 20      # clusters and unresolved regions listed on the terminal (all of them in --json)
+
+
 def describe(robot, r):
     """Each assembly mode's box (an enclosure: printed outward), each cluster and unresolved region
     outward; with length ranges a mode's box holds its posture for every length in the ranges."""
@@ -74,8 +80,10 @@ def describe(robot, r):
     for k, s in enumerate(r.solutions):
         lines.append(f"  {k + 1}: " + ", ".join(f"{n}={display.interval(v, 12)}" for n, v in s["pose"].items()))
     for name, regions in (("cluster", r.clusters), ("unresolved", r.unresolved)):
-        for k, s in enumerate(regions):
+        for k, s in enumerate(regions[:SHOWN]):
             lines.append(f"  {name} {k + 1}: " + ", ".join(f"{n}={display.interval(v, 6)}" for n, v in s["pose"].items()))
+        if len(regions) > SHOWN:
+            lines.append(f"  ... {len(regions) - SHOWN} more {name} regions (all of them in --json and the certificate)")
     if r.message:
         lines.append(f"  note: {r.message}")
     return "\n".join(lines)

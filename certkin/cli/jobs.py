@@ -6,10 +6,11 @@
 """
 from __future__ import annotations
 
-from ..batch.grid import cell_jobs, fk_jobs, trajectory_jobs
-from ..batch.jobs import dumps
+from ..batch.grid import MAX_JOBS, cell_jobs, fk_jobs, trajectory_jobs
+from ..batch.jobs import ID, dumps
 from ..errors import InputError
 from ..robots import load_robot
+from .common import count
 
 
 def add_arguments(j):
@@ -19,12 +20,13 @@ def add_arguments(j):
     g.add_argument("--command", required=True, choices=["fk", "singular", "trajectory"])
     g.add_argument("--lengths", metavar="L1=a:b:n,...", help="fk: the grid of leg lengths")
     g.add_argument("--box", metavar="x=a:b,...", help="singular: the box to cut into cells")
-    g.add_argument("--cells", type=int, help="singular: cells per varying variable")
+    g.add_argument("--cells", type=count(MAX_JOBS), help="singular: cells per varying variable")
     g.add_argument("--from", dest="start", metavar="x=a:b[:n],...", help="trajectory: start poses")
     g.add_argument("--to", dest="goal", metavar="x=a:b[:n],...", help="trajectory: goal poses")
-    g.add_argument("--count", type=int, help="trajectory: number of random start/goal pairs")
-    g.add_argument("--seed", type=int, default=0, help="trajectory: seed of the random draw (default 0)")
-    g.add_argument("--decimals", type=int, default=3, help="trajectory: decimal places of drawn values (default 3)")
+    g.add_argument("--count", type=count(MAX_JOBS), help=f"trajectory: number of random start/goal pairs (at most {MAX_JOBS})")
+    g.add_argument("--seed", type=count(2 ** 63, least=0), default=0, help="trajectory: seed of the random draw (default 0)")
+    g.add_argument("--decimals", type=count(15, least=0), default=3,
+                   help="trajectory: decimal places of drawn values, 0 to 15 (default 3)")
     g.add_argument("--prefix", help="prefix of the job ids (default: the command)")
     g.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="an option of every job, by its long name (repeatable): max_seconds=5")
@@ -34,12 +36,18 @@ NEEDS = {"fk": ("lengths",), "singular": ("box", "cells"), "trajectory": ("start
 OPTION = {"lengths": "--lengths", "box": "--box", "cells": "--cells", "start": "--from", "goal": "--to"}
 
 
+USED = {"fk": ("lengths",), "singular": ("box", "cells"), "trajectory": ("start", "goal", "count", "seed", "decimals")}
+
+
 def run(args):
     for name in NEEDS[args.command]:
         if getattr(args, name) is None:
             raise InputError(OPTION[name], "", f"--command {args.command} needs {OPTION[name]}")
-    if not 0 <= args.decimals <= 15:
-        raise InputError("--decimals", "", f"expected 0 to 15 decimal places, got {args.decimals}")
+    for name, option in {**OPTION, "count": "--count", "seed": "--seed", "decimals": "--decimals"}.items():
+        if name not in USED[args.command] and name in getattr(args, "given_options", ()):
+            raise InputError(option, "", f"not an option of --command {args.command}")
+    if args.prefix is not None and not ID.fullmatch(args.prefix + "-0"):
+        raise InputError("--prefix", "", f"expected letters, digits, '.', '_' or '-' (a file name), got {args.prefix!r}")
     extra = {}
     for item in args.set:
         key, eq, value = item.partition("=")
@@ -54,6 +62,12 @@ def run(args):
         jobs = cell_jobs(args.robot, robot, args.box, args.cells, prefix)
     else:
         jobs = trajectory_jobs(args.robot, robot, args.start, args.goal, args.count, args.seed, args.decimals, prefix)
+    if extra and jobs:                  # the options of --set are checked once, as the batch will read them
+        from .batch import parse_job
+        try:
+            parse_job({**jobs[0], **extra})
+        except InputError as exc:
+            raise InputError("--set", "", str(exc)) from None
     for job in jobs:
         print(dumps({**job, **extra}))
     return 0

@@ -20,7 +20,7 @@ def add_arguments(pl):
     pl.add_argument("--constraints", metavar="LIST", help="as for trajectory (default: all)")
     pl.add_argument("--divisions", type=count(1000), default=6, metavar="N",
                     help="grid steps between start and goal, 1 to 1000 (default 6)")
-    pl.add_argument("--margin", type=int, default=3, metavar="N", help="grid steps beyond them, 0 to 1000 (default 3)")
+    pl.add_argument("--margin", type=count(1000, least=0), default=3, metavar="N", help="grid steps beyond them, 0 to 1000 (default 3)")
     pl.add_argument("--max-edges", type=count(10 ** 9), default=4000, metavar="N",
                     help="segments verified at most (default 4000)")
     add_outputs(pl, "write the certificate of every segment of the path found to FILE")

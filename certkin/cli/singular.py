@@ -18,7 +18,8 @@ OPTIONS = {"box": "--box", "pose": "--around", "scale": "--scale", "plot": "--pl
 def add_arguments(s):
     s.add_argument("robot", help="robot file (TOML)")
     s.add_argument("--box", help='box of poses, e.g. "x=-20:20,y=-20:20,phi=0:0.7853981634"')
-    s.add_argument("--cells", type=count(), metavar="N", help="split the box into N^k cells and classify each")
+    s.add_argument("--cells", type=count(10 ** 6), metavar="N",
+                   help="split the box into N^k cells (N from 1 to 10^6) and classify each")
     s.add_argument("--plot", metavar="FILE.png", help="picture of the cells (PNG, SVG or PDF)")
     s.add_argument("--around", metavar="POSE", help="largest singularity-free box centred at POSE")
     s.add_argument("--scale", metavar="S1,S2,...", help="half-widths of the unit box for --around")
@@ -50,12 +51,14 @@ def compute(args, robot=None) -> Answer:
             results = [largest_free_box(robot, args.around, scale=args.scale, budget=budget(args), progress=bar)]
         else:
             results = classify_cells(robot, args.box, args.cells or 1, budget(args), progress(args.progress))
+    counts = _counts(results)
     if args.cells:
-        doc = {"problem": "singularity", "robot": robot.name, "kind": robot.kind, "cells": args.cells,
-               "counts": _counts(results), "results": [r.to_json() for r in results]}
+        def doc():          # built only when printed (--json) or written (batch): 64 000 cells take seconds
+            return {"problem": "singularity", "robot": robot.name, "kind": robot.kind, "cells": args.cells,
+                    "counts": counts, "results": [r.to_json() for r in results]}
     else:
         doc = results[0].to_json()
-    return Answer(robot, results, doc, lambda: _text(robot, results, doc, args.cells),
+    return Answer(robot, results, doc, lambda: _text(robot, results, counts, args.cells),
                   lambda: singularity_certificate(results),
                   lambda path, cert: singularity_report(robot, results, path, cert, budget(args)),
                   lambda path: plot_cells(robot, results, path))
@@ -67,9 +70,9 @@ def run(args):
     return run_answer(args, compute, OPTIONS)
 
 
-def _text(robot, results, doc, cells):
+def _text(robot, results, counts, cells):
     if cells:
-        c = doc["counts"]
+        c = counts
         return (f"{robot.name}: {len(results)} cells: {c['singularity-free']} singularity-free, "
                 f"{c['singular']} singular, {c['undecided']} undecided")
     return describe(robot, results[0])

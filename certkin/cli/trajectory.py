@@ -37,9 +37,14 @@ def run(args):
     return run_answer(args, compute, OPTIONS)
 
 
+SHOWN = 20      # undecided ranges listed on the terminal (all of them in --json)
+
+
 def describe(robot, r):
     """The verdict, each certified minimum margin and each forbidden t-range, printed outward (an
-    enclosure); a feasible path's margins are lower bounds that hold along the whole path."""
+    enclosure); a feasible path's margins are lower bounds that hold along the whole path.  A
+    forbidden range holds every failing instant of its run (VIOLATED: a violation in it is proved),
+    it is not claimed to fail throughout."""
     j = r.to_json()
     lines = [f"{robot.name}: {r.status.upper()} [{j['stats']['boxes']} boxes, {j['stats']['seconds']:.3f} s]"]
     for k, why in j["skipped"].items():
@@ -48,10 +53,13 @@ def describe(robot, r):
         extra = f", det sign {m['sign']:+d}" if "sign" in m else ""
         lines.append(f"  {m['constraint']} {'-'.join(map(str, m['legs']))}{' ' + m['detail'] if 'detail' in m else ''}: "
                      f"min margin in {display.pair(m['margin'])}{extra}")
-    for v in j["violations"]:
+    for v in j["violations"]:          # an enclosure of the failing instants, not a range failing throughout
         where = f"t in {display.outward(*v['t'], 12)}" if "t" in v else f"s in {display.outward(*v['s'], 12)}"
         lines.append(f"  {'VIOLATED' if v['certain'] else 'may fail'}: {v['constraint']} "
-                     f"{'-'.join(map(str, v['legs']))} for {where}")
-    for u in j["undecided"]:
+                     f"{'-'.join(map(str, v['legs']))}{' (proved)' if v['certain'] else ''}, "
+                     f"failing instants within {where}")
+    for u in j["undecided"][:SHOWN]:
         lines.append(f"  undecided for s in {display.outward(*u['s'], 12)}")
+    if len(j["undecided"]) > SHOWN:
+        lines.append(f"  ... {len(j['undecided']) - SHOWN} more undecided ranges (all of them in --json)")
     return "\n".join(lines)

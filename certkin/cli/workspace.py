@@ -75,7 +75,8 @@ def _solve(args, robot=None):
 
 def describe(result) -> str:
     """A few lines for the command line: exact areas outward, paving brackets with the inner bound
-    rounded down and the outer one up."""
+    rounded down (an area is never below 0: a sum rounded down to -5e-324 is shown as 0) and the
+    outer one up."""
     names = ORIENTATION[result.robot.kind]
     orient = ",".join(names) + " = " + ",".join(result.orientation)
     ignored = ignored_limits(result.robot)
@@ -85,7 +86,7 @@ def describe(result) -> str:
         c = result.counts()
         return (f"{result.robot.name}: workspace volume for z in [{result.z_range[0]}, {result.z_range[1]}] "
                 f"at {orient}: {result.status}\n"
-                f"  volume in [{display.lower(vin)}, {display.upper(vout)}] ({len(result.pavings)} slabs; "
+                f"  volume in [{display.lower(max(vin, 0.0))}, {display.upper(vout)}] ({len(result.pavings)} slabs; "
                 f"{c['inner_boxes']} inside, {c['boundary_boxes']} boundary, {c['outside_boxes']} outside boxes) "
                 f"[{result.stats['boxes']} boxes, {result.stats['seconds']:.3f} s]" + note)
     where = "" if result.z is None else f"z = {result.z}, "
@@ -100,7 +101,7 @@ def describe(result) -> str:
     else:
         lines.append(f"  exact boundary undecided: {b.reason}")
     c = result.counts()
-    lines.append(f"  paving: area in [{display.lower(result.inner)}, {display.upper(result.outer)}] "
+    lines.append(f"  paving: area in [{display.lower(max(result.inner, 0.0))}, {display.upper(result.outer)}] "
                  f"({c['inner_boxes']} inside, {c['boundary_boxes']} boundary, {c['outside_boxes']} outside boxes) "
                  f"[{result.stats['boxes']} boxes, {result.stats['seconds']:.3f} s]")
     return "\n".join(lines) + note

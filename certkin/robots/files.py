@@ -24,13 +24,21 @@ from .spherical import Spherical3DOF, rotation_float
 
 KINDS = {cls.kind: cls for cls in (Planar3RPR, Spherical3DOF, GoughStewart)}
 
+MAX_FILE_BYTES = 16 * 2 ** 20       # a robot file is a few hundred bytes
+
+
 def load_robot(path) -> Robot:
     """Load and validate a robot file (see the format in ``docs/index.md``)."""
+    if not str(path).strip():
+        raise RobotFileError("robot file", "", "empty file name")
     path = Path(path)
     source = str(path)
     try:
         with open(path, "rb") as fh:
-            data = tomllib.load(fh, parse_float=Decimal)
+            raw = fh.read(MAX_FILE_BYTES + 1)        # /dev/zero or a huge file: refused, not read whole
+        if len(raw) > MAX_FILE_BYTES:
+            raise RobotFileError(source, "", f"larger than {MAX_FILE_BYTES // 2 ** 20} MiB: not a robot file")
+        data = tomllib.loads(raw.decode("utf-8"), parse_float=Decimal)
     except FileNotFoundError:
         raise RobotFileError(source, "", "no such file") from None
     except IsADirectoryError:
@@ -39,6 +47,8 @@ def load_robot(path) -> Robot:
         raise RobotFileError(source, "", f"not valid TOML ({exc})") from None
     except UnicodeDecodeError:
         raise RobotFileError(source, "", "not a text file") from None
+    except OSError as exc:
+        raise RobotFileError(source, "", f"cannot read ({exc.strerror or exc})") from None
     return robot_from_dict(data, source)
 
 

@@ -177,9 +177,12 @@ def inner_box(texts: dict, robot):
 # ----------------------------------------------------------------- leg lengths
 def parse_lengths(robot, lengths, parameter="lengths"):
     """(rows of enclosures, rows of exact texts, whether the input was a batch) of one set of leg
-    lengths (sequence or "l1,l2,..." text) or a 2-D array with one row per instance."""
+    lengths (sequence or "l1,l2,..." text) or a 2-D array with one row per instance (or a list of
+    "l1,l2,..." texts, one per instance)."""
     if isinstance(lengths, str):
         lengths = [p.strip() for p in lengths.split(",")]
+    elif isinstance(lengths, (list, tuple)) and lengths and all(isinstance(r, str) and "," in r for r in lengths):
+        lengths = [[p.strip() for p in r.split(",")] for r in lengths]
     arr = np.asarray(lengths, dtype=object)
     batch = arr.ndim == 2
     if arr.ndim == 1:
@@ -216,6 +219,9 @@ def _length(value, parameter, field_name):
                 raise InputError(parameter, field_name, f"not a length range: {value!r}") from None
             if not (v.is_finite() and t.is_finite()) or t < 0:
                 raise InputError(parameter, field_name, f"not a length range (tolerance >= 0): {value!r}")
+            if max(abs(v), t) > MAX_MAGNITUDE:
+                raise InputError(parameter, field_name, f"{value.strip()} is out of range (at most "
+                                                        f"{MAX_MAGNITUDE:g} in magnitude)")
             with localcontext() as ctx:     # exact: enough digits for both operands
                 ctx.prec = 2 * (len(centre) + len(tol)) + 10
                 parts = [format(v - t, "f"), format(v + t, "f")]

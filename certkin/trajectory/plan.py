@@ -29,7 +29,7 @@ import numpy as np
 
 from .. import display
 from ..certificates import trajectory_certificate
-from ..engine import Budget, budgets
+from ..engine import Budget, budgets, interrupt
 from ..engine.budgets import Clock, make_budget
 from ..errors import InputError
 from ..robots import as_robot
@@ -236,7 +236,7 @@ def _astar(robot, grid: _Grid, verify, max_edges, clock):
     closed = set()
     edges = 1
     found = False
-    while frontier and edges < max_edges and not clock.out():
+    while frontier and edges < max_edges and not clock.out() and not interrupt.requested():   # Ctrl-C: stop
         _, cost, node = heapq.heappop(frontier)
         if node in closed:
             continue

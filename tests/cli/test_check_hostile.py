@@ -38,3 +38,9 @@ def test_a_huge_robot_coordinate_gives_no_warning(cli, tmp_path):
     run = cli("check", "{tmp}/h.cert")
     assert run.code == 1 and "Warning" not in run.err and "Traceback" not in run.err
     assert len(run.err.strip().splitlines()) <= 1
+
+
+def test_empty_names_are_bad_input(cli):
+    for argv, word in ((["check", ""], "CERT"), (["check", "{tmp}/c.cert", "--robot", ""], "--robot")):
+        run = cli(*argv)
+        assert run.code == 2 and word in run.err and "empty" in run.err and run.out == ""

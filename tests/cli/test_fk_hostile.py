@@ -24,6 +24,9 @@ HOSTILE = [
     (["fk", R2], ["--lengths"]),
     (F + ["--track", "30,13,-1.9", "--domain", "x=0:50,y=-10:20,phi=-3:3"], ["--domain", "--track"]),
     (F + ["--track", "30,13"], ["--track"]),
+    (F + ["--track", "1e300,0,0"], ["--track", "x", "out of range"]),        # once: ignored, full search
+    (["fk", R2, "--lengths", "29+-1e300,13.66,40.53"], ["--lengths", "out of range"]),   # once: 300 digits
+    (F + ["--max-seconds", "-inf"], ["--max-seconds"]),
     (F + ["--domain", "x=0:50,y=-10:20"], ["--domain", "phi"]),
     (F + ["--domain", "x=0:1e300,y=-10:20,phi=0:1"], ["--domain", "x"]),
     (F + ["--angles", "zyz"], ["--angles"]),
@@ -62,3 +65,13 @@ def test_max_seconds_is_respected(cli):
     run = cli("fk", MEL, "--lengths", "520,530,540,550,560,570", "--min-width", "1e-14", "--max-seconds", "1")
     answered(run)
     assert run.seconds < 1 + 15                           # the first compilation of the kernels comes on top
+
+
+def test_a_long_spatial_search_stays_under_the_memory_ceiling(tmp_path):
+    """Dietmaier's robot at arbitrary lengths, finest width: cut by the time budget, within 3 GiB of
+    address space (a subprocess under ``resource.setrlimit``), its regions listed briefly."""
+    from conftest import ROBOTS, limited
+    run = limited(["fk", str(ROBOTS / "dietmaier-6-6-40.toml"), "--lengths", "1,1,1,1,1,1", "--min-width", "1e-14",
+                   "--max-seconds", "3", "--certificate", "{tmp}/f.cert"], tmp_path)
+    answered(run, "INCOMPLETE")
+    assert len(run.out.splitlines()) <= 23 and run.left == ["f.cert"]

@@ -15,6 +15,10 @@ HOSTILE = [
     (P + ["--divisions", "1001"], ["--divisions"]),
     (P + ["--margin", "-1"], ["--margin"]),
     (P + ["--margin", "1001"], ["--margin"]),
+    (P + ["--margin", "nan"], ["--margin"]),
+    (P + ["--margin", "2.5"], ["--margin"]),
+    (P + ["--max-edges", "1e300"], ["--max-edges", "'1e300'"]),
+    (P + ["--via", "1,2,3,4,5,6"], ["--via"]),
     (P + ["--max-edges", "0"], ["--max-edges"]),
     (P + ["--max-boxes", "0"], ["--max-boxes"]),
     (P + ["--max-seconds", "-1"], ["--max-seconds"]),
@@ -59,3 +63,9 @@ def test_max_seconds_bounds_the_whole_plan(cli):
     run = cli(*P, "--divisions", "200", "--max-seconds", "2")
     answered(run)
     assert run.seconds < 2 + 4
+
+
+def test_the_largest_grid_stays_under_the_memory_ceiling(tmp_path):
+    from conftest import limited
+    run = limited(P + ["--divisions", "1000", "--margin", "1000", "--max-edges", "1e9", "--max-seconds", "3"], tmp_path)
+    answered(run)

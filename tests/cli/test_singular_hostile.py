@@ -61,6 +61,14 @@ HOSTILE = [
     # the robot file
     (["singular", "{tmp}/none.toml", "--box", BOX], ["none.toml", "no such file"]),
     (["singular", "{tmp}", "--box", BOX], ["directory"]),
+    (["singular", "", "--box", BOX], ["robot file", "empty"]),
+    (["singular", "/dev/zero", "--box", BOX], ["/dev/zero", "not a robot file"]),      # never read whole
+    # numbers as typed, negative infinities as values, repeated flags
+    (S + ["--box", BOX, "--cells", "1e300"], ["--cells", "'1e300'"]),
+    (S + ["--box", BOX, "--max-seconds", "-inf"], ["--max-seconds"]),
+    (S + ["--box", BOX, "--min-width", "-inf"], ["--min-width"]),
+    (S + ["--box", BOX, "--json", "--json"], ["--json", "twice"]),
+    (S + ["--box", BOX, "--certificate", ""], ["--certificate", "empty"]),
 ]
 
 

@@ -57,7 +57,8 @@ def test_printed_violations_enclose_the_proved_ones(cli):
     doc = json.loads(cli(*T, "--constraints", "interference", "--json").out)
     text = cli(*T, "--constraints", "interference").out
     for v in doc["violations"]:
-        line = next(l for l in text.splitlines() if f"{'-'.join(map(str, v['legs']))} for t in" in l)
+        line = next(l for l in text.splitlines() if f" {'-'.join(map(str, v['legs']))} (proved), failing instants "
+                    f"within t in" in l)
         lo, hi = (float(x) for x in line.split("t in [")[1].rstrip("]").split(", "))
         assert lo <= v["t"][0] and v["t"][1] <= hi
 

@@ -55,3 +55,9 @@ def test_many_slabs_stay_within_the_time_budget(cli):
     run = cli(*W, "--z-range", "20000:20010", "--slabs", "10000", "--max-seconds", "1")
     answered(run)
     assert run.seconds < 1 + 6
+
+
+def test_a_fine_paving_stays_under_the_memory_ceiling(tmp_path):
+    from conftest import limited
+    run = limited(Z + ["--min-width", "1e-12", "--max-boxes", "1e9", "--max-seconds", "3"], tmp_path)
+    answered(run, "paving: area in [")

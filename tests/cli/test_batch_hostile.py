@@ -1,0 +1,105 @@
+"""``certkin batch`` on hostile input (issue #18): every option and output path is checked before
+any job runs (exit 2, one line, nothing created); a bad job line is an error job, never a crash."""
+import json
+
+import pytest
+
+from conftest import MEL, R2, answered, refused
+
+JOB = {"id": "a", "command": "fk", "robot": R2, "lengths": "28.99,13.66,40.53"}
+
+
+@pytest.fixture
+def jobs(tmp_path):
+    """A jobs file outside the run's directory, written from a list of lines."""
+    folder = tmp_path.parent / (tmp_path.name + "-jobs")
+    folder.mkdir()
+
+    def write(*lines, name="jobs.jsonl"):
+        path = folder / name
+        path.write_bytes(b"\n".join(line if isinstance(line, bytes) else line.encode() for line in lines))
+        return str(path)
+    return write
+
+
+def ok(jobs):
+    return jobs(json.dumps(JOB))
+
+
+HOSTILE = [
+    (["--workers", "0"], ["--workers"]),
+    (["--workers", "-1"], ["--workers"]),
+    (["--workers", "nan"], ["--workers"]),
+    (["--workers", "1e300"], ["--workers", "'1e300'"]),
+    (["--workers", "100000"], ["--workers"]),
+    (["--workers", "2", "--workers", "3"], ["--workers", "twice"]),
+    (["--json", "--json"], ["--json", "twice"]),
+    (["--report", "{tmp}/r.txt"], ["--report", ".txt"]),
+    (["--report", "{tmp}"], ["--report", "directory"]),
+    (["--report", "{tmp}/no/r.html"], ["--report", "does not exist"]),
+    (["--report", "/proc/r.html"], ["--report", "cannot write"]),
+    (["--scheduler", ""], ["--scheduler", "empty"]),
+]
+
+
+@pytest.mark.parametrize("extra, words", HOSTILE, ids=[" ".join(e)[:50] for e, _ in HOSTILE])
+def test_hostile_options_are_refused(cli, jobs, extra, words):
+    refused(cli("batch", ok(jobs), "--out", "{tmp}/out", *extra), *words)
+
+
+@pytest.mark.parametrize("out, words", [
+    ("", ["--out", "empty"]),
+    ("{tmp}/no/such/dir", ["--out", "does not exist"]),          # parents are not created
+    ("/proc/out", ["--out", "cannot write"]),
+])
+def test_bad_output_directories_are_refused(cli, jobs, out, words):
+    refused(cli("batch", ok(jobs), "--out", out), *words)
+
+
+def test_an_output_directory_that_is_a_file(cli, jobs, tmp_path):
+    (tmp_path / "file").write_text("")
+    run = cli("batch", ok(jobs), "--out", "{tmp}/file")
+    assert run.left == []
+    run.left = []
+    refused(run, "--out", "not a directory")
+
+
+@pytest.mark.parametrize("content, words", [
+    ([b"\xff\xfe{}"], ["jobs.jsonl", "cannot read"]),           # not UTF-8
+    ([b""], ["jobs.jsonl", "no jobs"]),
+    ([b"# only a comment", b""], ["jobs.jsonl", "no jobs"]),
+])
+def test_unreadable_or_empty_jobs_files(cli, jobs, content, words):
+    refused(cli("batch", jobs(*content), "--out", "{tmp}/out"), *words)
+
+
+@pytest.mark.parametrize("path, words", [("{tmp}", ["directory"]), ("{tmp}/none.jsonl", ["none.jsonl", "no such file"]),
+                                         ("/dev/zero", ["not a regular file"]),
+                                         ("", ["empty file name"])])
+def test_missing_jobs_files(cli, path, words):
+    refused(cli("batch", path, "--out", "{tmp}/out"), *words)
+
+
+def test_bad_job_lines_are_error_jobs(cli, jobs, tmp_path):
+    """Each bad line becomes an error job with the command line's one-line message; the good one runs."""
+    lines = [json.dumps(JOB),
+             "[" * 100000,                                                       # RecursionError in json
+             json.dumps({**JOB, "id": "b1", "max_seconds": "nan"}),
+             json.dumps({**JOB, "id": "b2", "certificate": "x.cert"}),
+             json.dumps({"id": "b3", "command": "rm", "robot": R2}),
+             json.dumps({"id": "b4", "command": "singular", "robot": R2, "box": "x=-1:1,y=0:1,phi=0:0.1",
+                         "cells": 1000, "max_boxes": "1e10"}),
+             json.dumps({"id": "b5", "command": "trajectory", "robot": MEL, "from": "-69,-50,1e300,85deg,10deg,0",
+                         "to": "84,92,500,85deg,10deg,0"}),
+             json.dumps({"id": "../b6", "command": "fk", "robot": R2}),
+             json.dumps({**JOB, "id": "b7", "bogus": 1})]
+    run = cli("batch", jobs(*lines), "--out", "{tmp}/out", "--workers", "1", "--json")
+    answered(run)
+    summary = json.loads(run.out)
+    errors = {e["id"]: e["error"] for e in summary["errors"]}
+    assert set(errors) == {"line-2", "b1", "b2", "b3", "b4", "b5", "line-8", "b7"}, errors
+    for word, jid in (("nested too deeply", "line-2"), ("--max-seconds", "b1"), ("certificate", "b2"),
+                      ("command", "b3"), ("--cells", "b4"), ("--from", "b5"), ("id", "line-8"), ("--bogus", "b7")):
+        assert word in errors[jid] and "\n" not in errors[jid], (jid, errors[jid])
+    assert summary["counts"]["fk complete"] == 1 and summary["jobs"] == 9
+    assert (tmp_path / "out" / "a.cert").exists()

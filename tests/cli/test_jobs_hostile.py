@@ -1,0 +1,58 @@
+"""``certkin jobs grid`` on hostile input (issue #18): counts, sizes, values and options checked,
+nothing printed for a refused grid, never a million-line surprise."""
+import json
+
+import pytest
+
+from conftest import R2, answered, refused
+
+G = ["jobs", "grid", R2]
+FK = G + ["--command", "fk", "--lengths", "L1=28:30:3,L2=13.66,L3=40.53"]
+CELLS = G + ["--command", "singular", "--box", "x=-1:1,y=0:1,phi=0:0.1"]
+TRAJ = G + ["--command", "trajectory", "--from", "x=0:1,y=0:1,phi=0", "--to", "x=0:1,y=0:1,phi=0"]
+
+HOSTILE = [
+    (G + ["--command", "fk"], ["--lengths"]),
+    (G + ["--command", "fk", "--lengths", ""], ["--lengths"]),
+    (G + ["--command", "fk", "--lengths", "L1=1:2:0,L2=1,L3=1"], ["--lengths", "L1"]),
+    (G + ["--command", "fk", "--lengths", "L1=1:2:-1,L2=1,L3=1"], ["--lengths", "L1"]),
+    (G + ["--command", "fk", "--lengths", "L1=1:2:1e300,L2=1,L3=1"], ["--lengths", "L1", "'1e300'"]),
+    (G + ["--command", "fk", "--lengths", "L1=nan:2:3,L2=1,L3=1"], ["--lengths", "L1"]),
+    (G + ["--command", "fk", "--lengths", "L1=1:1e300:3,L2=1,L3=1"], ["--lengths", "L1", "out of range"]),
+    (G + ["--command", "fk", "--lengths", "L1=1:2:1000000,L2=1:2:1000000,L3=1:2:100000"], ["--lengths", "jobs"]),
+    (CELLS + ["--cells", "0"], ["--cells"]),
+    (CELLS + ["--cells", "-1"], ["--cells"]),
+    (CELLS + ["--cells", "1e300"], ["--cells", "'1e300'"]),
+    (CELLS + ["--cells", "100000"], ["--cells", "jobs"]),              # 10^15 cells (once: out of memory)
+    (CELLS + ["--cells", "2", "--cells", "3"], ["--cells", "twice"]),
+    (TRAJ + ["--count", "0"], ["--count"]),
+    (TRAJ + ["--count", "-1"], ["--count"]),
+    (TRAJ + ["--count", "1000000000000"], ["--count"]),               # once: out of memory
+    (TRAJ + ["--count", "2", "--seed", "-1"], ["--seed"]),            # once: numpy's traceback
+    (TRAJ + ["--count", "2", "--decimals", "99"], ["--decimals"]),
+    (TRAJ + ["--count", "2", "--decimals", "nan"], ["--decimals"]),
+    (FK + ["--box", "x=1"], ["--box", "fk"]),                          # an option of another command
+    (FK + ["--count", "3"], ["--count", "fk"]),
+    (FK + ["--set", ""], ["--set"]),
+    (FK + ["--set", "max_seconds=nan"], ["--set", "--max-seconds"]),   # checked as the batch will read it
+    (FK + ["--set", "bogus=1"], ["--set", "--bogus"]),
+    (FK + ["--set", "certificate=x"], ["--set", "certificate"]),
+    (FK + ["--prefix", "../x"], ["--prefix"]),
+    (FK + ["--prefix", ""], ["--prefix"]),
+    (["jobs", "grid", "{tmp}", "--command", "fk", "--lengths", "L1=1,L2=1,L3=1"], ["directory"]),
+    (["jobs"], ["generator"]),
+]
+
+
+@pytest.mark.parametrize("argv, words", HOSTILE, ids=[" ".join(a[3:])[-60:] for a, _ in HOSTILE])
+def test_hostile_input_is_refused(cli, argv, words):
+    refused(cli(*argv), *words)
+
+
+def test_a_grid_prints_checked_jobs(cli):
+    run = cli(*FK, "--set", "max_seconds=5", "--prefix", "p")
+    answered(run)
+    lines = [json.loads(line) for line in run.out.splitlines()]
+    assert [j["id"] for j in lines] == ["p-0", "p-1", "p-2"]
+    assert [j["lengths"] for j in lines] == ["28,13.66,40.53", "29,13.66,40.53", "30,13.66,40.53"]
+    assert all(j["max_seconds"] == "5" for j in lines)
