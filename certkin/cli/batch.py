@@ -122,14 +122,15 @@ def run_job(job: dict, out: str) -> dict:
     t0, c0 = time.perf_counter(), time.process_time()
     try:
         module, args = parse_job(job)
+        path = certificate_path(out, job["id"])
+        args.certificate = str(path)         # as ``--certificate``: a search keeps what its certificate needs
         answer = module.compute(args, robot_of(job))
         facts = None
         if answer.certificate is not None:
-            path = certificate_path(out, job["id"])
             write_certificate(path, answer.certificate())
             facts = file_facts(path)
         else:
-            certificate_path(out, job["id"]).unlink(missing_ok=True)
+            path.unlink(missing_ok=True)
         write_document(out, job, answer.document)
         return row(job, verdict(job["command"], answer.document), time.perf_counter() - t0, 1, facts,
                    cpu_seconds=time.process_time() - c0)
