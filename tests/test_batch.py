@@ -357,3 +357,13 @@ def test_trajectory_pairs_are_reproducible_from_their_seed(capsys):
 def test_generator_errors_name_the_option(argv, message, capsys):
     assert main(["jobs", "grid", PLANAR, *argv]) == 2
     assert capsys.readouterr().err.startswith(f"certkin: error: {message}")
+
+
+def test_a_bad_report_path_is_refused_before_any_job_runs(tmp_path, capsys):
+    jobs = tmp_path / "jobs.jsonl"
+    jobs.write_text(dumps({"id": "a", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"}) + "\n")
+    assert main(["batch", str(jobs), "--out", str(tmp_path / "out"), "--report", str(tmp_path / "no" / "r.html")]) == 2
+    assert capsys.readouterr().err.startswith("certkin: error: --report: ")
+    assert not (tmp_path / "out" / "a.json").exists()
+    assert main(["batch", str(jobs), "--out", str(tmp_path / "out"), "--report", str(tmp_path / "r.txt")]) == 2
+    assert "unknown file type" in capsys.readouterr().err

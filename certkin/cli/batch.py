@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import os
+from pathlib import Path
 import sys
 import time
 
@@ -23,7 +24,7 @@ from ..errors import InputError
 from ..report import batch_report
 from ..robots import load_robot, robot_from_dict
 from . import fk, plan, singular, trajectory, workspace
-from .common import Parser, write_certificate
+from .common import REPORT_SUFFIXES, Parser, check_output_path, write_certificate
 
 COMMANDS = {"fk": fk, "singular": singular, "trajectory": trajectory, "plan": plan, "workspace": workspace}
 OUTPUTS = ("json", "certificate", "report", "plot", "progress")   # the batch writes a job's outputs itself
@@ -157,6 +158,9 @@ def run(args):
     if args.workers < 1:
         raise InputError("--workers", "", f"expected a positive number of workers, got {args.workers}")
     jobs = read_jobs(args.jobs)
+    if args.report:                         # before any job runs (DIR itself may hold the report)
+        Path(args.out).mkdir(parents=True, exist_ok=True)
+        check_output_path(args.report, "--report", REPORT_SUFFIXES)
     bar = tqdm(total=len(jobs), desc="jobs", unit="job", file=sys.stderr, leave=False) if args.progress else None
     summary = run_batch(jobs, args.out, run_job, args.workers, args.scheduler,
                         (lambda r: bar.update(1)) if bar else None)
