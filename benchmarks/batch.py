@@ -16,9 +16,9 @@ Methods, same jobs, same outputs where said:
 - CLI calls: ``certkin fk|trajectory ... --json --certificate FILE``, one process per job, W at a time
   (``--cli-calls`` of them; the per-job figure is what 1000 such calls cost).
 
-The ratio is per-instance speed per core against the API on one core: (jobs / wall) / (W x API
-jobs/s); the machine is shared, so the work per job is printed too (CPU time, or for a batch the
-time inside its jobs).  Usage: ``python benchmarks/batch.py [--jobs 1000] [--workers 2] [--cli-calls 1000]``.
+Two ratios against the API on one core: wall (jobs / wall) / (W x API jobs/s), for a quiet
+machine; CPU (API CPU per job) / (CPU per job of the method, every process of it counted), which a
+shared machine does not distort much.  Usage: ``python benchmarks/batch.py [--jobs 1000] [--workers 2] [--cli-calls 1000]``.
 """
 from __future__ import annotations
 
@@ -86,7 +86,7 @@ def batch(jobs, workers: int, directory: Path):
     wall = time.perf_counter() - w
     summary = json.loads((directory / "out" / "summary.json").read_text())
     assert summary["jobs"] == len(jobs) and not summary["errors"] and not summary["failed"]
-    return wall, summary["job_cpu_seconds"]
+    return wall, summary["batch_cpu_seconds"]
 
 
 def cli_argv(job, cert):
@@ -118,7 +118,7 @@ def main():
             d = Path(d)
             api_wall, api_cpu = api(robot, jobs, None)
             files_wall, files_cpu = api(robot, jobs, d)
-            base = {"API": n / api_wall, "API + files": n / files_wall, "cpu": files_cpu / n}
+            base = {"API": n / api_wall, "API + files": n / files_wall, "cpu": api_cpu / n, "files cpu": files_cpu / n}
             rows.append((name, "API, 1 process", n, api_wall, api_cpu, 1, base))
             rows.append((name, "API + files, 1 process", n, files_wall, files_cpu, 1, base))
             for w in sorted({1, args.workers}):
@@ -132,15 +132,16 @@ def main():
                 rows.append((name, f"{len(calls)} CLI calls, {args.workers} at a time", len(calls), wall, cpu,
                              args.workers, base))
     print(f"{'workload':22s} {'method':34s} {'jobs':>5s} {'wall s':>8s} {'ms/job':>8s} {'CPU ms/job':>11s} "
-          f"{'ratio vs API':>12s} {'vs API+files':>12s} {'CPU vs API+files':>16s}")
+          f"{'wall ratio':>10s} {'CPU ratio':>9s} {'CPU ratio vs API+files':>22s}")
     for name, method, n, wall, cpu, cores, base in rows:
         speed = n / wall / cores
         print(f"{name:22s} {method:34s} {n:5d} {wall:8.2f} {1e3 * wall / n:8.2f} {1e3 * cpu / n:11.2f} "
-              f"{speed / base['API']:12.2f} {speed / base['API + files']:12.2f} {base['cpu'] * n / cpu:16.2f}")
-    print("ratio: jobs per second per core, against the in-process API on one core (target >= 0.8); "
-          "CPU vs API+files: CPU per job of the API writing the same files / CPU per job of the method")
-    print("CPU ms/job: API rows: process_time; CLI rows: the calls' CPU; batch rows: the CPU of the jobs in their "
-          "workers (summary.json job_cpu_seconds; start-up not included)")
+              f"{speed / base['API']:10.2f} {base['cpu'] * n / cpu:9.2f} {base['files cpu'] * n / cpu:22.2f}")
+    print("wall ratio: jobs per second per core against the in-process API on one core (target >= 0.8; "
+          "meaningless on a loaded machine); CPU ratio: CPU per job of the API (answers only) / CPU per job of "
+          "the method; vs API+files: against the API writing the same documents and certificates")
+    print("CPU ms/job: API rows: process_time; CLI rows: the calls' CPU (start-up included); batch rows: the "
+          "whole batch (summary.json batch_cpu_seconds: the batch process and its workers, start-up included)")
 
 
 if __name__ == "__main__":

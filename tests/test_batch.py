@@ -27,7 +27,7 @@ from certkin.cli.batch import run_job
 ROOT = Path(__file__).resolve().parent.parent
 PLANAR = str(ROOT / "examples" / "robots" / "seed003-planar-example-2.toml")
 MEL = str(ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml")
-TIMING = {"seconds", "cpu_seconds", "job_seconds", "job_cpu_seconds", "slowest", "date", "workers", "attempts", "resumed", "retried"}
+TIMING = {"seconds", "cpu_seconds", "job_seconds", "job_cpu_seconds", "batch_cpu_seconds", "slowest", "date", "workers", "attempts", "resumed", "retried"}
 
 
 def untimed(doc):
@@ -177,6 +177,34 @@ def test_a_job_that_kills_its_worker_is_tried_three_times_then_failed(tmp_path):
     assert "died 3 times" in rows["boom"]["error"]
     assert json.loads((tmp_path / "boom.json").read_text())["status"] == "failed"
     assert rows["fine"]["verdict"] == "infeasible" and proofs.check_file(tmp_path / "fine.cert").ok
+
+
+def test_on_a_dask_cluster_a_job_that_kills_its_worker_is_failed_after_the_allowed_failures(tmp_path):
+    distributed = pytest.importorskip("dask.distributed", reason="the dask extra is not installed")
+    import dask
+    jobs = [{"id": "boom", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"},
+            {"id": "fine", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"}]
+    with dask.config.set({"distributed.scheduler.allowed-failures": 2}), \
+            distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                     dashboard_address=None) as cluster:
+        summary = run_batch(jobs, tmp_path, dies_on_boom, scheduler=cluster.scheduler_address)
+    rows = {r["id"]: r for r in summary["results"]}
+    assert rows["boom"]["verdict"] == "failed" and rows["boom"]["attempts"] == 3
+    assert "died 3 times" in rows["boom"]["error"]
+    assert rows["fine"]["verdict"] == "complete" and proofs.check_file(tmp_path / "fine.cert").ok
+
+
+def test_an_exhausted_budget_is_an_undecided_answer_with_a_certificate_that_checks(tmp_path):
+    jobs = [{"id": "short", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53", "max_boxes": 50},
+            {"id": "cells", "command": "singular", "robot": PLANAR, "box": "x=-50:50,y=-50:50,phi=0:0.7853981634",
+             "cells": 2, "max_boxes": 8}]
+    summary = run_batch(jobs, tmp_path, run_job)
+    rows = {r["id"]: r for r in summary["results"]}
+    assert rows["short"]["verdict"] == "incomplete" and rows["cells"]["verdict"] == "undecided"
+    assert sorted(summary["undecided"]) == ["cells", "short"]
+    assert not json.loads((tmp_path / "short.json").read_text())["complete"]
+    for job in jobs:
+        assert proofs.check_file(tmp_path / f"{job['id']}.cert").ok
 
 
 def _descendants(pid: int) -> list[int]:
@@ -329,3 +357,13 @@ def test_trajectory_pairs_are_reproducible_from_their_seed(capsys):
 def test_generator_errors_name_the_option(argv, message, capsys):
     assert main(["jobs", "grid", PLANAR, *argv]) == 2
     assert capsys.readouterr().err.startswith(f"certkin: error: {message}")
+
+
+def test_a_bad_report_path_is_refused_before_any_job_runs(tmp_path, capsys):
+    jobs = tmp_path / "jobs.jsonl"
+    jobs.write_text(dumps({"id": "a", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"}) + "\n")
+    assert main(["batch", str(jobs), "--out", str(tmp_path / "out"), "--report", str(tmp_path / "no" / "r.html")]) == 2
+    assert capsys.readouterr().err.startswith("certkin: error: --report: ")
+    assert not (tmp_path / "out" / "a.json").exists()
+    assert main(["batch", str(jobs), "--out", str(tmp_path / "out"), "--report", str(tmp_path / "r.txt")]) == 2
+    assert "unknown file type" in capsys.readouterr().err

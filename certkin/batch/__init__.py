@@ -26,7 +26,7 @@ def run_batch(jobs: list, out, work, workers: int = 1, scheduler: str | None = N
     called as each job ends.  Jobs that could not be read are answered here with their error."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     rows = [None] * len(jobs)
 
     def record(i, value):
@@ -48,13 +48,14 @@ def run_batch(jobs: list, out, work, workers: int = 1, scheduler: str | None = N
         record(todo[k], value)
 
     if scheduler:
-        interrupted = run_dask(tasks, work, scheduler, report)
+        interrupted, workers_cpu = run_dask(tasks, work, scheduler, report), None
     else:
-        interrupted = run_local(tasks, work, workers, report) if tasks else False
+        interrupted, workers_cpu = run_local(tasks, work, workers, report) if tasks else (False, 0.0)
     for i, r in enumerate(rows):
         if r is None:
             rows[i] = row(jobs[i], PENDING, 0.0, 0)
-    summary = summarise(rows, time.perf_counter() - t0, interrupted, scheduler or f"{workers} local")
+    cpu = None if workers_cpu is None else time.process_time() - c0 + workers_cpu
+    summary = summarise(rows, time.perf_counter() - t0, interrupted, scheduler or f"{workers} local", cpu)
     write_summary(out, summary)
     return summary
 

@@ -1,10 +1,12 @@
 """Jobs on a Dask cluster (the ``dask`` extra: ``dask.distributed``, imported here only).
 
 ``dask.distributed.Client(address)`` runs one task per job; Dask itself moves the tasks of a worker
-that dies to another one (up to the scheduler's ``distributed.scheduler.allowed-failures``, 3 by
-default) and then gives up with ``KilledWorker``, which is reported as ``Died``.  The work
-function writes each job's files, so the output directory and the robot files must be reachable
-by the workers at the same paths (one machine, or a shared file system).
+that dies to another one, up to the scheduler's ``distributed.scheduler.allowed-failures`` (3 by
+default; start the scheduler with ``DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES=2`` for the local
+pool's rule: a job tried three times, then failed), and then gives up with ``KilledWorker``, which
+is reported as ``Died``.  The work function writes each job's files, so the output directory and
+the robot files must be reachable by the workers at the same paths (one machine, or a shared file
+system).
 """
 from __future__ import annotations
 
@@ -15,6 +17,7 @@ def run_dask(tasks: list, work, address: str, report) -> bool:
     """Run ``work(*tasks[i])`` for every i on the Dask cluster at ``address``; ``report(i, value)``
     as each ends.  Returns True when Ctrl-C stopped the run."""
     from dask.distributed import Client, as_completed
+    from distributed.scheduler import KilledWorker
 
     with Client(address) as client:
         futures = {client.submit(work, *task, pure=False): i for i, task in enumerate(tasks)}
@@ -23,10 +26,19 @@ def run_dask(tasks: list, work, address: str, report) -> bool:
                 i = futures[future]
                 try:
                     value = future.result()
-                except Exception as exc:        # KilledWorker, or a bug in the work function
+                except KilledWorker:
+                    tries = client.run_on_scheduler(_allowed_failures) + 1
+                    value = Died(tries, f"its worker process died {tries} times while running it (killed, or out "
+                                        "of memory)")
+                except Exception as exc:        # a bug in the work function
                     value = Died(1, f"{type(exc).__name__}: {exc}")
                 report(i, value)
         except KeyboardInterrupt:
             client.cancel(list(futures))
             return True
     return False
+
+
+def _allowed_failures(dask_scheduler) -> int:
+    """On the scheduler: how many deaths of its workers a task survives."""
+    return dask_scheduler.allowed_failures

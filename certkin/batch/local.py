@@ -66,10 +66,12 @@ class _Worker:
         self.executor.shutdown(wait=False, cancel_futures=True)
 
 
-def run_local(tasks: list, work, workers: int, report, retries: int = RETRIES) -> bool:
+def run_local(tasks: list, work, workers: int, report, retries: int = RETRIES) -> tuple[bool, float | None]:
     """Run ``work(*tasks[i])`` for every i on ``workers`` processes; ``report(i, value)`` in this
-    process as each ends (``value``: what ``work`` returned, or ``Died``).  Returns False, or True
-    when Ctrl-C stopped the run (unreported tasks were not run)."""
+    process as each ends (``value``: what ``work`` returned, or ``Died``).  Returns (interrupted,
+    CPU seconds of the workers): interrupted is True when Ctrl-C stopped the run (unreported tasks
+    were not run; the CPU is then None); the CPU is that of the workers alive at the end (a worker
+    that died took its own count with it)."""
     context = multiprocessing.get_context("forkserver")
     context.set_forkserver_preload(PRELOAD)
     queue = deque(range(len(tasks)))
@@ -86,13 +88,22 @@ def run_local(tasks: list, work, workers: int, report, retries: int = RETRIES) -
                 if _collect(w, report, queue, attempts, retries):
                     w.stop()
                     pool[k] = _Worker(context)
+        cpu = sum(_cpu(f) for f in [w.executor.submit(time.process_time) for w in pool])
     except KeyboardInterrupt:
         for w in pool:
             w.stop()
-        return True
+        return True, None
     for w in pool:
         w.executor.shutdown(wait=True)
-    return False
+    return False, cpu
+
+
+def _cpu(future) -> float:
+    """The CPU seconds a worker reports (0 if it died meanwhile)."""
+    try:
+        return future.result()
+    except BrokenProcessPool:
+        return 0.0
 
 
 def _collect(worker, report, queue, attempts, retries) -> bool:

@@ -90,9 +90,10 @@ def done(out, job: dict, verdict) -> dict | None:
     return row(job, verdict(job.get("command"), document), seconds, 0, file_facts(cert), resumed=True)
 
 
-def summarise(rows: list, wall_seconds: float, interrupted: bool, workers: str) -> dict:
+def summarise(rows: list, wall_seconds: float, interrupted: bool, workers: str, cpu_seconds: float | None = None) -> dict:
     """``summary.json``: counts by command and verdict, the undecided, failed and broken jobs, the
-    times, and every job's row (in the order of the jobs file)."""
+    times, and every job's row (in the order of the jobs file).  ``cpu_seconds``: the CPU of the whole
+    batch (this process and its local workers; None on a Dask cluster or after an interrupt)."""
     counts: dict = {}
     for r in rows:
         key = f"{r['command'] or '?'} {r['verdict']}"
@@ -108,6 +109,7 @@ def summarise(rows: list, wall_seconds: float, interrupted: bool, workers: str) 
             "resumed": sum(bool(r.get("resumed")) for r in rows),
             "seconds": round(wall_seconds, 3), "job_seconds": round(sum(r["seconds"] for r in rows), 3),
             "job_cpu_seconds": round(sum(r["cpu_seconds"] for r in rows if not r.get("resumed")), 3),
+            "batch_cpu_seconds": None if cpu_seconds is None else round(cpu_seconds, 3),
             "slowest": [{"id": r["id"], "seconds": r["seconds"]}
                         for r in sorted(rows, key=lambda r: -r["seconds"])[:SLOWEST]],
             "results": rows}

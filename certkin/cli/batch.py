@@ -123,14 +123,15 @@ def run_job(job: dict, out: str) -> dict:
     t0, c0 = time.perf_counter(), time.process_time()
     try:
         module, args = parse_job(job)
+        path = certificate_path(out, job["id"])
+        args.certificate = str(path)         # as ``--certificate``: a search keeps what its certificate needs
         answer = module.compute(args, robot_of(job))
         facts = None
         if answer.certificate is not None:
-            path = certificate_path(out, job["id"])
             write_certificate(path, answer.certificate())
             facts = file_facts(path)
         else:
-            certificate_path(out, job["id"]).unlink(missing_ok=True)
+            path.unlink(missing_ok=True)
         write_document(out, job, answer.document)
         return row(job, verdict(job["command"], answer.document), time.perf_counter() - t0, 1, facts,
                    cpu_seconds=time.process_time() - c0)
@@ -169,7 +170,7 @@ def _check(args, jobs) -> None:
         if not args.scheduler.strip():
             raise InputError("--scheduler", "", "empty address (expected tcp://HOST:PORT)")
         if importlib.util.find_spec("dask") is None or importlib.util.find_spec("distributed") is None:
-            raise InputError("--scheduler", args.scheduler, "needs dask.distributed (pip install -e \".[dist]\")")
+            raise InputError("--scheduler", args.scheduler, "needs dask.distributed (pip install -e \".[dask]\")")
     if not jobs:
         raise InputError(str(args.jobs), "", "no jobs in the file (one JSON object a line)")
 

@@ -29,14 +29,12 @@ def add_arguments(pl):
 
 def compute(args, robot=None) -> Answer:
     """The answer of ``certkin plan`` (``robot``: the robot file already loaded, else ``args.robot``);
-    a certificate only when the plan has segments (else a note on stderr when one was asked for)."""
+    a certificate only when the plan has segments."""
     with options(OPTIONS):
         robot = robot or load_robot(args.robot)
         result = plan(robot, args.start, args.goal, constraints=args.constraints,
                       divisions=args.divisions, margin=args.margin, max_edges=args.max_edges, budget=budget(args),
                       progress=progress(args.progress, "segments verified", "batch"))
-    if getattr(args, "certificate", None) and not result.segments:
-        sys.stderr.write(f"certkin: {result.status}: no certificate written to {args.certificate}\n")
     return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
                   result.certificate if result.segments else None,
                   lambda path, cert: plan_report(robot, result, path, cert, budget(args)))
@@ -44,7 +42,13 @@ def compute(args, robot=None) -> Answer:
 
 def run(args):
     check_outputs(args)
-    return run_answer(args, compute, OPTIONS)
+
+    def answer(args):
+        a = compute(args)
+        if args.certificate and a.certificate is None:     # a note on stderr: no path, no certificate
+            sys.stderr.write(f"certkin: {a.result.status}: no certificate written to {args.certificate}\n")
+        return a
+    return run_answer(args, answer, OPTIONS)
 
 
 def describe(robot, result):

@@ -6,6 +6,8 @@ their enclosures: a drawing, not a claim).  Lengths are in the unit of the robot
 """
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
 from .figure import pyplot
@@ -31,7 +33,8 @@ def plot_robot(robot, poses, path, title: str = ""):
     spatial = robot.dim == 3
     cols = min(4, max(1, len(shown)))
     rows = int(np.ceil(max(1, len(shown)) / cols))
-    fig = plt.figure(figsize=(3.4 * cols, 3.3 * rows + 0.5))
+    width = max(5.0, 3.4 * cols)
+    fig = plt.figure(figsize=(width, 3.3 * rows + 0.5 if cols > 1 else 4.6))
     A = base_points(robot)
     for k, (label, pose) in enumerate(shown or [("geometry only", None)]):
         ax = fig.add_subplot(rows, cols, k + 1, **({"projection": "3d"} if spatial else {}))
@@ -48,7 +51,7 @@ def plot_robot(robot, poses, path, title: str = ""):
     handles, labels = fig.axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=7)
     more = f" (first {MAX_POSES} of {len(poses)} poses)" if len(poses) > MAX_POSES else ""
-    fig.suptitle((title or robot.name) + more, fontsize=9)
+    fig.suptitle(textwrap.fill((title or robot.name) + more, int(width * 13)), fontsize=9)   # never clipped
     fig.tight_layout(rect=(0, 0.06, 1, 0.95))
     fig.savefig(path, dpi=90)
     plt.close(fig)

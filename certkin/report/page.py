@@ -22,7 +22,7 @@ import numpy as np
 from .. import __version__
 from ..batch.results import file_facts
 from ..certificates import write_text
-from ..display import outward
+from ..display import outward, point
 from ..engine import EXCLUDED, PROVED, UNDECIDED
 from ..plots import plot_robot
 
@@ -111,12 +111,20 @@ def evidence_section(evidence: dict | None, budget=None, used: dict | None = Non
                 f"{c['undecided']} undecided.</p>")
         out += table(("outcome: rule", "boxes"), sorted(evidence["rules"].items()))
     if used:
-        rows = [(k, v) for k, v in used.items()]
+        rows = list(used.items())
         if budget is not None:
             rows += [("budget: boxes", budget.max_boxes), ("budget: seconds", budget.max_seconds),
                      ("budget: smallest width split", budget.min_width)]
-        out += table(("work", "amount"), rows)
+        out += table(("work", "amount"), [(k, _amount(k, v)) for k, v in rows])
     return out
+
+
+def _amount(name: str, value):
+    """A work figure as shown: times to the millisecond (a measurement, not a claim), other floats
+    exactly (``display.point``)."""
+    if isinstance(value, float):
+        return f"{value:.3f}" if "seconds" in name else point(value)
+    return value
 
 
 def certificate_section(path) -> str:

@@ -41,8 +41,7 @@ def singularity_report(robot, results, path, certificate=None, budget=None) -> N
         "used (the question is about det(A) only).</p>")))
     tree = results[0].tree
     evidence = tree_evidence(tree) if tree is not None else None
-    used = {"boxes decided": sum(r.boxes for r in results) if len(results) == 1 else results[0].boxes,
-            "seconds": f"{sum(r.seconds for r in results):.3f}"}
+    used = {"boxes decided": sum(r.boxes for r in results), "seconds": f"{sum(r.seconds for r in results):.3f}"}
     sections.append(("Evidence", evidence_section(evidence, budget, used)))
     if len(results) == 1:
         r = results[0]
