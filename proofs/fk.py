@@ -288,7 +288,7 @@ def _contraction(system, forest, code, ids, lo, hi, child, L, at):
     else:                                # slope-gs
         z, empty = system.slope_gauss_seidel(lo, hi, _evidence(forest, "tree.C", ids, stored), L)
     bad = ~empty & ~np.all((z.lo >= clo) & (z.hi <= chi), axis=1)
-    if bad.any():                        # the part of the checker's result outside the child: proved root-free?
+    if bad.any() and stored >= REBUILT:  # its own C: the part of its result outside the child proved root-free?
         bad[bad] = ~_root_free_outside(system, z.lo[bad], z.hi[bad], clo[bad], chi[bad], L[bad], hi[bad] - lo[bad])
     if bad.any():
         i = np.nonzero(bad)[0][0]

@@ -87,9 +87,10 @@ def check(cert, report) -> None:
     forest.walk(visit, report.progress)
     text = ", ".join(f"{n} {s}" for s, n in status_count.items())
     first = h["claims"][0]
-    box = first.get("requested") or dict(zip(model.pose, first.get("box", [])))
-    report.about["question"] = (f"does det(A) vanish in {len(h['claims'])} box(es) of poses; first: "
-                                + ", ".join(f"{v} in [{a}, {b}]" for v, (a, b) in box.items()))
+    box = first.get("requested")         # (an undecided claim's fields are not checked: printed as they are)
+    box = box if isinstance(box, dict) else dict(zip(model.pose, first.get("box") if isinstance(first.get("box"), list) else []))
+    report.about["question"] = (f"does det(A) vanish in {len(h['claims'])} box(es) of poses; first: " + ", ".join(
+        f"{v} in [{', '.join(map(str, ab))}]" if isinstance(ab, list) else f"{v} = {ab}" for v, ab in box.items()))
     if len(h["claims"]) > 1:
         return report.proved.append(f"{len(h['claims'])} boxes of poses: {text}")
     if first["status"] == "singular":
