@@ -4,7 +4,8 @@ The equations (``fk.system``: platform origin and frame axes as
 unknowns, quadratic, covering every real posture) are solved by the shared
 engine; each box is decided by
 
-0. ``hc4``: one forward-backward pass over every equation (``fk.contract``), then
+0. ``hc4``: one forward-backward pass over every equation (``fk.contract``; spatial robots: a
+   second pass on the boxes the first shrank by ``HC4_AGAIN``), then
    ``position``: a Gauss-Seidel sweep on the position, which is linear given
    the rotation; either may empty the box (``hc4-empty``, ``position-empty``)
    or shrink it (a contraction, recorded in the tree);
