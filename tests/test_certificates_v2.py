@@ -304,3 +304,50 @@ def test_a_contraction_result_beyond_the_child_needs_the_excess_proved_root_free
     nan = zlo.copy()
     nan[:, 0] = np.nan
     assert not fk._root_free_outside(system, nan, zhi, lo - w, hi + w, Lk, zhi - zlo).any()
+
+
+def node_boxes(doc):
+    """(lo, hi) of every node of a one-root tree (breadth-first order), decoded as the checker does, and
+    the child of each contraction node."""
+    from proofs.tree import SPLIT_RATIO
+    kind, code = doc.arrays["tree.kind"], doc.arrays["tree.code"]
+    lo0, hi0 = (np.array(v, dtype=float) for v in zip(*doc.claim()["domain"]))
+    lo, hi = np.zeros((len(kind), len(lo0))), np.zeros((len(kind), len(lo0)))
+    lo[0], hi[0] = lo0, hi0
+    nxt, cuts, boxes, child = 1, iter(doc.arrays["tree.cut"]), iter(doc.arrays["tree.box"]), {}
+    for i in range(len(kind)):
+        if kind[i] <= 1:
+            d = int(code[i])
+            at = lo[i, d] + SPLIT_RATIO * (hi[i, d] - lo[i, d]) if kind[i] == 0 else next(cuts)
+            lo[nxt:nxt + 2], hi[nxt:nxt + 2] = lo[i], hi[i]
+            hi[nxt, d], lo[nxt + 1, d] = at, at
+            nxt += 2
+        elif kind[i] == 2:
+            box = (np.stack([lo[i], hi[i]], -1).view(np.uint64) ^ next(boxes)).view(np.float64)
+            lo[nxt], hi[nxt], child[i] = box[:, 0], box[:, 1], nxt
+            nxt += 1
+    return lo, hi, child
+
+
+def test_second_hc4_pass_rechecked():
+    """A spatial search runs HC4 again on a box the first pass shrank a lot: two "hc4" contractions in
+    a row, each re-checked from its own parent box.  The second one narrowed further is rejected."""
+    robot = load_robot(ROOT / "examples" / "robots" / "seed003-spherical-example-1.toml")
+    lengths = ",".join(repr(float(v)) for v in robot.leg_lengths(robot.home_box()).mid())
+    result = forward_kinematics(robot, lengths)
+    assert result.complete and len(result.solutions) == 6
+    doc = Doc(result.certificate())
+    assert doc.check().ok
+    kind, code = doc.arrays["tree.kind"], doc.arrays["tree.code"]
+    lo, hi, child = node_boxes(doc)
+    hc4 = set(np.nonzero((kind == 2) & (code == 0))[0].tolist())
+    second = [child[i] for i in sorted(hc4) if child[i] in hc4]
+    assert second                                          # chains of two HC4 passes exist
+    i = next(j for j in second if kind[child[j]] == 3)     # (its child a leaf: no box below depends on it)
+    c = child[i]
+    d = int(np.argmax(hi[c] - lo[c]))
+    new = np.stack([lo[c], hi[c]], -1)
+    new[d, 0] += 0.01 * (hi[c, d] - lo[c, d])             # the second pass's box narrowed by 1 %
+    bad = doc.copy()
+    bad.arrays["tree.box"][bad.row("tree.box", i)] = np.stack([lo[i], hi[i]], -1).view(np.uint64) ^ new.view(np.uint64)
+    assert "not inside the child box" in bad.check().step, bad.check().step

@@ -4,7 +4,8 @@ The equations (``fk.system``: platform origin and frame axes as
 unknowns, quadratic, covering every real posture) are solved by the shared
 engine; each box is decided by
 
-0. ``hc4``: one forward-backward pass over every equation (``fk.contract``), then
+0. ``hc4``: one forward-backward pass over every equation (``fk.contract``; spatial robots: a
+   second pass on the boxes the first shrank by ``HC4_AGAIN``), then
    ``position``: a Gauss-Seidel sweep on the position, which is linear given
    the rotation; either may empty the box (``hc4-empty``, ``position-empty``)
    or shrink it (a contraction, recorded in the tree);
@@ -60,6 +61,8 @@ INITIAL_SPLITS = 6       # every domain is halved this often before the first ba
 ROTATION_FIRST = 16.0    # only rotation unknowns are bisected while the position is at most this much wider (scaled)
 POSITION_GEOMETRIC = 7.0  # Gough: position side k scaled by this times √(W_k max|b_i|), W_k its domain width
 GAP = 0.5                # a gap between the two branches of an HC4 square root spanning this much of a side splits it
+HC4_PASSES = 2           # slope systems: at most this many HC4 passes per box, each on the box the one before
+HC4_AGAIN = 0.2          # contracted, when it shrank a side by this fraction or more
 SPREAD_INFLATE = 2.0     # uncertain lengths: ε-inflation once every side is within this times the root's spread
 
 
@@ -107,7 +110,7 @@ class _Batch:
         self.stars = np.zeros((N, n, 2))
         self.split = np.full(N, -1)
         self.split_at = np.full(N, np.nan)             # a cut point on ``split`` (a gap of HC4's roots)
-        self.hc4_box = None                             # the boxes after HC4 alone (slope systems)
+        self.hc4_boxes = []                             # the boxes after each HC4 pass (slope systems)
         self.stages = []                                # ((lo, hi), evidence) of each Krawczyk contraction
 
     def decisions(self, slopes: bool) -> Decisions:
@@ -119,10 +122,10 @@ class _Batch:
         stages = [(self.lo, self.hi)] + [box for box, _ in self.stages]
         reasons = [self.creason] + [np.full(N, kcode)] * len(self.stages)
         stage_evidence = [self.cev] + [ev for _, ev in self.stages]
-        if slopes:      # "hc4" (no evidence), then "position" (P), then the slope steps
-            stages.insert(0, self.hc4_box)
-            reasons.insert(0, np.full(N, 7))
-            stage_evidence.insert(0, {})
+        if slopes:      # "hc4" passes (no evidence), then "position" (P), then the slope steps
+            stages[:0] = self.hc4_boxes
+            reasons[:0] = [np.full(N, 7)] * len(self.hc4_boxes)
+            stage_evidence[:0] = [{}] * len(self.hc4_boxes)
         return Decisions(self.status, self.reason, self.evidence, contracted=stages, contraction_reason=reasons,
                          contraction_evidence=stage_evidence, split=self.split, split_at=self.split_at)
 
@@ -181,18 +184,32 @@ class FKProblem:
             b.split[open_[use]], b.split_at[open_[use]] = dim[use], at[use]
 
     def _hc4(self, system, b: _Batch):
-        """Step 0: one forward-backward (HC4) pass over every equation (``fk.contract``): boxes it
+        """Step 0: forward-backward (HC4) passes over every equation (``fk.contract``): boxes a pass
         empties are excluded, boxes it shrinks enough are replaced by the contraction, widened
-        so that an independent re-computation still fits.  Returns (the centred form of R b_i it
-        computed, quaternion, or None; the mask of the boxes it moved)."""
+        so that an independent re-computation still fits.  Slope systems: a box the pass shrank by
+        ``HC4_AGAIN`` or more gets another pass on the contracted box (up to ``HC4_PASSES``), each
+        pass its own "hc4" stage of the tree.  Returns (the centred form of R b_i the first pass
+        computed, quaternion, or None; the mask of the boxes the passes moved)."""
         lo, hi = b.lo, b.hi
         kept = {}
-        hlo, hhi, hempty = hc4(system, lo, hi, b.L, keep=kept)
-        b.status[hempty], b.reason[hempty] = EXCLUDED, 6
-        w = (hi - lo) * WIDEN  # room for an independent re-computation
-        hlo, hhi = np.maximum(lo, hlo - w), np.minimum(hi, hhi + w)
-        moved = ~hempty & (shrink(lo, hi, hlo, hhi) >= SHRINK)
-        lo[moved], hi[moved] = hlo[moved], hhi[moved]
+        rows = np.arange(len(lo))
+        moved = np.zeros(len(lo), dtype=bool)
+        for k in range(HC4_PASSES if self.slopes else 1):
+            L = b.L if k == 0 else Interval.from_bounds(b.L.lo[rows], b.L.hi[rows])
+            plo, phi = lo[rows], hi[rows]
+            hlo, hhi, hempty = hc4(system, plo, phi, L, keep=kept if k == 0 else None)
+            b.status[rows[hempty]], b.reason[rows[hempty]] = EXCLUDED, 6
+            w = (phi - plo) * WIDEN  # room for an independent re-computation
+            hlo, hhi = np.maximum(plo, hlo - w), np.minimum(phi, hhi + w)
+            cut = shrink(plo, phi, hlo, hhi)
+            step = ~hempty & (cut >= SHRINK)
+            lo[rows[step]], hi[rows[step]] = hlo[step], hhi[step]
+            moved[rows[step]] = True
+            if self.slopes:
+                b.hc4_boxes.append((lo.copy(), hi.copy()))
+            rows = rows[step & (cut >= HC4_AGAIN)]
+            if not len(rows):
+                break
         b.creason[moved] = 7
         return kept.get("form"), moved
 
@@ -204,7 +221,6 @@ class FKProblem:
         N = len(b.lo)
         parts = None
         if self.slopes:
-            b.hc4_box = (b.lo.copy(), b.hi.copy())
             if form is not None:
                 form = tuple(v[live] for v in form)
                 again = hc4_moved[live]
@@ -286,7 +302,9 @@ class FKProblem:
         b.stages.append(((lo2, hi2), {"C": (kmask, C[keep].astype(np.float32))}))
         self._again(system, b, k[shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN], lo2, hi2)
         width = np.max((rhi - rlo) / self.scale, axis=1)
-        small = ~done & ~keep & (width < INFLATE_BELOW)
+        # small boxes still open, contracted or not (a box HC4 made a sliver around a root is proved
+        # only by inflation: K of a sliver rarely fits inside it)
+        small = ~done & (width < INFLATE_BELOW) & (b.status[rest] == OPEN)
         within = np.zeros(len(rest), dtype=bool)
         if self.uncertain:   # a box about as narrow as the root's spread over the lengths: inflate now
             radL = np.zeros(rlo.shape)
@@ -297,7 +315,7 @@ class FKProblem:
             sm = rest[small]
             proved, slo, shi, Cs = self._inflate(rlo[small], rhi[small], roots[sm])
             b.status[sm[proved]], b.reason[sm[proved]] = PROVED, 2
-            given_up = within[small] & ~proved      # no box holding the root's spread is proved unique:
+            given_up = (within & ~keep)[small] & ~proved   # no box holding the root's spread is proved unique:
             b.status[sm[given_up]], b.reason[sm[given_up]] = UNDECIDED, self.CLUSTER   # a cluster
             b.star_mask[sm[proved]] = True
             b.stars[sm[proved]] = np.stack([slo[proved], shi[proved]], axis=-1)
