@@ -68,13 +68,8 @@ def exact(x) -> Decimal | Fraction | float:
         return Decimal(f"{num * 5 ** k}E-{k}") if den == 1 << k else x     # dyadic: exact decimal
     if isinstance(x, int) or hasattr(x, "__index__") and not hasattr(x, "as_integer_ratio"):
         return Decimal(int(x))
-    mpf = getattr(x, "_mpf_", None)
-    if mpf is not None:                                  # mpmath: sign, mantissa, exponent, bit count
-        sign, man, exp, bc = mpf
-        if not man:
-            return Decimal(0) if bc == 0 else float(x)   # zero, or inf/nan
-        return exact(Fraction((-1) ** sign * man * 2 ** exp) if exp >= 0 else
-                     Fraction((-1) ** sign * man, 2 ** -exp))
+    if getattr(x, "_mpf_", None) is not None:
+        return _mpf_exact(x._mpf_)
     try:
         num, den = x.as_integer_ratio()                  # float, numpy floats (longdouble too)
     except (AttributeError, OverflowError, ValueError):
@@ -83,6 +78,14 @@ def exact(x) -> Decimal | Fraction | float:
             return f
         raise TypeError(f"not a real number: {x!r}") from None
     return exact(Fraction(num, den))
+
+
+def _mpf_exact(raw) -> Decimal | float:
+    """The exact value of mpmath's raw number (sign, mantissa, exponent, bit count)."""
+    sign, man, exp, bc = raw
+    if not man:
+        return Decimal(0) if bc == 0 else math.nan if bc == -1 else -math.inf if sign else math.inf
+    return exact(Fraction((-1) ** sign * man * 2 ** exp) if exp >= 0 else Fraction((-1) ** sign * man, 2 ** -exp))
 
 
 def _directed(q: Fraction, digits: int, up: bool) -> Decimal:
@@ -165,8 +168,7 @@ def pair(bounds, digits: int = DIGITS) -> str:
 def interval(iv, digits: int = DIGITS) -> str:
     """An enclosure given as an object with ``lo`` and ``hi`` (an ``Interval``), printed outward."""
     if hasattr(iv, "_mpi_"):                     # an mpmath interval: its endpoints exactly
-        from mpmath import mpf
-        lo, hi = (mpf(e) for e in iv._mpi_)
+        lo, hi = (_mpf_exact(e) for e in iv._mpi_)
     else:
         lo, hi = iv.lo, iv.hi
     return outward(lo, hi, digits)

@@ -112,3 +112,6 @@ def test_ctrl_c_stops_a_plan(monkeypatch, capsys):
     assert code == 130 and time.perf_counter() - t0 < 60
     doc = json.loads(capsys.readouterr().out)
     assert doc["interrupted"] is True and doc["status"] != "found"
+    import certkin          # the request ends with the command: a later search in this process runs in full
+    r = certkin.certify_singularity_free(PLANAR, "x=-20:-10,y=20:30,phi=0:0.3")
+    assert r.status == "singularity-free"

@@ -10,6 +10,7 @@ from ..batch.grid import MAX_JOBS, cell_jobs, fk_jobs, trajectory_jobs
 from ..batch.jobs import ID, dumps
 from ..errors import InputError
 from ..robots import load_robot
+from .batch import parse_job
 from .common import count
 
 
@@ -63,7 +64,6 @@ def run(args):
     else:
         jobs = trajectory_jobs(args.robot, robot, args.start, args.goal, args.count, args.seed, args.decimals, prefix)
     if extra and jobs:                  # the options of --set are checked once, as the batch will read them
-        from .batch import parse_job
         try:
             parse_job({**jobs[0], **extra})
         except InputError as exc:

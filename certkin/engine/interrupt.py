@@ -52,3 +52,5 @@ def interruptible():
         yield
     finally:
         signal.signal(signal.SIGINT, previous)
+        _STATE["requested"] = False     # later searches in this process (the API, a test) run in full;
+                                        # ``cut_short()`` still tells what happened inside
