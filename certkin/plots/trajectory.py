@@ -1,8 +1,9 @@
 """The margins of a trajectory along its path, one panel per constraint family (matplotlib).
 
 Each curve is the certified lower bound of one margin on each leaf of the search, against
-s = segment + t; the t-ranges where a constraint is proved violated are shaded red, those where it
-may fail orange, the undecided ones grey.  The singularity panel shows the lower bound of |det(A)|
+s = segment + t; a range holding every failing instant of a constraint proved to fail is shaded
+red (the range is an enclosure: not every instant in it need fail), one where it may fail orange,
+the undecided ones grey.  The singularity panel shows the lower bound of |det(A)|
 on a logarithmic axis (nothing clipped).
 """
 from __future__ import annotations
@@ -13,7 +14,8 @@ from .figure import pyplot
 
 UNITS = {"leg-length": "margin (length unit)", "interference": "clearance margin (length unit)",
          "joints": "margin (cosine / direction)", "singularity": "|det(A)| lower bound"}
-SHADES = (("proved violated", "#d62728", 0.25), ("may fail", "#ff7f0e", 0.18), ("undecided", "#999999", 0.2))
+SHADES = (("proved to fail: its failing instants lie within", "#d62728", 0.25),
+          ("may fail: its failing instants lie within", "#ff7f0e", 0.18), ("undecided", "#999999", 0.2))
 
 
 def families(result) -> list[str]:
