@@ -7,11 +7,11 @@ import pytest
 
 import proofs
 from certfile import Doc
-from certkin import load_robot, robot_from_dict
+from certkin import load_robot
 from certkin.fk import forward_kinematics
 from certkin.singularity import certify_singularity_free, classify_cells
 from certkin.trajectory import verify_trajectory
-from test_certificates_v2 import EX2, PLANAR, ROOT, forged, rejected
+from test_certificates_v2 import EX2, ROOT, forged, rejected
 
 MEL = ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml"
 

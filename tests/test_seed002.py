@@ -128,7 +128,7 @@ def test_innocenti_5_5_has_24_real_postures():
     assert len(result.solutions) == 24 and not result.clusters
     assert all(s["status"] == "unique" for s in result.solutions)
     # every box holds a real posture: the exact residuals at its midpoint are small
-    A, b = exact_points(robot, "base"), exact_points(robot, "platform")
+    A = exact_points(robot, "base")
     for s in result.solutions:
         P = [[(c.lo + c.hi) / 2 for c in p] for p in s["platform_points"]]
         for i in range(6):
