@@ -30,20 +30,11 @@ import time
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from machine import describe  # noqa: E402
+from certkin.batch.results import untimed  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 PLANAR = str(ROOT / "examples" / "robots" / "seed003-planar-example-2.toml")
-TIMING = {"seconds", "cpu_seconds", "job_seconds", "job_cpu_seconds", "batch_cpu_seconds", "slowest", "date",
-          "workers", "attempts", "resumed", "retried"}
 CERTKIN = [sys.executable, "-m", "certkin.cli"]
-
-
-def untimed(doc):
-    if isinstance(doc, dict):
-        return {k: untimed(v) for k, v in doc.items() if k not in TIMING}
-    if isinstance(doc, list):
-        return [untimed(v) for v in doc]
-    return doc
 
 
 def generate(n: int, path: Path) -> int:

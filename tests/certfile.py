@@ -22,6 +22,13 @@ TABLES = {"singularity": ({c: (n, {"tree.flags": int(c == 2)}) for c, n in singu
           "workspace-section": (workspace.LEAVES, {}), "workspace-volume": (workspace.LEAVES, {})}
 
 
+def checked(result):
+    """Re-check a result's certificate with the independent checker; the report (asserted OK)."""
+    report = proofs.check(result.certificate())
+    assert report.ok, report.step
+    return report
+
+
 class Doc:
     """An editable copy of a certificate: ``header`` (dict) and ``arrays`` ({name: numpy array})."""
 

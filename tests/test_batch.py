@@ -19,6 +19,7 @@ from batch_work import dies_on_boom
 from certfile import Doc
 from certkin.batch import read_jobs, run_batch
 from certkin.batch.jobs import dumps
+from certkin.batch.results import untimed
 from certkin.cli import main
 from certkin.cli.batch import run_job
 
@@ -27,16 +28,6 @@ from certkin.cli.batch import run_job
 ROOT = Path(__file__).resolve().parent.parent
 PLANAR = str(ROOT / "examples" / "robots" / "seed003-planar-example-2.toml")
 MEL = str(ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml")
-TIMING = {"seconds", "cpu_seconds", "job_seconds", "job_cpu_seconds", "batch_cpu_seconds", "slowest", "date", "workers", "attempts", "resumed", "retried"}
-
-
-def untimed(doc):
-    """A document without its timing fields (and the batch's bookkeeping of attempts)."""
-    if isinstance(doc, dict):
-        return {k: untimed(v) for k, v in doc.items() if k not in TIMING}
-    if isinstance(doc, list):
-        return [untimed(v) for v in doc]
-    return doc
 
 
 def exit_code(argv) -> int:

@@ -17,19 +17,13 @@ import pytest
 import sympy as sp
 
 import proofs
-from certfile import Doc
+from certfile import Doc, checked
 from certkin import robot_from_dict
 from certkin.fk import forward_kinematics
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = Path(__file__).parent / "data"
 EXAMPLES = ROOT / "examples" / "robots"
-
-
-def checked(result):
-    report = proofs.check(result.certificate())
-    assert report.ok, report.step
-    return report
 
 
 def planar(base, plat):

@@ -15,7 +15,7 @@ from pathlib import Path
 import mpmath as mp
 import pytest
 
-import proofs
+from certfile import checked
 from certkin import load_robot, robot_from_dict, verify_trajectory
 from seedref import encloses, exact, gough_legs, prints_as
 from test_trajectory import GOAL, START, _dist_at, _legs_mp, _pose, _seg_dist
@@ -24,12 +24,6 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "robots"
 TABLE = EXAMPLES / "seed000-mel-tsukuba.toml"
 VARIANT = EXAMPLES / "seed000-mel-tsukuba-x_a3-variant.toml"
 HOME = ["0", "0", "500", "0", "0", "0"]
-
-
-def checked(result):
-    report = proofs.check(result.certificate())
-    assert report.ok, report.step
-    return report
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,7 @@ from pathlib import Path
 import mpmath as mp
 import pytest
 
-import proofs
+from certfile import checked
 from certkin import load_robot, verify_trajectory
 from seedref import encloses, planar_det, planar_legs, prints_as
 from test_trajectory import SEED001
@@ -23,12 +23,6 @@ P_I, P_F = ["20", "0", "3.0"], ["60", "-50", "6.0"]       # Table III.2, decoded
 @pytest.fixture(scope="module")
 def robot():
     return load_robot(FILE)
-
-
-def checked(result):
-    report = proofs.check(result.certificate())
-    assert report.ok, report.step
-    return report
 
 
 def test_robot_file_is_the_assumed_geometry(robot):

@@ -16,7 +16,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-import proofs
+from certfile import checked
 from certkin import load_robot, robot_from_dict, verify_trajectory
 from certkin.fk import forward_kinematics
 from seedref import encloses, exact, gough_legs, prints_as
@@ -28,12 +28,6 @@ TABLE_VI2 = ROOT / "tests" / "data" / "seed002_table_vi2.txt"
 PRINTED = ["1.092", "2.280", "2.031", "2.524", "3.135", "1.845"]     # Table VI.1 right, as printed
 CORRECTED = ["1.093", "2.280", "2.031", "2.524", "3.136", "1.845"]   # digest seed-002 erratum
 INNOCENTI = ["1.0925", "2.2804", "2.03125", "2.5243", "3.1355", "1.844974"]   # Table VI.1 left
-
-
-def checked(result):
-    report = proofs.check(result.certificate())
-    assert report.ok, report.step
-    return report
 
 
 def table_vi2_exact():

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import proofs
-from certfile import Doc
+from certfile import Doc, checked
 from certkin import InputError, load_robot, plan, robot_from_dict, verify_trajectory, verify_trajectories
 from certkin.trajectory import parse_path
 
@@ -27,12 +27,6 @@ ROOT = Path(__file__).resolve().parents[1]
 MEL = ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml"
 START, GOAL = "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0"
 mp.mp.dps = 40
-
-
-def checked(result):
-    report = proofs.check(result.certificate())
-    assert report.ok, report.step
-    return report
 
 
 @pytest.fixture(scope="module")

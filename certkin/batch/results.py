@@ -22,6 +22,18 @@ from .jobs import canonical
 SUMMARY = "summary.json"
 ERROR, FAILED = "error", "failed"            # verdicts of jobs without an answer
 SLOWEST = 5
+TIMING_FIELDS = {"seconds", "cpu_seconds", "job_seconds", "job_cpu_seconds", "batch_cpu_seconds", "slowest", "date",
+                 "workers", "attempts", "resumed", "retried"}      # what differs between runs of the same jobs
+
+
+def untimed(doc):
+    """A document (or summary) without its timing fields and the batch's bookkeeping of attempts: what
+    two runs of the same jobs must have in common, whatever the workers."""
+    if isinstance(doc, dict):
+        return {k: untimed(v) for k, v in doc.items() if k not in TIMING_FIELDS}
+    if isinstance(doc, list):
+        return [untimed(v) for v in doc]
+    return doc
 
 
 def document_path(out, jid: str) -> Path:
