@@ -293,6 +293,28 @@ def test_volume_certificate_checks_and_rejects_a_raised_bound(micro):
     assert "requested.z" in bad.check().step
 
 
+def test_domains_without_time_for_the_candidates_are_wider_and_still_check(micro, monkeypatch):
+    """A deadline already passed leaves every slab with the disks' own boxes (bound (1) of
+    section_domain): each contains the refined box, the bracket still holds the reference
+    volume and the certificate checks; slabs whose disks' boxes cross get a box the checker accepts."""
+    from certkin.workspace import leg_data, section_domain, volume
+    from intervals import Interval
+    legs = leg_data(micro, [0.0, 0.0, 0.0])
+    z = np.linspace(19990.0, 20012.0, 45)
+    _, r2 = legs.radii2(Interval.from_bounds(z[:-1].copy(), z[1:].copy()))
+    lo, hi, empty = section_domain(legs.ux, legs.uy, r2)
+    wlo, whi, wempty = section_domain(legs.ux, legs.uy, r2, deadline=-np.inf)
+    assert not wempty[~empty].any() and empty.any() and (~empty).any()
+    assert (wlo[~empty] <= lo[~empty]).all() and (whi[~empty] >= hi[~empty]).all()
+    assert (wlo <= whi).all()
+    assert (empty & ~wempty).any()                      # crossed disks' boxes, empty by (2) only
+    monkeypatch.setattr(volume, "section_domain", lambda cx, cy, r2, deadline: section_domain(cx, cy, r2, -np.inf))
+    v = workspace_volume(micro, "0,0,0", "19990:20012", 44, min_width=1 / 32)
+    vin, vout = v.volume()
+    assert v.status != "empty" and vin <= float(VOLUME) <= vout
+    checked(v)
+
+
 # ----- tampering ---------------------------------------------------------------------
 INSIDE, OUTSIDE, BOUNDARY = 0, 1, 2
 

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+import math
+import time
 
 import numpy as np
 
@@ -136,27 +138,59 @@ def _finite(iv: Interval) -> Interval:
     return Interval.from_bounds(np.where(np.isnan(iv.lo), -np.inf, iv.lo), np.where(np.isnan(iv.hi), np.inf, iv.hi))
 
 
-def section_domain(cx: Interval, cy: Interval, r2: Interval):
+def section_domain(cx: Interval, cy: Interval, r2: Interval, deadline: float = math.inf):
     """Bounding boxes of the intersections of the disks (c_i, √r2_i), for each row of ``r2`` (m, n).
 
-    Returns ``(lo (m, 2), hi (m, 2), empty (m,))``.  Argument: the maximum of x
-    over a non-empty intersection K of disks is attained at a point p of K;
-    if one circle is active at p, p is the rightmost point of that disk; if
-    two or more are, p is an intersection point of two of the circles (or of
-    coincident circles, back to the first case).  So every extreme of K is
-    among the *candidates* (the four extreme points of each disk and the
-    pairwise intersection points), and it is not outside any disk.  The
-    bound on each side is the extreme of the candidates not proved outside
-    some disk, and also (always valid) the nearest side of one disk's own
-    bounding box: the smaller of the two is kept.  No candidate left means K
-    is empty.  An interval radius (a z-slab) stands for its largest value.
-    The box is widened by a relative 2^-30 so that the checker's own
-    enclosures fit in it.
+    Returns ``(lo (m, 2), hi (m, 2), empty (m,))``.  Two valid bounds per
+    side, the smaller kept.  (1) The nearest side of one disk's own bounding
+    box.  (2) The *candidates*: the maximum of x over a non-empty
+    intersection K of disks is attained at a point p of K; if one circle is
+    active at p, p is the rightmost point of that disk; if two or more are,
+    p is an intersection point of two of the circles (or of coincident
+    circles, back to the first case).  So every extreme of K is among the
+    four extreme points of each disk and the pairwise intersection points,
+    and it is not outside any disk: the bound is the extreme of the
+    candidates not proved outside some disk, and no candidate left means K
+    is empty.  (1) costs O(n) per row; (2), O(n³), is computed for rows in
+    chunks until ``time.perf_counter()`` passes ``deadline`` (the rest keep
+    (1): a wider box, as valid).  When the disks' boxes are disjoint under
+    (1) alone, K is empty and lies in any box: the box between the two
+    crossed sides is returned (the checker accepts it by the same rule).
+    An interval radius (a z-slab) stands for its largest value.  The box is
+    widened by a relative 2^-30 so that the checker's own enclosures fit in it.
     """
     r2 = Interval.from_bounds(np.atleast_2d(r2.lo), np.atleast_2d(r2.hi))
     m, n = r2.shape
     disk_empty = (r2.hi < 0).any(axis=1)
     r = sqrt(Interval.from_bounds(np.maximum(r2.lo, 0.0), np.maximum(r2.hi, 0.0)))       # (m, n)
+    lo = np.stack([(cx - r).lo.max(axis=1), (cy - r).lo.max(axis=1)], 1)
+    hi = np.stack([(cx + r).hi.min(axis=1), (cy + r).hi.min(axis=1)], 1)
+    empty = disk_empty.copy()
+    refined = np.zeros(m, bool)
+    for start in range(0, m, CHUNK_ROWS):
+        if time.perf_counter() > deadline:
+            break
+        rows = slice(start, min(m, start + CHUNK_ROWS))
+        clo, chi, none = _candidate_bounds(cx, cy, r2[rows], r[rows])
+        lo[rows], hi[rows] = np.maximum(lo[rows], clo), np.minimum(hi[rows], chi)
+        empty[rows] |= none
+        refined[rows] = True
+    crossed = lo > hi
+    empty |= refined & crossed.any(axis=1)
+    lo, hi = np.where(crossed, hi, lo), np.where(crossed, lo, hi)     # disjoint disks (1): K is empty
+    with np.errstate(invalid="ignore"):
+        pad = 2.0 ** -30 * (hi - lo) + 2.0 ** -40 * np.maximum(np.abs(lo), np.abs(hi)) + 2.0 ** -1000
+        lo, hi = lo - pad, hi + pad
+    lo[empty], hi[empty] = 0.0, 0.0
+    return lo, hi, empty
+
+
+CHUNK_ROWS = 256        # rows of (2) between two looks at the clock: about 30 ms
+
+
+def _candidate_bounds(cx: Interval, cy: Interval, r2: Interval, r: Interval):
+    """Bound (2) of ``section_domain`` for rows ``r2`` (m, n): ``(lo (m, 2), hi (m, 2), empty (m,))``."""
+    m, n = r2.shape
     X = [cx + r, cx - r, cx + Interval(np.zeros((m, n))), cx + Interval(np.zeros((m, n)))]
     Y = [cy + Interval(np.zeros((m, n))), cy + Interval(np.zeros((m, n))), cy + r, cy - r]
     dead = [np.zeros((m, n), bool)] * 4
@@ -175,19 +209,6 @@ def section_domain(cx: Interval, cy: Interval, r2: Interval):
     dead |= (d2.lo > r2.hi[:, None, :]).any(axis=2)
     alive = ~dead
     with np.errstate(invalid="ignore"):
-        xlo = np.where(alive, X.lo, np.inf).min(axis=1)
-        xhi = np.where(alive, X.hi, -np.inf).max(axis=1)
-        ylo = np.where(alive, Y.lo, np.inf).min(axis=1)
-        yhi = np.where(alive, Y.hi, -np.inf).max(axis=1)
-    xlo = np.maximum(xlo, (cx - r).lo.max(axis=1))
-    xhi = np.minimum(xhi, (cx + r).hi.min(axis=1))
-    ylo = np.maximum(ylo, (cy - r).lo.max(axis=1))
-    yhi = np.minimum(yhi, (cy + r).hi.min(axis=1))
-    empty = disk_empty | ~alive.any(axis=1) | (xlo > xhi) | (ylo > yhi)
-    lo = np.stack([xlo, ylo], 1)
-    hi = np.stack([xhi, yhi], 1)
-    with np.errstate(invalid="ignore"):
-        pad = 2.0 ** -30 * (hi - lo) + 2.0 ** -40 * np.maximum(np.abs(lo), np.abs(hi)) + 2.0 ** -1000
-        lo, hi = lo - pad, hi + pad
-    lo[empty], hi[empty] = 0.0, 0.0
-    return lo, hi, empty
+        lo = np.stack([np.where(alive, X.lo, np.inf).min(axis=1), np.where(alive, Y.lo, np.inf).min(axis=1)], 1)
+        hi = np.stack([np.where(alive, X.hi, -np.inf).max(axis=1), np.where(alive, Y.hi, -np.inf).max(axis=1)], 1)
+    return lo, hi, ~alive.any(axis=1)

@@ -122,7 +122,7 @@ def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS,
     legs = leg_data(robot, angles)
     Z = Interval.from_bounds(bounds[:-1].copy(), bounds[1:].copy())
     _, r2out = legs.radii2(Z)
-    lo, hi, empty = section_domain(legs.ux, legs.uy, r2out)
+    lo, hi, empty = section_domain(legs.ux, legs.uy, r2out, t0 + budget.max_seconds / 2)
     live = np.nonzero(~empty)[0]
     domains = [None if empty[k] else (lo[k], hi[k]) for k in range(slabs)]
     pavings = [None] * slabs
