@@ -68,6 +68,12 @@ def _check(cert, robot_file, report):
     robot = h.get("robot")
     if not isinstance(robot, dict):
         raise Rejected("robot: expected an object")
+    segments, names = h.get("segments", 1), h.get("arrays") if isinstance(h.get("arrays"), dict) else {}
+    if type(segments) is not int or not 1 <= segments <= (1 << 20 if problem == "forward-kinematics" else 1):
+        raise Rejected("segments: expected a positive integer (more than 1 only for forward-kinematics)")
+    stray = [a for a in names if a.startswith("segment") and a.split("/")[0][7:] not in map(str, range(1, segments))]
+    if stray:
+        raise Rejected(f"body: array {stray[0]} belongs to no segment (the header says {segments})")
     claims = h.get("claims")
     if not isinstance(claims, list) or not claims:
         raise Rejected("claims: expected a non-empty list")

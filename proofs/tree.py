@@ -26,7 +26,7 @@ import numpy as np
 from .numbers import real
 from .report import Rejected
 
-SPLIT, CUT, CONTRACT, LEAF = 0, 1, 2, 3
+SPLIT, CUT, CONTRACT, LEAF, CONTINUED = 0, 1, 2, 3, 4
 SPLIT_RATIO = 0.4921875
 BATCH = 8192
 
@@ -35,46 +35,49 @@ class Forest:
     """``leaves``/``contractions``: {code: (name, {evidence array: rows per node})}."""
 
     def __init__(self, cert, d, roots_lo, roots_hi, leaves: dict, contractions: dict, evidence: dict, labels=None):
-        self.cert, self.leaves, self.contractions, self.d = cert, leaves, contractions, d
-        self.labels = labels or []
+        self.cert, self.leaves, self.contractions, self.d, self.shapes = cert, leaves, contractions, d, evidence
+        self.labels, self.segments, self.segment = labels or [], cert.header.get("segments", 1), 0
         self.lo0 = np.asarray(roots_lo, float).reshape(-1, d)
         self.hi0 = np.asarray(roots_hi, float).reshape(-1, d)
-        self.kind = cert.array("tree.kind", ("<u1",))
-        self.code = cert.array("tree.code", ("<u1",))
+        self._load("")
+
+    def _load(self, prefix):
+        """The arrays of one segment (``prefix``: ``segment<k>/`` for k >= 1)."""
+        cert, t = self.cert, prefix + "tree"
+        self.t = t
+        self.kind, self.code = cert.array(t + ".kind", ("<u1",)), cert.array(t + ".code", ("<u1",))
         if self.kind.ndim != 1 or self.code.shape != self.kind.shape:
-            raise Rejected("tree: tree.kind and tree.code must be two arrays of one length")
-        bad = np.nonzero(self.kind > LEAF)[0]
+            raise Rejected(f"{t}: {t}.kind and {t}.code must be two arrays of one length")
+        bad = np.nonzero(self.kind > CONTINUED)[0]
         if len(bad):
-            raise Rejected(f"tree: node {bad[0]}: unknown kind {self.kind[bad[0]]}")
-        rows = {name: np.zeros(len(self.kind), np.int64) for name in evidence}
+            raise Rejected(f"{t}: node {bad[0]}: unknown kind {self.kind[bad[0]]}")
+        rows = {name: np.zeros(len(self.kind), np.int64) for name in self.shapes}
         rows["tree.cut"] = (self.kind == CUT).astype(np.int64)
         rows["tree.box"] = (self.kind == CONTRACT).astype(np.int64)
-        for kind, table in ((LEAF, leaves), (CONTRACT, contractions)):
+        for kind, table in ((LEAF, self.leaves), (CONTRACT, self.contractions)):
             mine = self.kind == kind
             unknown = mine & ~np.isin(self.code, list(table))
             if unknown.any():
                 i = np.nonzero(unknown)[0][0]
-                what = "leaf rule" if kind == LEAF else "contraction rule"
-                raise Rejected(f"tree: node {i}: unknown {what} code {self.code[i]}")
+                raise Rejected(f"{t}: node {i}: unknown {'leaf' if kind == LEAF else 'contraction'} rule code {self.code[i]}")
             for c, (_, uses) in table.items():
                 for name, k in uses.items():
                     rows[name][mine & (self.code == c)] += k
         self.offset, self.evidence = {}, {}
-        shapes = {"tree.cut": ((), ("<f8",)), "tree.box": ((self.d, 2), ("<u8",)), **evidence}
+        shapes = {"tree.cut": ((), ("<f8",)), "tree.box": ((self.d, 2), ("<u8",)), **self.shapes}
         for name, per_node in rows.items():
-            total = int(per_node.sum())
-            tail, dtypes = shapes[name]
-            arr = cert.array(name, dtypes, tail) if total or cert.has(name) else np.zeros((0,) + tuple(tail))
+            total, (tail, dtypes) = int(per_node.sum()), shapes[name]
+            arr = cert.array(prefix + name, dtypes, tail) if total or cert.has(prefix + name) else np.zeros((0,) + tail)
             if len(arr) != total:
-                raise Rejected(f"tree: {name} has {len(arr)} rows, the nodes use {total}")
+                raise Rejected(f"{t}: {prefix + name} has {len(arr)} rows, the nodes use {total}")
             self.evidence[name] = arr
             self.offset[name] = np.concatenate([[0], np.cumsum(per_node)])
         self.nodes = len(self.kind)
 
     def at(self, node, root):
-        """'claims[k].tree: node i' for messages."""
+        """'claims[k].tree: node i' (of segment s) for messages."""
         label = self.labels[root] if root < len(self.labels) else "tree"
-        return f"{label}: node {node}"
+        return f"{label}: node {node}" + (f" of segment {self.segment}" if self.segment else "")
 
     def rows(self, name, ids, k=0):
         """Row k of evidence ``name`` of each node ``ids``."""
@@ -82,13 +85,30 @@ class Forest:
 
     def walk(self, visit, progress=None):
         """Call ``visit(kind, code, ids, lo, hi, claim, child)`` on batches of leaves (child None) and
-        contractions (child = (lo, hi) of the child boxes), grouped by rule."""
+        contractions (child = (lo, hi) of the child boxes), grouped by rule; segment by segment, the
+        continued leaves of one being the roots of the next (ids: node numbers in the segment)."""
         lo, hi, claim = self.lo0, self.hi0, np.arange(len(self.lo0))
-        start, pending, size, level = 0, {}, 0, 0
+        for s in range(self.segments):
+            if s:                                # the previous segment's arrays are dropped, this one's read
+                self.cert.forget(("tree.", "segment"))
+                self.segment, want = s, np.stack([lo, hi], -1)
+                self._load(f"segment{s}/")
+                roots = self.cert.array(self.t + ".roots", ("<f8",), (self.d, 2))
+                differ = np.nonzero(np.any(roots != want, axis=(1, 2)))[0] if roots.shape == want.shape else [0]
+                if len(differ):
+                    raise Rejected(f"{self.t}.roots: root {differ[0]} is not continued leaf {differ[0]} of segment "
+                                   f"{s - 1} ({len(roots)} roots, {len(lo)} continued leaves)")
+            lo, hi, claim = self._walk(visit, progress, lo, hi, claim)
+            if (len(lo) > 0) != (s + 1 < self.segments):
+                raise Rejected(f"segment {s}: {len(lo)} continued leaves, {self.segments - s - 1} segments follow")
+
+    def _walk(self, visit, progress, lo, hi, claim):
+        """One segment from the roots ``lo``, ``hi``; returns its continued leaves in order."""
+        start, pending, size, level, cont = 0, {}, 0, 0, []
         while len(lo):
             m = len(lo)
             if start + m > self.nodes:
-                raise Rejected(f"tree: level {level} needs {m} nodes, only {self.nodes - start} are left")
+                raise Rejected(f"{self.t}: level {level} needs {m} nodes, only {self.nodes - start} are left")
             ids = np.arange(start, start + m)
             kind, code = self.kind[ids], self.code[ids]
             split = kind <= CUT
@@ -96,6 +116,7 @@ class Forest:
                 i = np.nonzero(split & (code >= self.d))[0][0]
                 raise Rejected(f"{self.at(ids[i], claim[i])}: split dimension {code[i]} (the boxes have {self.d})")
             nkids = np.where(split, 2, np.where(kind == CONTRACT, 1, 0))
+            cont.append((lo[kind == CONTINUED], hi[kind == CONTINUED], claim[kind == CONTINUED]))
             first = np.concatenate([[0], np.cumsum(nkids)])[:-1]
             new_lo = np.empty((int(nkids.sum()), self.d))
             new_hi = np.empty_like(new_lo)
@@ -141,7 +162,8 @@ class Forest:
                 progress(start, self.nodes)
         self._flush(pending, visit)
         if start != self.nodes:
-            raise Rejected(f"tree: {self.nodes - start} nodes after the last level belong to no box")
+            raise Rejected(f"{self.t}: {self.nodes - start} nodes after the last level belong to no box")
+        return [np.concatenate([c[k] for c in cont] or [empty]) for k, empty in enumerate((self.lo0[:0],) * 2 + (claim,))]
 
     @staticmethod
     def _flush(pending, visit):

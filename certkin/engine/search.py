@@ -87,7 +87,7 @@ def choose_split(lo, hi, scale):
 
 def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int = 4096,
            progress=None, min_batch: int = 256, max_rounds: int | None = None,
-           initial_splits: int = 0, record_limit: int | None = None) -> SearchResult:
+           initial_splits: int = 0, record_limit: int | None = None, record_sink=None) -> SearchResult:
     """Branch and bound from the boxes ``[lo, hi]`` (arrays (M, d), one per root).
 
     ``progress(processed_boxes, frontier_size)`` is called after each batch.
@@ -100,6 +100,12 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     excluded leaves and inner nodes are forgotten (``Store.compact``), only open, proved and
     undecided nodes are kept, and ``Tree.complete_record`` is false (the answer is the same; a
     certificate needs the search run again with no limit).  Memory then stays bounded.
+    ``record_sink``: with ``record_limit``, the closed part of the tree is handed over at each
+    compaction instead of forgotten: ``record_sink(tree, roots)`` gets a view of the record (a
+    ``Tree``, valid during the call) and the ids of the current segment's roots; it returns the
+    nodes still held (open, proved, undecided: the segment's *continued* leaves) in the order it
+    met them, which become the roots of the next segment.  The finished tree is that last segment
+    (``tree.segment_roots``; ``tree.record_sink`` is the sink) and its record is complete.
     """
     budget = budget or Budget()
     lo = np.atleast_2d(np.asarray(lo, dtype=np.float64))
@@ -111,7 +117,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     store = Store(d, max(1024, 4 * m), m)
     compacted = False
     evidence = Evidence()
-    roots = store.add(lo, hi, np.arange(m), np.full(m, -1))
+    roots = segment = store.add(lo, hi, np.arange(m), np.full(m, -1))
     frontier = [roots[::-1]]                # a stack of id arrays; the end is processed first
     if initial_splits > 0:
         wide = np.max((hi - lo) / scale, axis=1) > budget.min_width * 2.0 ** initial_splits
@@ -172,14 +178,16 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
             if len(new):
                 frontier.append(new[::-1])
         if record_limit is not None and store.n > record_limit:
-            frontier, compacted = _compact(store, evidence, frontier), True
+            frontier, segment = _compact(store, evidence, frontier, segment, record_sink, problem)
+            compacted = True
         if progress:
             progress(processed, sum(len(f) for f in frontier))
     for ids in frontier:
         store.kind[ids] = UNDECIDED
         store.reason[ids] = INTERRUPTED if interrupt.requested() else BUDGET
     ev, rows = evidence.finish(store.n)
-    tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows, complete_record=not compacted)
+    tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows, complete_record=not compacted or bool(record_sink))
+    tree.segment_roots, tree.record_sink = (segment, record_sink) if compacted and record_sink else (None, None)
     return SearchResult(tree, processed, time.perf_counter() - t0, exhausted)
 
 
@@ -206,15 +214,22 @@ def _contractions(store, evidence, dec, ids, blo, bhi):
     return ids, blo, bhi
 
 
-def _compact(store, evidence, frontier):
-    """Forget the excluded leaves and inner nodes; returns the frontier with the new ids."""
+def _compact(store, evidence, frontier, segment, sink, problem):
+    """Forget the excluded leaves and inner nodes (after handing them to ``sink``, if any); returns
+    the frontier and the roots of the next segment (``sink``'s continued leaves) with the new ids."""
     kind = store.kind[:store.n]
     keep = np.zeros(store.n, dtype=bool)
     keep[(kind == PROVED) | (kind == UNDECIDED)] = True
     for ids in frontier:
         keep[ids] = True
+    if sink:
+        segment = np.asarray(sink(Tree.view(store, getattr(problem, "reasons", ()), evidence), segment), np.int64)
+        held = np.zeros(store.n, dtype=bool)
+        held[segment] = True
+        if len(segment) != keep.sum() or np.any(held != keep):
+            raise RuntimeError("record sink: its continued leaves are not the nodes the search holds")
     new = store.compact(np.nonzero(keep)[0], evidence)
-    return [new[ids] for ids in frontier]
+    return [new[ids] for ids in frontier], new[segment]
 
 
 def _memory(store, evidence) -> int:
