@@ -28,17 +28,13 @@ MAX_HEADER = 64 << 20            # bytes of header.json
 MAX_JSON = 1 << 30               # bytes of a JSON document (read to say which version it is)
 MAX_ARRAY = 2 << 30              # bytes of one array
 DTYPES = ("<f8", "<f4", "<i4", "<i8", "<u8", "|i1", "|u1")
-MAX_DEPTH = 10_000               # nesting of a JSON document
 
 
 class Certificate:
     """A parsed header (``dict``) and its body arrays, read on demand (``array``)."""
 
     def __init__(self, header, arrays=None, archive=None):
-        self.header = header
-        self._arrays = dict(arrays or {})
-        self._archive = archive
-        self._read = {}
+        self.header, self._arrays, self._archive, self._read = header, dict(arrays or {}), archive, {}
 
     @property
     def version(self):

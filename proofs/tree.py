@@ -1,23 +1,20 @@
 """The search trees of a certificate, stored breadth-first as arrays (docs/certificates.md).
 
-One forest per certificate: its roots are the boxes of the claims that
-have a tree, in claim order (level 0).  Level k + 1 lists, in the order of
-level k, the children of its nodes: two for a split (lower part, then
-upper part), one for a contraction, none for a leaf.  Per node,
-``tree.kind`` (uint8) is 0 split at the default point, 1 split at a stored
-cut, 2 contraction, 3 leaf, and ``tree.code`` (uint8) the split dimension or
-the rule.  The default split point of [a, b] is the float a + 0.4921875 (b − a)
-(the engine's off-centre point, evaluated in round-to-nearest); a stored
-cut is the next row of ``tree.cut``.  Either must lie strictly inside the
-side, so the children tile their parent exactly, and by induction the
-leaves tile each root.  A contraction's child box is the next row of
-``tree.box`` (uint64: the bits of the child's bounds XOR those of the
-parent's, which compresses well) and must lie inside its parent (its
-rule proves that it keeps every solution).  Rules consume rows of the evidence arrays in node order,
-a fixed number per rule (``Forest``'s tables); every row must be used.
+One forest per certificate: its roots are the boxes of the claims that have a tree, in claim order
+(level 0).  Level k + 1 lists, in the order of level k, the children of its nodes: two for a split
+(lower part, then upper part), one for a contraction, none for a leaf.  ``tree.kind`` (uint8) is 0:
+split at the default point a + 0.4921875 (b − a) (the engine's, in round-to-nearest), 1: split at a
+stored cut (the next ``tree.cut``), 2: contraction, 3: leaf, 4: continued; ``tree.code`` the split
+dimension or the rule.  A cut lies strictly inside the side, so the children tile their parent, and
+the leaves each root.  A contraction's child is the next row of ``tree.box`` (uint64: the bits of its
+bounds XOR those of the parent's), inside its parent; its rule proves that it keeps every solution.
+Rules use a fixed number of evidence rows each, in node order (``Forest``'s tables); every row must
+be used.  A streamed tree has ``segments``: segment k >= 1 (arrays ``segment<k>/...``) is rooted at
+the continued leaves of segment k - 1, in order (``tree.roots`` must be their boxes); the last has
+none.  A continued leaf proves nothing by itself: its box is tiled by the next segment.
 
-``Forest.walk`` rebuilds each level's boxes with a few numpy operations and
-hands leaves and contractions to the problem in batches, grouped by rule.
+``Forest.walk`` rebuilds each level's boxes with a few numpy operations and hands leaves and
+contractions to the problem in batches, grouped by rule.
 """
 from __future__ import annotations
 
@@ -37,8 +34,7 @@ class Forest:
     def __init__(self, cert, d, roots_lo, roots_hi, leaves: dict, contractions: dict, evidence: dict, labels=None):
         self.cert, self.leaves, self.contractions, self.d, self.shapes = cert, leaves, contractions, d, evidence
         self.labels, self.segments, self.segment = labels or [], cert.header.get("segments", 1), 0
-        self.lo0 = np.asarray(roots_lo, float).reshape(-1, d)
-        self.hi0 = np.asarray(roots_hi, float).reshape(-1, d)
+        self.lo0, self.hi0 = (np.asarray(b, float).reshape(-1, d) for b in (roots_lo, roots_hi))
         self._load("")
 
     def _load(self, prefix):
@@ -48,17 +44,15 @@ class Forest:
         self.kind, self.code = cert.array(t + ".kind", ("<u1",)), cert.array(t + ".code", ("<u1",))
         if self.kind.ndim != 1 or self.code.shape != self.kind.shape:
             raise Rejected(f"{t}: {t}.kind and {t}.code must be two arrays of one length")
-        bad = np.nonzero(self.kind > CONTINUED)[0]
-        if len(bad):
-            raise Rejected(f"{t}: node {bad[0]}: unknown kind {self.kind[bad[0]]}")
+        for i in np.nonzero(self.kind > CONTINUED)[0][:1]:
+            raise Rejected(f"{t}: node {i}: unknown kind {self.kind[i]}")
         rows = {name: np.zeros(len(self.kind), np.int64) for name in self.shapes}
         rows["tree.cut"] = (self.kind == CUT).astype(np.int64)
         rows["tree.box"] = (self.kind == CONTRACT).astype(np.int64)
         for kind, table in ((LEAF, self.leaves), (CONTRACT, self.contractions)):
             mine = self.kind == kind
             unknown = mine & ~np.isin(self.code, list(table))
-            if unknown.any():
-                i = np.nonzero(unknown)[0][0]
+            for i in np.nonzero(unknown)[0][:1]:
                 raise Rejected(f"{t}: node {i}: unknown {'leaf' if kind == LEAF else 'contraction'} rule code {self.code[i]}")
             for c, (_, uses) in table.items():
                 for name, k in uses.items():
@@ -112,8 +106,7 @@ class Forest:
             ids = np.arange(start, start + m)
             kind, code = self.kind[ids], self.code[ids]
             split = kind <= CUT
-            if np.any(split & (code >= self.d)):
-                i = np.nonzero(split & (code >= self.d))[0][0]
+            for i in np.nonzero(split & (code >= self.d))[0][:1]:
                 raise Rejected(f"{self.at(ids[i], claim[i])}: split dimension {code[i]} (the boxes have {self.d})")
             nkids = np.where(split, 2, np.where(kind == CONTRACT, 1, 0))
             cont.append((lo[kind == CONTINUED], hi[kind == CONTINUED], claim[kind == CONTINUED]))
@@ -127,31 +120,25 @@ class Forest:
                 at = a + SPLIT_RATIO * (b - a)
                 cut = kind[s] == CUT
                 at[cut] = self.rows("tree.cut", ids[s][cut])
-                bad = ~((a < at) & (at < b))
-                if bad.any():
-                    i = np.nonzero(bad)[0][0]
+                for i in np.nonzero(~((a < at) & (at < b)))[0][:1]:
                     raise Rejected(f"{self.at(ids[s][i], claim[s][i])}: split point {float(at[i])!r} not strictly "
                                    f"inside [{float(a[i])!r}, {float(b[i])!r}] on dimension {dim[i]}")
-                new_lo[first[s]], new_hi[first[s]] = lo[s], hi[s]
-                new_hi[first[s], dim] = at
-                new_lo[first[s] + 1], new_hi[first[s] + 1] = lo[s], hi[s]
-                new_lo[first[s] + 1, dim] = at
+                new_lo[first[s]], new_hi[first[s]], new_lo[first[s] + 1], new_hi[first[s] + 1] = lo[s], hi[s], lo[s], hi[s]
+                new_hi[first[s], dim] = new_lo[first[s] + 1, dim] = at
             c = np.nonzero(kind == CONTRACT)[0]
             if len(c):
                 box = self.rows("tree.box", ids[c])            # the child's bits XOR the parent's
                 box = (np.ascontiguousarray(np.stack([lo[c], hi[c]], -1)).view(np.uint64) ^ box).view(np.float64)
                 clo, chi = box[..., 0], box[..., 1]
-                bad = ~np.all((lo[c] <= clo) & (clo <= chi) & (chi <= hi[c]), axis=1)
-                if bad.any():
-                    i = np.nonzero(bad)[0][0]
+                for i in np.nonzero(~np.all((lo[c] <= clo) & (clo <= chi) & (chi <= hi[c]), axis=1))[0][:1]:
                     raise Rejected(f"{self.at(ids[c][i], claim[c][i])}: contracted box not inside its parent")
                 new_lo[first[c]], new_hi[first[c]] = clo, chi
             for kd in (CONTRACT, LEAF):
                 mine = kind == kd
                 for cd in np.unique(code[mine]):
                     sel = np.nonzero(mine & (code == cd))[0]
-                    child = (new_lo[first[sel]], new_hi[first[sel]]) if kd == CONTRACT else None
-                    pending.setdefault((kd, int(cd)), []).append((ids[sel], lo[sel], hi[sel], claim[sel], child))
+                    kids = (new_lo[first[sel]], new_hi[first[sel]]) if kd == CONTRACT else ()
+                    pending.setdefault((kd, int(cd)), []).append((ids[sel], lo[sel], hi[sel], claim[sel]) + kids)
                     size += len(sel)
             if size >= BATCH:
                 self._flush(pending, visit)
@@ -169,17 +156,14 @@ class Forest:
     def _flush(pending, visit):
         for (kd, cd), parts in pending.items():
             cat = lambda k: np.concatenate([p[k] for p in parts])  # noqa: E731
-            child = None if kd == LEAF else (np.concatenate([p[4][0] for p in parts]),
-                                             np.concatenate([p[4][1] for p in parts]))
-            visit(kd, cd, cat(0), cat(1), cat(2), cat(3), child)
+            visit(kd, cd, cat(0), cat(1), cat(2), cat(3), (cat(4), cat(5)) if kd == CONTRACT else None)
 
 
 def read_box(value, d, where):
     """A box of the header: ``d`` pairs [lo, hi] of exact finite floats, lo <= hi; returns (lo, hi) arrays."""
     if not isinstance(value, list) or len(value) != d or not all(isinstance(p, list) and len(p) == 2 for p in value):
         raise Rejected(f"{where}: expected {d} intervals [lo, hi]")
-    lo = np.array([real(a, where) for a, _ in value])
-    hi = np.array([real(b, where) for _, b in value])
+    lo, hi = (np.array([real(p[k], where) for p in value]) for k in (0, 1))
     if not np.all(lo <= hi):
         raise Rejected(f"{where}: lo > hi")
     return lo, hi
