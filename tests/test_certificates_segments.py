@@ -10,6 +10,7 @@ import pytest
 import proofs
 from certfile import Doc
 from certkin import load_robot
+from certkin.certificates import fk_certificate
 from certkin.fk import forward_kinematics
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -119,3 +120,16 @@ def test_segments_only_for_forward_kinematics(files, tmp_path):
     doc = Doc(files[1])
     doc.header["segments"] = 0
     rejected(doc, tmp_path, "segments: expected a positive integer")
+
+
+def test_a_result_of_a_streamed_batch_alone_is_searched_again_whole():
+    robot = load_robot(SPHERICAL)
+    home = [float(v) for v in robot.leg_lengths(robot.home_box()).mid()]
+    rows = [[repr(v) for v in home], [repr(v * 1.01) for v in home]]
+    both = forward_kinematics(robot, rows, record=True, record_limit=LIMIT)
+    assert both[0].tree is both[1].tree and both[0].tree.segment_roots is not None
+    together = proofs.check(fk_certificate(both))
+    alone = proofs.check(both[1].certificate())       # segment 1 would hold both roots: the search runs again whole
+    assert together.ok and alone.ok, (together.step, alone.step)
+    assert together.proved[1] == alone.proved[0] and together.checked["claims"] == 2 and alone.checked["claims"] == 1
+    assert fk_certificate(both).header["segments"] >= 3 and "segments" not in both[1].certificate().header

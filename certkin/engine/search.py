@@ -99,7 +99,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     ``record_limit``: once the tree holds more nodes than this, it stops being a full record:
     excluded leaves and inner nodes are forgotten (``Store.compact``), only open, proved and
     undecided nodes are kept, and ``Tree.complete_record`` is false (the answer is the same; a
-    certificate needs the search run again with no limit).  Memory then stays bounded.
+    certificate needs the search run again, with a sink or no limit).  Memory then stays bounded.
     ``record_sink``: with ``record_limit``, the closed part of the tree is handed over at each
     compaction instead of forgotten: ``record_sink(tree, roots)`` gets a view of the record (a
     ``Tree``, valid during the call) and the ids of the current segment's roots; it returns the
@@ -229,7 +229,7 @@ def _compact(store, evidence, frontier, segment, sink, problem):
         if len(segment) != keep.sum() or np.any(held != keep):
             raise RuntimeError("record sink: its continued leaves are not the nodes the search holds")
     new = store.compact(np.nonzero(keep)[0], evidence)
-    return [new[ids] for ids in frontier], new[segment]
+    return [new[ids] for ids in frontier], new[segment] if sink else segment
 
 
 def _memory(store, evidence) -> int:
