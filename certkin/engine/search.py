@@ -100,12 +100,9 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     excluded leaves and inner nodes are forgotten (``Store.compact``), only open, proved and
     undecided nodes are kept, and ``Tree.complete_record`` is false (the answer is the same; a
     certificate needs the search run again, with a sink or no limit).  Memory then stays bounded.
-    ``record_sink``: with ``record_limit``, the closed part of the tree is handed over at each
-    compaction instead of forgotten: ``record_sink(tree, roots)`` gets a view of the record (a
-    ``Tree``, valid during the call) and the ids of the current segment's roots; it returns the
-    nodes still held (open, proved, undecided: the segment's *continued* leaves) in the order it
-    met them, which become the roots of the next segment.  The finished tree is that last segment
-    (``tree.segment_roots``; ``tree.record_sink`` is the sink) and its record is complete.
+    ``record_sink(tree, roots)``: at each compaction, writes the segment of the record (a ``Tree`` view)
+    at ``roots`` and returns its *continued* leaves (the nodes still held) in its order: the next
+    segment's roots.  The tree returned is the last segment (``tree.segment_roots``, ``tree.record_sink``).
     """
     budget = budget or Budget()
     lo = np.atleast_2d(np.asarray(lo, dtype=np.float64))
@@ -178,8 +175,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
             if len(new):
                 frontier.append(new[::-1])
         if record_limit is not None and store.n > record_limit:
-            frontier, segment = _compact(store, evidence, frontier, segment, record_sink, problem)
-            compacted = True
+            (frontier, segment), compacted = _compact(store, evidence, frontier, segment, record_sink, problem), True
         if progress:
             progress(processed, sum(len(f) for f in frontier))
     for ids in frontier:
