@@ -126,9 +126,16 @@ def _rules(tree, proved, n, cluster_of=None):
                         "tree.star": ("<f8", (n, 2), boxes("star")), "tree.rootbox": ("<f8", (n, 2), boxes("root"))})
 
 
-def record_sink(n: int) -> Segments:
-    """The sink of an FK search that streams its tree (``n`` unknowns)."""
-    return Segments(n, lambda tree: _rules(tree, _Proved(n, {}), n))
+def record_sink(n: int, reasons) -> Segments:
+    """The sink of an FK search that streams its tree (``n`` unknowns, the problem's ``reasons``).  The
+    search records no preconditioner that the certificate does not write: a C only for a proved leaf
+    (the checker rebuilds the others), a P only for an ``hc4`` contraction (it marks ``hc4-position``)."""
+    hc4 = reasons.index("hc4")
+
+    def kept(name, kind, reason):
+        return kind == PROVED if name == "C" else (kind == CONTRACTED) & (reason == hc4) if name == "P" else \
+            np.ones(len(kind), bool)
+    return Segments(n, lambda tree: _rules(tree, _Proved(n, {}), n), kept)
 
 
 def _streamed(results):

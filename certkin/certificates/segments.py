@@ -43,11 +43,12 @@ class Roots:
 
 class Segments:
     """A record sink: ``rules(tree)`` gives the problem's ``Rules`` for a segment's nodes (none of them
-    proved: a proved leaf is held, so continued, until the last segment).  ``leaves`` counts the rule
-    leaves written, by (engine root, code)."""
+    proved: a proved leaf is held, so continued, until the last segment); ``kept(name, kind, reason)``
+    the evidence rows the certificate writes (``engine.search`` records no other).  ``leaves`` counts
+    the rule leaves written, by (engine root, code)."""
 
-    def __init__(self, d: int, rules):
-        self.d, self.rules = d, rules
+    def __init__(self, d: int, rules, kept=None):
+        self.d, self.rules, self.kept = d, rules, kept
         self.dir = tempfile.TemporaryDirectory(prefix="certkin-segments-")
         self.written = []                        # per segment: [(name, dtype, tail, path)]
         self.leaves = Counter()

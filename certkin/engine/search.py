@@ -103,6 +103,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     ``record_sink(tree, roots)``: at each compaction, writes the segment of the record (a ``Tree`` view)
     at ``roots`` and returns its *continued* leaves (the nodes still held) in its order: the next
     segment's roots.  The tree returned is the last segment (``tree.segment_roots``, ``tree.record_sink``).
+    ``record_sink.kept(name, kind, reason)``, if any: which evidence rows are recorded at all.
     """
     budget = budget or Budget()
     lo = np.atleast_2d(np.asarray(lo, dtype=np.float64))
@@ -113,7 +114,8 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     scale = np.asarray(scale, dtype=np.float64)
     store = Store(d, max(1024, 4 * m), m)
     compacted = False
-    evidence = Evidence()
+    kept = getattr(record_sink, "kept", None)         # the sink's say on which evidence rows to record
+    evidence = Evidence(kept and (lambda name, ids: kept(name, store.kind[ids], store.reason[ids])))
     roots = segment = store.add(lo, hi, np.arange(m), np.full(m, -1))
     frontier = [roots[::-1]]                # a stack of id arrays; the end is processed first
     if initial_splits > 0:

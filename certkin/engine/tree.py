@@ -102,14 +102,19 @@ class Evidence:
     ``add(node_ids, evidence, positions)``: node ``node_ids[k]`` was box
     ``positions[k]`` of the batch.  ``evidence[name]`` is either an array
     with one row per box of the batch, or a pair ``(mask, rows)`` with rows
-    only for the boxes where ``mask`` is true.
+    only for the boxes where ``mask`` is true.  ``kept(name, ids)``, if given, says which of those
+    rows are recorded at all (the others are dropped).
     """
 
-    def __init__(self):
+    def __init__(self, kept=None):
         self.parts: dict[str, list] = {}    # name -> [(node ids, rows)]
         self.nbytes = 0                     # bytes held by the parts
+        self.kept = kept
 
     def _append(self, name, ids, rows):
+        if self.kept is not None:
+            mine = self.kept(name, ids)
+            ids, rows = ids[mine], rows[mine]
         self.parts.setdefault(name, []).append((ids, rows))
         self.nbytes += ids.nbytes + rows.nbytes
 

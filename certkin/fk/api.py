@@ -78,7 +78,7 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     idx = np.nonzero(feasible)[0]
     limit = None if record == "whole" else budgets.FK_RECORD_NODES if record_limit is None else record_limit
     res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], budget, progress,
-                           limit, record_sink(system.n) if record and limit is not None else None) if len(idx) else None
+                           limit, record_sink(system.n, FKProblem.reasons) if record and limit is not None else None) if len(idx) else None
     out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter)
     again = {}
     for k, r in enumerate(out):
