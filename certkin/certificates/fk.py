@@ -140,16 +140,15 @@ def record_sink(n: int, reasons) -> Segments:
 
 def _streamed(results):
     """The results with their trees whole or streamed: a search that forgot its excluded leaves runs
-    again, streamed; a streamed tree serves only when its results are all in the list, in order, and
-    it is the only one (else that search runs again, kept whole in memory)."""
+    again, streamed; a streamed tree serves only when the list holds its results in the order of its
+    roots, all of them (segment 1's roots), and it is the only one (else that search runs again, kept
+    whole in memory)."""
     results = [r.recorded() if r.recorded and r.tree is not None and not r.tree.complete_record else r for r in results]
-    streams = {id(r.tree) for r in results if r.tree is not None and r.tree.record_sink and not r.tracked}
-    ok = len(streams) == 1
-    if ok:
-        tree = next(r.tree for r in results if id(r.tree) in streams)
-        ours = [k for k, r in enumerate(results) if r.tree is tree]
-        ok = ours == list(range(ours[0], ours[0] + tree.n_roots)) and [results[k].node for k in ours] == list(range(tree.n_roots))
-    return [r.recorded(whole=True) if id(r.tree) in streams and not ok else r for r in results], tree if ok else None
+    streams = {id(r.tree): r.tree for r in results if r.tree is not None and r.tree.record_sink and not r.tracked}
+    tree = next(iter(streams.values())) if len(streams) == 1 else None
+    if tree is not None and [r.node for r in results if r.tree is tree] != list(range(tree.n_roots)):
+        tree = None
+    return [r.recorded(whole=True) if id(r.tree) in streams and tree is None else r for r in results], tree
 
 
 def fk_certificate(results) -> Document:
