@@ -11,6 +11,7 @@ import proofs
 from certfile import Doc
 from certkin import load_robot
 from certkin.certificates import fk_certificate
+from certkin.engine import PROVED
 from certkin.fk import forward_kinematics
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -27,6 +28,9 @@ def files(tmp_path_factory):
     whole = forward_kinematics(robot, lengths, record="whole")
     assert streamed.tree.segment_roots is not None and whole.tree.segment_roots is None
     assert len(streamed.tree.kind) < len(whole.tree.kind)
+    for r, only_proved in ((streamed, True), (whole, False)):    # streamed: no C that the certificate does not write
+        has_C = r.tree.evidence_rows["C"] >= 0
+        assert np.all(r.tree.kind[has_C] == PROVED) == only_proved and np.any(r.tree.kind[has_C] == PROVED)
     streamed.certificate().write(out / "streamed.cert")
     whole.certificate().write(out / "whole.cert")
     return out / "streamed.cert", out / "whole.cert"
