@@ -112,10 +112,8 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     if scale is None:
         scale = np.where(hi[0] > lo[0], hi[0] - lo[0], 1.0)
     scale = np.asarray(scale, dtype=np.float64)
-    store = Store(d, max(1024, 4 * m), m)
-    compacted = False
-    kept = getattr(record_sink, "kept", None)         # the sink's say on which evidence rows to record
-    evidence = Evidence(kept and (lambda name, ids: kept(name, store.kind[ids], store.reason[ids])))
+    store, compacted = Store(d, max(1024, 4 * m), m), False
+    evidence = _evidence(store, record_sink)
     roots = segment = store.add(lo, hi, np.arange(m), np.full(m, -1))
     frontier = [roots[::-1]]                # a stack of id arrays; the end is processed first
     if initial_splits > 0:
@@ -210,6 +208,12 @@ def _contractions(store, evidence, dec, ids, blo, bhi):
             ids[changed] = kids
             blo, bhi = clo, chi
     return ids, blo, bhi
+
+
+def _evidence(store, sink) -> Evidence:
+    """The search's evidence record: every row, or those ``sink.kept(name, kind, reason)`` keeps."""
+    kept = getattr(sink, "kept", None)
+    return Evidence(kept and (lambda name, ids: kept(name, store.kind[ids], store.reason[ids])))
 
 
 def _compact(store, evidence, frontier, segment, sink, problem):
