@@ -27,27 +27,20 @@ def check(source, robot=None, progress=None) -> Report:
     ``progress(done, total)`` is called as the trees are walked.  Never raises on a malformed
     certificate (the report names the failing step); an unreadable file raises ``Unreadable``.
     """
-    if isinstance(source, (str, Path)):
-        cert = container.read(source)
-    elif isinstance(source, container.Certificate):
-        cert = source
-    elif hasattr(source, "header") and hasattr(source, "arrays"):
-        cert = container.Certificate(source.header, source.arrays)
-    else:
-        cert = container.Certificate(source)
-    counts = {"claims": 0, "undecided": 0, "leaves": 0, "pieces": 0, "witnesses": 0}
-    report = Report(False, "", counts)
+    source = container.read(source) if isinstance(source, (str, Path)) else source
+    cert = source if isinstance(source, container.Certificate) else container.Certificate(
+        source.header, source.arrays) if hasattr(source, "header") and hasattr(source, "arrays") else container.Certificate(source)
+    report = Report(False, "", {"claims": 0, "undecided": 0, "leaves": 0, "pieces": 0, "witnesses": 0})
     report.progress = progress
     try:
         with np.errstate(all="ignore"):
             _check(cert, robot, report)
     except Rejected as exc:
         report.step = exc.step
-        return report
     except (RecursionError, MemoryError) as exc:
         report.step = f"certificate: {'nested too deeply' if isinstance(exc, RecursionError) else 'too large'}"
-        return report
-    report.ok = True
+    else:
+        report.ok = True
     return report
 
 
@@ -68,6 +61,12 @@ def _check(cert, robot_file, report):
     robot = h.get("robot")
     if not isinstance(robot, dict):
         raise Rejected("robot: expected an object")
+    segments, names = h.get("segments", 1), h.get("arrays") if isinstance(h.get("arrays"), dict) else {}
+    if type(segments) is not int or not 1 <= segments <= (1 << 20 if problem == "forward-kinematics" else 1):
+        raise Rejected("segments: expected a positive integer (more than 1 only for forward-kinematics)")
+    stray = [a for a in names if a.startswith("segment") and a.split("/")[0][7:] not in map(str, range(1, segments))]
+    if stray:
+        raise Rejected(f"body: array {stray[0]} belongs to no segment (the header says {segments})")
     claims = h.get("claims")
     if not isinstance(claims, list) or not claims:
         raise Rejected("claims: expected a non-empty list")

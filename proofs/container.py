@@ -28,17 +28,13 @@ MAX_HEADER = 64 << 20            # bytes of header.json
 MAX_JSON = 1 << 30               # bytes of a JSON document (read to say which version it is)
 MAX_ARRAY = 2 << 30              # bytes of one array
 DTYPES = ("<f8", "<f4", "<i4", "<i8", "<u8", "|i1", "|u1")
-MAX_DEPTH = 10_000               # nesting of a JSON document
 
 
 class Certificate:
     """A parsed header (``dict``) and its body arrays, read on demand (``array``)."""
 
     def __init__(self, header, arrays=None, archive=None):
-        self.header = header
-        self._arrays = dict(arrays or {})
-        self._archive = archive
-        self._read = {}
+        self.header, self._arrays, self._archive, self._read = header, dict(arrays or {}), archive, {}
 
     @property
     def version(self):
@@ -55,6 +51,10 @@ class Certificate:
             raise Rejected(f"body: array {name}: shape {list(a.shape)}, expected [*, {', '.join(map(str, shape_tail))}]")
         return a
 
+    def forget(self, prefixes) -> None:
+        """Drop the arrays read whose names start with ``prefixes`` (one segment at a time in memory)."""
+        self._read = {k: v for k, v in self._read.items() if not k.startswith(prefixes)}
+
     def has(self, name: str) -> bool:
         return name in self._arrays or name in self._entries()
 
@@ -62,7 +62,8 @@ class Certificate:
         e = self.header.get("arrays", {}) if self._archive is not None else {}
         return e if isinstance(e, dict) else {}
 
-    def _load(self, name):
+    def _load(self, name, body=None):
+        """The array ``name`` checked against its entry; with ``body`` (a hash), only streamed into it."""
         entry = self._entries().get(name)
         if not isinstance(entry, dict):
             raise Rejected(f"body: array {name} is missing (not listed in the header)")
@@ -73,10 +74,12 @@ class Certificate:
         size = int(np.prod(shape, dtype=object)) * np.dtype(dtype).itemsize
         if size > MAX_ARRAY:
             raise Rejected(f"body: array {name}: {size} bytes is too large")
-        data = _member(self._archive, name + ".bin", size)
-        if hashlib.sha256(data).hexdigest() != digest:
+        mine = hashlib.sha256()
+        data = _member(self._archive, name + ".bin", size, body and (lambda piece: (mine.update(piece), body.update(piece))))
+        mine.update(data)
+        if mine.hexdigest() != digest:
             raise Rejected(f"body: array {name}: SHA-256 differs from the header's")
-        return np.frombuffer(data, dtype=dtype).reshape(shape)
+        return None if body else np.frombuffer(data, dtype=dtype).reshape(shape)
 
     def verify_body(self) -> None:
         """Every listed array matches its hash, ``body_sha256`` matches, and no member is unlisted."""
@@ -90,22 +93,27 @@ class Certificate:
         if extra or len(names) != len(set(names)):
             raise Rejected(f"body: unexpected or repeated member {(extra or names)[0]!r}")
         body = hashlib.sha256()
-        for name in entries:
-            body.update(np.ascontiguousarray(self.array(name)).tobytes())
+        for name in entries:                      # streamed, not kept: arrays are read when a step needs them
+            self._load(name, body)
         if body.hexdigest() != self.header.get("body_sha256"):
             raise Rejected("header.body_sha256: differs from the SHA-256 of the body")
 
 
-def _member(archive, member, size) -> bytes:
+def _member(archive, member, size, each=None) -> bytes:
+    """The bytes of ``member`` (``size`` of them), or b"" after handing them to ``each`` piece by piece."""
+    data, n = b"", 0
     try:
         with archive.open(member) as fh:
-            data = fh.read(size + 1)
+            while each and n <= size and (piece := fh.read(min(1 << 24, size + 1 - n))):
+                each(piece)
+                n += len(piece)
+            data = b"" if each else fh.read(size + 1)
     except KeyError:
         raise Rejected(f"body: member {member} is missing") from None
     except (zipfile.BadZipFile, zlib.error, OSError, EOFError, ValueError) as exc:
         raise Rejected(f"body: member {member} cannot be read ({exc})") from None
-    if len(data) != size:
-        raise Rejected(f"body: member {member} has {len(data)} bytes, its header entry says {size}")
+    if max(n, len(data)) != size:
+        raise Rejected(f"body: member {member} has {max(n, len(data))} bytes, its header entry says {size}")
     return data
 
 

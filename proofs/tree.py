@@ -1,23 +1,20 @@
 """The search trees of a certificate, stored breadth-first as arrays (docs/certificates.md).
 
-One forest per certificate: its roots are the boxes of the claims that
-have a tree, in claim order (level 0).  Level k + 1 lists, in the order of
-level k, the children of its nodes: two for a split (lower part, then
-upper part), one for a contraction, none for a leaf.  Per node,
-``tree.kind`` (uint8) is 0 split at the default point, 1 split at a stored
-cut, 2 contraction, 3 leaf, and ``tree.code`` (uint8) the split dimension or
-the rule.  The default split point of [a, b] is the float a + 0.4921875 (b − a)
-(the engine's off-centre point, evaluated in round-to-nearest); a stored
-cut is the next row of ``tree.cut``.  Either must lie strictly inside the
-side, so the children tile their parent exactly, and by induction the
-leaves tile each root.  A contraction's child box is the next row of
-``tree.box`` (uint64: the bits of the child's bounds XOR those of the
-parent's, which compresses well) and must lie inside its parent (its
-rule proves that it keeps every solution).  Rules consume rows of the evidence arrays in node order,
-a fixed number per rule (``Forest``'s tables); every row must be used.
+One forest per certificate: its roots are the boxes of the claims that have a tree, in claim order
+(level 0).  Level k + 1 lists, in the order of level k, the children of its nodes: two for a split
+(lower part, then upper part), one for a contraction, none for a leaf.  ``tree.kind`` (uint8) is 0:
+split at the default point a + 0.4921875 (b − a) (the engine's, in round-to-nearest), 1: split at a
+stored cut (the next ``tree.cut``), 2: contraction, 3: leaf, 4: continued; ``tree.code`` the split
+dimension or the rule.  A cut lies strictly inside the side, so the children tile their parent, and
+the leaves each root.  A contraction's child is the next row of ``tree.box`` (uint64: the bits of its
+bounds XOR those of the parent's), inside its parent; its rule proves that it keeps every solution.
+Rules use a fixed number of evidence rows each, in node order (``Forest``'s tables); every row must
+be used.  A streamed tree has ``segments``: segment k >= 1 (arrays ``segment<k>/...``) is rooted at
+the continued leaves of segment k - 1, in order (``tree.roots`` must be their boxes); the last has
+none.  A continued leaf proves nothing by itself: its box is tiled by the next segment.
 
-``Forest.walk`` rebuilds each level's boxes with a few numpy operations and
-hands leaves and contractions to the problem in batches, grouped by rule.
+``Forest.walk`` rebuilds each level's boxes with a few numpy operations and hands leaves and
+contractions to the problem in batches, grouped by rule.
 """
 from __future__ import annotations
 
@@ -26,7 +23,7 @@ import numpy as np
 from .numbers import real
 from .report import Rejected
 
-SPLIT, CUT, CONTRACT, LEAF = 0, 1, 2, 3
+SPLIT, CUT, CONTRACT, LEAF, CONTINUED = 0, 1, 2, 3, 4
 SPLIT_RATIO = 0.4921875
 BATCH = 8192
 
@@ -35,46 +32,46 @@ class Forest:
     """``leaves``/``contractions``: {code: (name, {evidence array: rows per node})}."""
 
     def __init__(self, cert, d, roots_lo, roots_hi, leaves: dict, contractions: dict, evidence: dict, labels=None):
-        self.cert, self.leaves, self.contractions, self.d = cert, leaves, contractions, d
-        self.labels = labels or []
-        self.lo0 = np.asarray(roots_lo, float).reshape(-1, d)
-        self.hi0 = np.asarray(roots_hi, float).reshape(-1, d)
-        self.kind = cert.array("tree.kind", ("<u1",))
-        self.code = cert.array("tree.code", ("<u1",))
+        self.cert, self.leaves, self.contractions, self.d, self.shapes = cert, leaves, contractions, d, evidence
+        self.labels, self.segments, self.segment = labels or [], cert.header.get("segments", 1), 0
+        self.lo0, self.hi0 = (np.asarray(b, float).reshape(-1, d) for b in (roots_lo, roots_hi))
+        self._load("")
+
+    def _load(self, prefix):
+        """The arrays of one segment (``prefix``: ``segment<k>/`` for k >= 1)."""
+        cert, t = self.cert, prefix + "tree"
+        self.t = t
+        self.kind, self.code = cert.array(t + ".kind", ("<u1",)), cert.array(t + ".code", ("<u1",))
         if self.kind.ndim != 1 or self.code.shape != self.kind.shape:
-            raise Rejected("tree: tree.kind and tree.code must be two arrays of one length")
-        bad = np.nonzero(self.kind > LEAF)[0]
-        if len(bad):
-            raise Rejected(f"tree: node {bad[0]}: unknown kind {self.kind[bad[0]]}")
-        rows = {name: np.zeros(len(self.kind), np.int64) for name in evidence}
+            raise Rejected(f"{t}: {t}.kind and {t}.code must be two arrays of one length")
+        for i in np.nonzero(self.kind > CONTINUED)[0][:1]:
+            raise Rejected(f"{t}: node {i}: unknown kind {self.kind[i]}")
+        rows = {name: np.zeros(len(self.kind), np.int64) for name in self.shapes}
         rows["tree.cut"] = (self.kind == CUT).astype(np.int64)
         rows["tree.box"] = (self.kind == CONTRACT).astype(np.int64)
-        for kind, table in ((LEAF, leaves), (CONTRACT, contractions)):
+        for kind, table in ((LEAF, self.leaves), (CONTRACT, self.contractions)):
             mine = self.kind == kind
             unknown = mine & ~np.isin(self.code, list(table))
-            if unknown.any():
-                i = np.nonzero(unknown)[0][0]
-                what = "leaf rule" if kind == LEAF else "contraction rule"
-                raise Rejected(f"tree: node {i}: unknown {what} code {self.code[i]}")
+            for i in np.nonzero(unknown)[0][:1]:
+                raise Rejected(f"{t}: node {i}: unknown {'leaf' if kind == LEAF else 'contraction'} rule code {self.code[i]}")
             for c, (_, uses) in table.items():
                 for name, k in uses.items():
                     rows[name][mine & (self.code == c)] += k
         self.offset, self.evidence = {}, {}
-        shapes = {"tree.cut": ((), ("<f8",)), "tree.box": ((self.d, 2), ("<u8",)), **evidence}
+        shapes = {"tree.cut": ((), ("<f8",)), "tree.box": ((self.d, 2), ("<u8",)), **self.shapes}
         for name, per_node in rows.items():
-            total = int(per_node.sum())
-            tail, dtypes = shapes[name]
-            arr = cert.array(name, dtypes, tail) if total or cert.has(name) else np.zeros((0,) + tuple(tail))
+            total, (tail, dtypes) = int(per_node.sum()), shapes[name]
+            arr = cert.array(prefix + name, dtypes, tail) if total or cert.has(prefix + name) else np.zeros((0,) + tail)
             if len(arr) != total:
-                raise Rejected(f"tree: {name} has {len(arr)} rows, the nodes use {total}")
+                raise Rejected(f"{t}: {prefix + name} has {len(arr)} rows, the nodes use {total}")
             self.evidence[name] = arr
             self.offset[name] = np.concatenate([[0], np.cumsum(per_node)])
         self.nodes = len(self.kind)
 
     def at(self, node, root):
-        """'claims[k].tree: node i' for messages."""
+        """'claims[k].tree: node i' (of segment s) for messages."""
         label = self.labels[root] if root < len(self.labels) else "tree"
-        return f"{label}: node {node}"
+        return f"{label}: node {node}" + (f" of segment {self.segment}" if self.segment else "")
 
     def rows(self, name, ids, k=0):
         """Row k of evidence ``name`` of each node ``ids``."""
@@ -82,20 +79,37 @@ class Forest:
 
     def walk(self, visit, progress=None):
         """Call ``visit(kind, code, ids, lo, hi, claim, child)`` on batches of leaves (child None) and
-        contractions (child = (lo, hi) of the child boxes), grouped by rule."""
+        contractions (child = (lo, hi) of the child boxes), grouped by rule; segment by segment, the
+        continued leaves of one being the roots of the next (ids: node numbers in the segment)."""
         lo, hi, claim = self.lo0, self.hi0, np.arange(len(self.lo0))
-        start, pending, size, level = 0, {}, 0, 0
+        for s in range(self.segments):
+            if s:                                # the previous segment's arrays are dropped, this one's read
+                self.cert.forget(("tree.", "segment"))
+                self.segment, want = s, np.stack([lo, hi], -1)
+                self._load(f"segment{s}/")
+                roots = self.cert.array(self.t + ".roots", ("<f8",), (self.d, 2))
+                differ = np.nonzero(np.any(roots != want, axis=(1, 2)))[0] if roots.shape == want.shape else [0]
+                if len(differ):
+                    raise Rejected(f"{self.t}.roots: root {differ[0]} is not continued leaf {differ[0]} of segment "
+                                   f"{s - 1} ({len(roots)} roots, {len(lo)} continued leaves)")
+            lo, hi, claim = self._walk(visit, progress, lo, hi, claim)
+            if (len(lo) > 0) != (s + 1 < self.segments):
+                raise Rejected(f"segment {s}: {len(lo)} continued leaves, {self.segments - s - 1} segments follow")
+
+    def _walk(self, visit, progress, lo, hi, claim):
+        """One segment from the roots ``lo``, ``hi``; returns its continued leaves in order."""
+        start, pending, size, level, cont = 0, {}, 0, 0, []
         while len(lo):
             m = len(lo)
             if start + m > self.nodes:
-                raise Rejected(f"tree: level {level} needs {m} nodes, only {self.nodes - start} are left")
+                raise Rejected(f"{self.t}: level {level} needs {m} nodes, only {self.nodes - start} are left")
             ids = np.arange(start, start + m)
             kind, code = self.kind[ids], self.code[ids]
             split = kind <= CUT
-            if np.any(split & (code >= self.d)):
-                i = np.nonzero(split & (code >= self.d))[0][0]
+            for i in np.nonzero(split & (code >= self.d))[0][:1]:
                 raise Rejected(f"{self.at(ids[i], claim[i])}: split dimension {code[i]} (the boxes have {self.d})")
             nkids = np.where(split, 2, np.where(kind == CONTRACT, 1, 0))
+            cont.append((lo[kind == CONTINUED], hi[kind == CONTINUED], claim[kind == CONTINUED]))
             first = np.concatenate([[0], np.cumsum(nkids)])[:-1]
             new_lo = np.empty((int(nkids.sum()), self.d))
             new_hi = np.empty_like(new_lo)
@@ -106,31 +120,25 @@ class Forest:
                 at = a + SPLIT_RATIO * (b - a)
                 cut = kind[s] == CUT
                 at[cut] = self.rows("tree.cut", ids[s][cut])
-                bad = ~((a < at) & (at < b))
-                if bad.any():
-                    i = np.nonzero(bad)[0][0]
+                for i in np.nonzero(~((a < at) & (at < b)))[0][:1]:
                     raise Rejected(f"{self.at(ids[s][i], claim[s][i])}: split point {float(at[i])!r} not strictly "
                                    f"inside [{float(a[i])!r}, {float(b[i])!r}] on dimension {dim[i]}")
-                new_lo[first[s]], new_hi[first[s]] = lo[s], hi[s]
-                new_hi[first[s], dim] = at
-                new_lo[first[s] + 1], new_hi[first[s] + 1] = lo[s], hi[s]
-                new_lo[first[s] + 1, dim] = at
+                new_lo[first[s]], new_hi[first[s]], new_lo[first[s] + 1], new_hi[first[s] + 1] = lo[s], hi[s], lo[s], hi[s]
+                new_hi[first[s], dim] = new_lo[first[s] + 1, dim] = at
             c = np.nonzero(kind == CONTRACT)[0]
             if len(c):
                 box = self.rows("tree.box", ids[c])            # the child's bits XOR the parent's
                 box = (np.ascontiguousarray(np.stack([lo[c], hi[c]], -1)).view(np.uint64) ^ box).view(np.float64)
                 clo, chi = box[..., 0], box[..., 1]
-                bad = ~np.all((lo[c] <= clo) & (clo <= chi) & (chi <= hi[c]), axis=1)
-                if bad.any():
-                    i = np.nonzero(bad)[0][0]
+                for i in np.nonzero(~np.all((lo[c] <= clo) & (clo <= chi) & (chi <= hi[c]), axis=1))[0][:1]:
                     raise Rejected(f"{self.at(ids[c][i], claim[c][i])}: contracted box not inside its parent")
                 new_lo[first[c]], new_hi[first[c]] = clo, chi
             for kd in (CONTRACT, LEAF):
                 mine = kind == kd
                 for cd in np.unique(code[mine]):
                     sel = np.nonzero(mine & (code == cd))[0]
-                    child = (new_lo[first[sel]], new_hi[first[sel]]) if kd == CONTRACT else None
-                    pending.setdefault((kd, int(cd)), []).append((ids[sel], lo[sel], hi[sel], claim[sel], child))
+                    kids = (new_lo[first[sel]], new_hi[first[sel]]) if kd == CONTRACT else ()
+                    pending.setdefault((kd, int(cd)), []).append((ids[sel], lo[sel], hi[sel], claim[sel]) + kids)
                     size += len(sel)
             if size >= BATCH:
                 self._flush(pending, visit)
@@ -141,23 +149,21 @@ class Forest:
                 progress(start, self.nodes)
         self._flush(pending, visit)
         if start != self.nodes:
-            raise Rejected(f"tree: {self.nodes - start} nodes after the last level belong to no box")
+            raise Rejected(f"{self.t}: {self.nodes - start} nodes after the last level belong to no box")
+        return [np.concatenate([c[k] for c in cont] or [empty]) for k, empty in enumerate((self.lo0[:0],) * 2 + (claim,))]
 
     @staticmethod
     def _flush(pending, visit):
         for (kd, cd), parts in pending.items():
             cat = lambda k: np.concatenate([p[k] for p in parts])  # noqa: E731
-            child = None if kd == LEAF else (np.concatenate([p[4][0] for p in parts]),
-                                             np.concatenate([p[4][1] for p in parts]))
-            visit(kd, cd, cat(0), cat(1), cat(2), cat(3), child)
+            visit(kd, cd, cat(0), cat(1), cat(2), cat(3), (cat(4), cat(5)) if kd == CONTRACT else None)
 
 
 def read_box(value, d, where):
     """A box of the header: ``d`` pairs [lo, hi] of exact finite floats, lo <= hi; returns (lo, hi) arrays."""
     if not isinstance(value, list) or len(value) != d or not all(isinstance(p, list) and len(p) == 2 for p in value):
         raise Rejected(f"{where}: expected {d} intervals [lo, hi]")
-    lo = np.array([real(a, where) for a, _ in value])
-    hi = np.array([real(b, where) for _, b in value])
+    lo, hi = (np.array([real(p[k], where) for p in value]) for k in (0, 1))
     if not np.all(lo <= hi):
         raise Rejected(f"{where}: lo > hi")
     return lo, hi

@@ -4,15 +4,21 @@ search tree with the evidence of each leaf and contraction (``proofs.fk`` re-che
 Leaves left in a cluster (``FKResult.clusters``: nothing proved there but the name) are
 ``in-cluster`` leaves; a length range ``"lo:hi"`` is written as ``length_ranges``.
 
+A search too large to keep whole streamed its tree in segments (``segments``): segment 0 holds the
+claims' roots, continued; the sink's segments follow, then the finished tree.
+
 Preconditioners that the checker rebuilds from its own enclosures (codes + 64: the Gauss-Seidel P
 and the C of emptiness and contraction steps) are not stored; the uniqueness proofs keep theirs.
 """
 from __future__ import annotations
 
+from collections import Counter
+
 import numpy as np
 
 from ..engine import CONTRACTED, EXCLUDED, PROVED, SPLIT, UNDECIDED
 from .forest import Forest, Rules
+from .segments import Roots, Segments, root_boxes
 from .writing import Array, Document, box_json, header, one, outward_boxes
 
 REBUILT = 64
@@ -120,14 +126,39 @@ def _rules(tree, proved, n, cluster_of=None):
                         "tree.star": ("<f8", (n, 2), boxes("star")), "tree.rootbox": ("<f8", (n, 2), boxes("root"))})
 
 
+def record_sink(n: int, reasons) -> Segments:
+    """The sink of an FK search that streams its tree (``n`` unknowns, the problem's ``reasons``).  The
+    search records no preconditioner that the certificate does not write: a C only for a proved leaf
+    (the checker rebuilds the others), a P only for an ``hc4`` contraction (it marks ``hc4-position``)."""
+    hc4 = reasons.index("hc4")
+
+    def kept(name, kind, reason):
+        return kind == PROVED if name == "C" else (kind == CONTRACTED) & (reason == hc4) if name == "P" else \
+            np.ones(len(kind), bool)
+    return Segments(n, lambda tree: _rules(tree, _Proved(n, {}), n), kept)
+
+
+def _streamed(results):
+    """The results with their trees whole or streamed: a search that forgot its excluded leaves runs
+    again, streamed; a streamed tree serves only when the list holds its results in the order of its
+    roots, all of them (segment 1's roots), and it is the only one (else that search runs again, kept
+    whole in memory)."""
+    results = [r.recorded() if r.recorded and r.tree is not None and not r.tree.complete_record else r for r in results]
+    streams = {id(r.tree): r.tree for r in results if r.tree is not None and r.tree.record_sink and not r.tracked}
+    tree = next(iter(streams.values())) if len(streams) == 1 else None
+    if tree is not None and [r.node for r in results if r.tree is tree] != list(range(tree.n_roots)):
+        tree = None
+    return [r.recorded(whole=True) if id(r.tree) in streams and tree is None else r for r in results], tree
+
+
 def fk_certificate(results) -> Document:
     """The certificate of one FKResult or a list of them (one claim per set of leg lengths)."""
     results = results if isinstance(results, (list, tuple)) else [results]
-    # a search too large to keep whole forgot its excluded leaves: the same query again, tree kept
-    results = [r if getattr(r, "recorded", None) is None else r.recorded() for r in results]
+    results, streamed = _streamed(results)
     r0 = results[0]
     n = r0.system.n
     claims, roots, regions, shared = [], [], [], {}
+    stream_roots = Roots(streamed.n_roots) if streamed is not None else None
     for r in results:                            # one rules object per engine tree shared by the results
         if r.tree is not None and not r.tracked:
             shared.setdefault(id(r.tree), []).append(r)
@@ -153,20 +184,29 @@ def fk_certificate(results) -> Document:
             claim["clusters"] = outward_boxes(np.array([c["box"].lo for c in r.clusters]).reshape(-1, n),
                                               np.array([c["box"].hi for c in r.clusters]).reshape(-1, n))
         claims.append(claim)
-        if r.tree is not None and not r.tracked:
+        if streamed is not None and r.tree is streamed:
+            roots.append((stream_roots, r.node, stream_roots.rules))
+        elif r.tree is not None and not r.tracked:
             roots.append((r.tree, r.node, rules[id(r.tree)]))
         else:
             leaf = _Leaf(dlo, dhi)
             proof = {"star": (dlo, dhi), "solution": 0, "twin": False, "C": r.track_C} if r.tracked else {"undecided": True}
             roots.append((leaf, 0, _rules(leaf, _Proved(n, {0: proof}), n)))
-    forest = Forest(roots, n)
+    forest, segments = Forest(roots, n), []
+    if streamed is not None:                     # the sink's segments, then the finished tree
+        sink, last = streamed.record_sink, Forest([(streamed, streamed.segment_roots, rules[id(streamed)])], n)
+        prefix = f"segment{len(sink.written) + 1}/"
+        segments = sink.arrays() + [root_boxes(streamed, streamed.segment_roots, n, prefix)] + last.arrays(prefix)
+        stream_roots.counts = sink.leaves + Counter(last.leaf_counts(0))
     _figures(claims, forest)
     R = np.stack([np.array([s["box"].lo for s in regions]).reshape(-1, n),
                   np.array([s["box"].hi for s in regions]).reshape(-1, n)], -1)
     C = np.array([np.asarray(s["C"], float) for s in regions]).reshape(-1, n, n)
     body = forest.arrays() + [Array("fk.region.box", "<f8", (n, 2), one(R)),      # X* = R: no fk.region.star
-                              Array("fk.region.box_C", "<f8", (n, n), one(C))]
-    hdr = header(r0.robot, "forward-kinematics", r0.system.model_name, unknowns=list(r0.system.unknowns), claims=claims)
+                              Array("fk.region.box_C", "<f8", (n, n), one(C))] + segments
+    more = {"segments": len(streamed.record_sink.written) + 2} if streamed is not None else {}
+    hdr = header(r0.robot, "forward-kinematics", r0.system.model_name, unknowns=list(r0.system.unknowns), claims=claims,
+                 **more)
     return Document(hdr, body)
 
 
@@ -179,18 +219,13 @@ def _lengths(texts) -> dict:
 
 
 def _figures(claims, forest):
-    """Per claim with a tree: the number of solutions, of regions, and of leaves by rule."""
+    """Per claim with a tree: the number of solutions, of regions, and of leaves by rule (a streamed
+    search's: counted over its segments)."""
     with_tree = iter([c for c in claims if c.get("tree")])
-    for part, ((tree, nodes, rules), levels) in enumerate(zip(forest.roots, forest.levels)):
-        ids = np.concatenate(levels)
-        codes = np.concatenate([seg[3] for seg in forest.segments if seg[0] == part]).astype(np.int64)
-        is_leaf = (tree.kind[ids] != CONTRACTED) & (tree.kind[ids] != SPLIT)
-        leaves, codes = ids[is_leaf], codes[is_leaf]
-        root = tree.root[leaves].astype(np.int64) if hasattr(tree, "root") else np.zeros(len(leaves), np.int64)
-        pairs, counts = np.unique(root * 256 + codes, return_counts=True)     # (root, rule) -> leaves
+    for part, (tree, nodes, rules) in enumerate(forest.roots):
         by_root = {}
-        for pair, k in zip(pairs.tolist(), counts.tolist()):
-            by_root.setdefault(pair // 256, {})[RULE_NAMES.get(pair % 256, str(pair % 256))] = k
+        for (root, code), k in sorted((getattr(tree, "counts", None) or forest.leaf_counts(part)).items()):
+            by_root.setdefault(root, {})[RULE_NAMES.get(code, str(code))] = k
         for node in nodes:                       # the leaves of each claim: those of its root
             claim = next(with_tree)
             counts = by_root.get(int(tree.root[node]) if hasattr(tree, "root") else 0, {})

@@ -7,7 +7,9 @@ children of level k, in order (a split's lower then upper part, a contraction's 
 level, chunk by chunk, straight from the engine's columns: the only extra memory is one array of
 node ids per level.  A split at the engine's default point (``SPLIT_RATIO``, evaluated as the
 engine does) is kind 0, any other cut kind 1 with its value in ``tree.cut``; a contraction's child
-box is stored as its bits XOR its parent's.
+box is stored as its bits XOR its parent's.  A tree may mark nodes *continued* (``tree.continued(ids)``:
+the nodes a search still held when it handed this segment over, ``certificates.segments``): kind 4,
+no children, no rule; their subtrees are the next segment's.
 """
 from __future__ import annotations
 
@@ -17,7 +19,7 @@ from ..engine import CONTRACTED, SPLIT
 from ..engine.search import SPLIT_RATIO
 from .writing import CHUNK, Array
 
-KIND_SPLIT, KIND_CUT, KIND_CONTRACT, KIND_LEAF = 0, 1, 2, 3
+KIND_SPLIT, KIND_CUT, KIND_CONTRACT, KIND_LEAF, KIND_CONTINUED = 0, 1, 2, 3, 4
 
 
 class Rules:
@@ -45,7 +47,8 @@ def levels(tree, roots) -> list:
 
 
 class Forest:
-    """The roots ``[(tree, node, rules)]`` of a certificate's trees; ``arrays()`` gives the body arrays.
+    """The roots ``[(tree, node or array of nodes, rules)]`` of a certificate's trees; ``arrays()`` gives
+    the body arrays.
 
     Consecutive roots of one engine tree with the same rules are walked together (one part): the
     breadth-first order over them is the forest's, and a level is a few numpy operations."""
@@ -54,30 +57,45 @@ class Forest:
         self.d, self.roots = d, []
         for tree, node, rules in roots:
             if self.roots and self.roots[-1][0] is tree and self.roots[-1][2] is rules:
-                self.roots[-1][1].append(node)
+                self.roots[-1][1].extend(np.atleast_1d(node).tolist())
             else:
-                self.roots.append((tree, [node], rules))
+                self.roots.append((tree, np.atleast_1d(node).tolist(), rules))
         self.levels = [levels(tree, nodes) for tree, nodes, _ in self.roots]
-        self.segments = []                       # (part, ids, kinds, codes) in breadth-first order
+        self.runs = []                       # (part, ids, kinds, codes) in breadth-first order
         for k in range(max((len(lv) for lv in self.levels), default=0)):
             for p, ((tree, _, rules), lv) in enumerate(zip(self.roots, self.levels)):
                 if k < len(lv):
                     seg = (p, lv[k], self._kind(tree, lv[k]), self._code(tree, rules, lv[k]))
-                    if self.segments and self.segments[-1][0] == p:     # one part: one segment for all levels
-                        last = self.segments.pop()
+                    if self.runs and self.runs[-1][0] == p:     # one part: one run for all levels
+                        last = self.runs.pop()
                         seg = (p, *(np.concatenate([a, b]) for a, b in zip(last[1:], seg[1:])))
-                    self.segments.append(seg)
+                    self.runs.append(seg)
 
     def _chunks(self):
         """(tree, rules, ids, kinds, codes) in breadth-first order over the forest, a chunk at a time."""
-        for p, ids, kinds, codes in self.segments:
+        for p, ids, kinds, codes in self.runs:
             tree, _, rules = self.roots[p]
             for a in range(0, len(ids), CHUNK):
                 yield tree, rules, ids[a:a + CHUNK], kinds[a:a + CHUNK], codes[a:a + CHUNK]
 
+    def continued(self) -> np.ndarray:
+        """The continued nodes in breadth-first order (node ids of the one part's tree)."""
+        return np.concatenate([ids[kinds == KIND_CONTINUED] for _, ids, kinds, _ in self.runs] or [[]]).astype(np.int64)
+
+    def leaf_counts(self, part) -> dict:
+        """{(engine root, rule code): leaves} of one part."""
+        tree = self.roots[part][0]
+        runs = [(ids[k == KIND_LEAF], c[k == KIND_LEAF]) for p, ids, k, c in self.runs if p == part]
+        ids = np.concatenate([r[0] for r in runs] or [[]]).astype(np.int64)
+        root = tree.root[ids].astype(np.int64) if hasattr(tree, "root") else np.zeros(len(ids), np.int64)
+        pairs, counts = np.unique(root * 256 + np.concatenate([r[1] for r in runs] or [[]]), return_counts=True)
+        return {(p // 256, p % 256): k for p, k in zip(pairs.tolist(), counts.tolist())}
+
     @staticmethod
     def _kind(tree, ids):
         kind = np.full(len(ids), KIND_LEAF, dtype=np.uint8)
+        if hasattr(tree, "continued"):
+            kind[tree.continued(ids)] = KIND_CONTINUED
         split = tree.kind[ids] == SPLIT
         s = ids[split]
         dim = tree.split_dim[s].astype(np.int64)
@@ -87,7 +105,9 @@ class Forest:
         return kind
 
     def _code(self, tree, rules, ids):
-        code = np.asarray(rules.code(tree, ids), dtype=np.uint8).copy()
+        code = np.zeros(len(ids), np.uint8)
+        ruled = ~tree.continued(ids) if hasattr(tree, "continued") else np.ones(len(ids), bool)
+        code[ruled] = rules.code(tree, ids[ruled])
         split = tree.kind[ids] == SPLIT
         code[split] = tree.split_dim[ids[split]]
         return code
@@ -105,18 +125,20 @@ class Forest:
             yield kid.view(np.uint64) ^ parent.view(np.uint64)
 
     def _evidence(self, name):
-        for tree, rules, ids, _, code in self._chunks():
+        for tree, rules, ids, kind, code in self._chunks():
             if name in rules.rows:
-                yield rules.rows[name][2](tree, ids, code)
+                ruled = kind != KIND_CONTINUED
+                yield rules.rows[name][2](tree, ids[ruled], code[ruled])
 
-    def arrays(self) -> list:
+    def arrays(self, prefix: str = "") -> list:
         names = {}
         for _, _, rules in self.roots:
             for name, (dtype, tail, _) in rules.rows.items():
                 names.setdefault(name, (dtype, tail))
-        out = [Array("tree.kind", "|u1", (), lambda: (c[3] for c in self._chunks())),
-               Array("tree.code", "|u1", (), lambda: (c[4] for c in self._chunks())),
-               Array("tree.cut", "<f8", (), self._cuts),
-               Array("tree.box", "<u8", (self.d, 2), self._boxes)]
-        out += [Array(name, dtype, tail, lambda name=name: self._evidence(name)) for name, (dtype, tail) in names.items()]
+        out = [Array(prefix + "tree.kind", "|u1", (), lambda: (c[3] for c in self._chunks())),
+               Array(prefix + "tree.code", "|u1", (), lambda: (c[4] for c in self._chunks())),
+               Array(prefix + "tree.cut", "<f8", (), self._cuts),
+               Array(prefix + "tree.box", "<u8", (self.d, 2), self._boxes)]
+        out += [Array(prefix + name, dtype, tail, lambda name=name: self._evidence(name))
+                for name, (dtype, tail) in names.items()]
         return out

@@ -100,7 +100,8 @@ SINGULARITY = dict(max_boxes=200_000, max_seconds=60.0, min_width=1e-7)
 LARGEST_FREE_BOX = dict(max_boxes=20_000, max_seconds=60.0, min_width=1e-7)   # boxes: each box tried by the bisection on s
 FORWARD_KINEMATICS = dict(max_boxes=4_000_000, max_seconds=300.0, min_width=1e-10)
 FK_RECORD_NODES = 2_000_000                 # beyond this many tree nodes an FK search keeps only what its answer
-                                            # needs (``engine.search`` record_limit): a certificate runs it again
+                                            # needs (``engine.search`` record_limit); writing a certificate, it
+                                            # hands the rest to temporary files (``certificates.segments``)
 FK_BOXES_PER_INSTANCE = 20_000              # a batch of M instances may decide max(max_boxes, this × M) boxes
 TRAJECTORY = dict(max_boxes=200_000, max_seconds=60.0, min_width=1e-9)
 PLAN = dict(max_boxes=50_000, max_seconds=120.0, min_width=1e-9)              # boxes: each batch of segments verified

@@ -87,7 +87,7 @@ def choose_split(lo, hi, scale):
 
 def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int = 4096,
            progress=None, min_batch: int = 256, max_rounds: int | None = None,
-           initial_splits: int = 0, record_limit: int | None = None) -> SearchResult:
+           initial_splits: int = 0, record_limit: int | None = None, record_sink=None) -> SearchResult:
     """Branch and bound from the boxes ``[lo, hi]`` (arrays (M, d), one per root).
 
     ``progress(processed_boxes, frontier_size)`` is called after each batch.
@@ -99,7 +99,11 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     ``record_limit``: once the tree holds more nodes than this, it stops being a full record:
     excluded leaves and inner nodes are forgotten (``Store.compact``), only open, proved and
     undecided nodes are kept, and ``Tree.complete_record`` is false (the answer is the same; a
-    certificate needs the search run again with no limit).  Memory then stays bounded.
+    certificate needs the search run again, with a sink or no limit).  Memory then stays bounded.
+    ``record_sink(tree, roots)``: at each compaction, writes the segment of the record (a ``Tree`` view)
+    at ``roots`` and returns its *continued* leaves (the nodes still held) in its order: the next
+    segment's roots.  The tree returned is the last segment (``tree.segment_roots``, ``tree.record_sink``).
+    ``record_sink.kept(name, kind, reason)``, if any: which evidence rows are recorded at all.
     """
     budget = budget or Budget()
     lo = np.atleast_2d(np.asarray(lo, dtype=np.float64))
@@ -108,10 +112,9 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     if scale is None:
         scale = np.where(hi[0] > lo[0], hi[0] - lo[0], 1.0)
     scale = np.asarray(scale, dtype=np.float64)
-    store = Store(d, max(1024, 4 * m), m)
-    compacted = False
-    evidence = Evidence()
-    roots = store.add(lo, hi, np.arange(m), np.full(m, -1))
+    store, compacted = Store(d, max(1024, 4 * m), m), False
+    evidence = _evidence(store, record_sink)
+    roots = segment = store.add(lo, hi, np.arange(m), np.full(m, -1))
     frontier = [roots[::-1]]                # a stack of id arrays; the end is processed first
     if initial_splits > 0:
         wide = np.max((hi - lo) / scale, axis=1) > budget.min_width * 2.0 ** initial_splits
@@ -172,14 +175,15 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
             if len(new):
                 frontier.append(new[::-1])
         if record_limit is not None and store.n > record_limit:
-            frontier, compacted = _compact(store, evidence, frontier), True
+            (frontier, segment), compacted = _compact(store, evidence, frontier, segment, record_sink, problem), True
         if progress:
             progress(processed, sum(len(f) for f in frontier))
     for ids in frontier:
         store.kind[ids] = UNDECIDED
         store.reason[ids] = INTERRUPTED if interrupt.requested() else BUDGET
     ev, rows = evidence.finish(store.n)
-    tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows, complete_record=not compacted)
+    tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows, complete_record=not compacted or bool(record_sink))
+    tree.segment_roots, tree.record_sink = (segment, record_sink) if compacted and record_sink else (None, None)
     return SearchResult(tree, processed, time.perf_counter() - t0, exhausted)
 
 
@@ -206,15 +210,28 @@ def _contractions(store, evidence, dec, ids, blo, bhi):
     return ids, blo, bhi
 
 
-def _compact(store, evidence, frontier):
-    """Forget the excluded leaves and inner nodes; returns the frontier with the new ids."""
+def _evidence(store, sink) -> Evidence:
+    """The search's evidence record: every row, or those ``sink.kept(name, kind, reason)`` keeps."""
+    kept = getattr(sink, "kept", None)
+    return Evidence(kept and (lambda name, ids: kept(name, store.kind[ids], store.reason[ids])))
+
+
+def _compact(store, evidence, frontier, segment, sink, problem):
+    """Forget the excluded leaves and inner nodes (after handing them to ``sink``, if any); returns
+    the frontier and the roots of the next segment (``sink``'s continued leaves) with the new ids."""
     kind = store.kind[:store.n]
     keep = np.zeros(store.n, dtype=bool)
     keep[(kind == PROVED) | (kind == UNDECIDED)] = True
     for ids in frontier:
         keep[ids] = True
+    if sink:
+        segment = np.asarray(sink(Tree.view(store, getattr(problem, "reasons", ()), evidence), segment), np.int64)
+        held = np.zeros(store.n, dtype=bool)
+        held[segment] = True
+        if len(segment) != keep.sum() or np.any(held != keep):
+            raise RuntimeError("record sink: its continued leaves are not the nodes the search holds")
     new = store.compact(np.nonzero(keep)[0], evidence)
-    return [new[ids] for ids in frontier]
+    return [new[ids] for ids in frontier], new[segment] if sink else segment
 
 
 def _memory(store, evidence) -> int:

@@ -102,14 +102,19 @@ class Evidence:
     ``add(node_ids, evidence, positions)``: node ``node_ids[k]`` was box
     ``positions[k]`` of the batch.  ``evidence[name]`` is either an array
     with one row per box of the batch, or a pair ``(mask, rows)`` with rows
-    only for the boxes where ``mask`` is true.
+    only for the boxes where ``mask`` is true.  ``kept(name, ids)``, if given, says which of those
+    rows are recorded at all (the others are dropped).
     """
 
-    def __init__(self):
+    def __init__(self, kept=None):
         self.parts: dict[str, list] = {}    # name -> [(node ids, rows)]
         self.nbytes = 0                     # bytes held by the parts
+        self.kept = kept
 
     def _append(self, name, ids, rows):
+        if self.kept is not None:
+            mine = self.kept(name, ids)
+            ids, rows = ids[mine], rows[mine]
         self.parts.setdefault(name, []).append((ids, rows))
         self.nbytes += ids.nbytes + rows.nbytes
 
@@ -124,18 +129,33 @@ class Evidence:
             else:
                 self._append(name, np.asarray(node_ids), np.asarray(value)[positions])
 
+    def index(self, name, n_nodes):
+        """Per node, its row of evidence ``name`` in the order of the parts (−1: none)."""
+        index, first = np.full(n_nodes, -1, dtype=np.int32 if n_nodes < 2 ** 31 else np.int64), 0
+        for ids, r in self.parts.get(name, []):
+            index[ids] = np.arange(first, first + len(r))
+            first += len(r)
+        return index
+
     def finish(self, n_nodes):
         values, rows = {}, {}
         for name in list(self.parts):
-            parts = self.parts.pop(name)           # freed as we go: evidence is not held twice
-            values[name] = np.concatenate([r for _, r in parts])
-            index = np.full(n_nodes, -1, dtype=np.int32 if len(values[name]) < 2 ** 31 else np.int64)
-            first = 0
-            for ids, r in parts:
-                index[ids] = np.arange(first, first + len(r))
-                first += len(r)
-            rows[name] = index
+            values[name] = np.concatenate([r for _, r in self.parts[name]])
+            rows[name] = self.index(name, n_nodes)
+            del self.parts[name]                   # freed as we go: evidence is not held twice
         return values, rows
+
+
+class _Gathered(dict):
+    """Evidence arrays concatenated from ``Evidence`` parts on first use."""
+
+    def __init__(self, evidence):
+        super().__init__()
+        self.parts = evidence.parts
+
+    def __missing__(self, name):
+        self[name] = np.concatenate([r for _, r in self.parts[name]])
+        return self[name]
 
 
 class Tree:
@@ -162,6 +182,14 @@ class Tree:
         self.reasons = tuple(reasons)
         self.evidence = evidence
         self.evidence_rows = evidence_rows
+
+    @classmethod
+    def view(cls, store: Store, reasons, evidence: Evidence) -> "Tree":
+        """The record as it stands (columns shared with ``store``, valid until it changes); an evidence
+        array is gathered from the parts only when read (``evidence_values``)."""
+        tree = cls(store, len(store.forgotten), reasons, _Gathered(evidence), {})
+        tree.evidence_rows = {name: evidence.index(name, store.n) for name in evidence.parts}
+        return tree
 
     def nodes_per_root(self) -> np.ndarray:
         """How many nodes each root's search made (kept or forgotten)."""

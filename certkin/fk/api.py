@@ -22,6 +22,7 @@ import numpy as np
 from intervals import Interval, sqr
 
 from ..engine import PROVED, RESOLUTION, UNDECIDED, Budget, budgets
+from ..certificates.fk import record_sink
 from ..engine.budgets import make_budget
 from ..robots import as_robot
 from ..robots.poses import length_enclosures, parse_box
@@ -33,7 +34,8 @@ from .tracking import track_one, track_rows
 
 
 def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None, track=None, *,
-                       max_boxes=None, max_seconds=None, min_width=None, max_memory=None, record: bool = False):
+                       max_boxes=None, max_seconds=None, min_width=None, max_memory=None, record: bool | str = False,
+                       record_limit: int | None = None):
     """All real FK postures for the leg lengths ``lengths``.
 
     ``robot``: a robot or a robot file's path.  The budget: ``budget`` or the keywords
@@ -47,8 +49,10 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     sequence, tracked one after another from ``track`` (``track_sequence``).
     Each solution is proved unique in its box; ``complete`` means the rest of
     the domain is proved empty.  ``record``: keep the whole search tree however large (for a
-    certificate); by default a search past ``budgets.FK_RECORD_NODES`` nodes forgets its excluded
-    leaves and ``result.certificate()`` runs it again with ``record``.
+    certificate): a search past ``record_limit`` nodes (default ``budgets.FK_RECORD_NODES``) hands
+    each closed part to a temporary file (``certificates.segments``), or keeps it in memory with
+    ``record="whole"``; without ``record`` it forgets its excluded leaves and ``fk_certificate``
+    runs it again with ``record``.
     """
     robot = as_robot(robot)
     keywords = dict(max_boxes=max_boxes, max_seconds=max_seconds, min_width=min_width, max_memory=max_memory)
@@ -72,13 +76,15 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     feasible = np.all(lo <= hi, axis=1)
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
+    limit = None if record == "whole" else budgets.FK_RECORD_NODES if record_limit is None else record_limit
     res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], budget, progress,
-                           None if record else budgets.FK_RECORD_NODES) if len(idx) else None
+                           limit, record_sink(system.n, FKProblem.reasons) if record and limit is not None else None) if len(idx) else None
     out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter)
+    again = {}
     for k, r in enumerate(out):
         r.user_domain = domain is not None
-        if res is not None and not res.tree.complete_record:    # a certificate needs the search again
-            r.recorded = lambda k=k: _again(robot, lengths, domain, budget, k)
+        if res is not None and (not res.tree.complete_record or res.tree.record_sink):   # for a certificate
+            r.recorded = lambda whole=False, k=k: _again(robot, lengths, domain, budget, record_limit, k, whole, again)
     seconds = time.perf_counter() - t0
     for r in out:
         r.seconds = seconds / M
@@ -88,9 +94,12 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     return out
 
 
-def _again(robot, lengths, domain, budget, k):
-    """The k-th result of the same query, its search tree kept whole."""
-    out = forward_kinematics(robot, lengths, domain=domain, budget=budget, record=True)
+def _again(robot, lengths, domain, budget, record_limit, k, whole, cache):
+    """The k-th result of the same query, its search tree streamed (or kept ``whole``), searched once."""
+    if whole not in cache:
+        cache[whole] = forward_kinematics(robot, lengths, domain=domain, budget=budget, record="whole" if whole else True,
+                                          record_limit=record_limit)
+    out = cache[whole]
     return out[k] if isinstance(out, list) else out
 
 

@@ -66,7 +66,7 @@ HC4_AGAIN = 0.2          # contracted, when it shrank a side by this fraction or
 SPREAD_INFLATE = 2.0     # uncertain lengths: ε-inflation once every side is within this times the root's spread
 
 
-def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None, record_limit=None):
+def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None, record_limit=None, record_sink=None):
     """One engine search over the domains [lo, hi] (M, n) of M instances, squared leg lengths L
     (M, legs): the engine's ``SearchResult`` (its tree holds one root per instance).
 
@@ -89,7 +89,7 @@ def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None,
         scale[system.n_pos:] = 2.0
     problem = FKProblem(system, L, scale, slopes=system.kind != "planar-3rpr")
     return search(problem, lo, hi, scale=scale, budget=budget, batch=max(8192, 256 * len(lo)), progress=progress,
-                  initial_splits=INITIAL_SPLITS, record_limit=record_limit)
+                  initial_splits=INITIAL_SPLITS, record_limit=record_limit, record_sink=record_sink)
 
 
 class _Batch:
