@@ -46,6 +46,7 @@ DROT = {(0, 0): ((-2, 1, 3), (2, 2, 2)), (0, 1): ((2, 1, 2), (2, 2, 3)), (0, 2):
 HC4_OFF_DIAGONAL = (((0, 1), (1, 2), (0, 3), -1), ((1, 0), (1, 2), (0, 3), 1), ((0, 2), (1, 3), (0, 2), 1),
                     ((2, 0), (1, 3), (0, 2), -1), ((1, 2), (2, 3), (0, 1), -1), ((2, 1), (2, 3), (0, 1), 1))
 HC4_DIAGONAL = ((0, 2, 3), (1, 1, 3), (2, 1, 2))
+PAIR_ROUNDS = 2     # HC4 step 3, Gough-Stewart: rounds of the leg pairs
 
 
 def mid(lo, hi):
@@ -71,6 +72,7 @@ class System:
         self.b = [stack([pt[k] for pt in b]) for k in range(self.dim)]
         self.na2 = _sum([v.sqr() for v in self.a])
         self.nb2 = _sum([v.sqr() for v in self.b])
+        self.db, self.da = ([v[:, None] - v[None, :] for v in pts] for pts in (self.b, self.a))   # (legs, legs)
         if self.planar:          # d(R b)_k/d(c, s): constants
             self.dconst = {(0, 0): self.b[0], (0, 1): -self.b[1], (1, 0): self.b[1], (1, 1): self.b[0]}
 
@@ -206,13 +208,20 @@ class System:
         u = self.rotated(z, centre)
         R = self.rotation(z)
         e = self.e(z, u)
-        for i in range(self.legs):                              # 3. backward through each leg
-            s = [v[:, i].sqr() for v in e]
+
+        def legs(empty):                                        # 3. backward through each leg
+            s = [v.sqr() for v in e]
             for k in range(dim):
-                col = _root(e[k][:, i], L[:, i] - _sum([s[j] for j in range(dim) if j != k]))
-                empty |= col.empty()
-                e[k][:, i] = col
-                s[k] = col.sqr()
+                e[k] = _root(e[k], L - _sum([s[j] for j in range(dim) if j != k]))
+                s[k], empty = e[k].sqr(), empty | e[k].empty().any(1)
+            return empty
+        empty = legs(empty)
+        for _ in range(PAIR_ROUNDS if p and not self.planar else 0):   # leg pairs, then each leg again
+            for k in range(dim):                                # e_i ∩ (e_j + (R (b_i − b_j) − (a_i − a_j)))
+                c = e[k][:, None, :] + (_sum([R[k][m][:, None, None] * self.db[m] for m in range(dim)]) - self.da[k])
+                e[k] = e[k].meet(Iv(c.lo.max(2), c.hi.min(2)))
+                empty |= e[k].empty().any(1)
+            empty = legs(empty)
         for k in range(p):                                      # 4. the position
             for i in range(self.legs):
                 z[k] = z[k].meet((e[k][:, i] - u[k][:, i]) + self.a[k][i])

@@ -13,6 +13,11 @@ operations in mpmath interval arithmetic, so it finds a box inside ours):
    e_i = (u_i − a_i) + p;
 3. leg equation i, for coordinates k = 1..dim in turn:
    e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²);
+   then, for a Gough-Stewart robot, ``PAIR_ROUNDS`` times: the leg pairs, every leg i from the
+   e of the step before, e_i ← e_i ∩ ⋂_j (e_j + (R (b_i − b_j) − (a_i − a_j))) (e_i − e_j does not
+   hold p: a relation on the rotation alone, and R (b_i − b_j) is enclosed far tighter than
+   R b_i − R b_j), R (b_i − b_j) = Σ_m R_km (b_i − b_j)_m with the R of step 2, m increasing; then
+   each leg equation again, as above;
 4. position: p_k ← p_k ∩ ⋂_i ((e_ik − u_ik) + a_ik);
 5. u_ik ← u_ik ∩ ((e_ik − p_k) + a_ik)   (no p for the spherical robot);
 6. entries of R, all from the R of step 2: for every leg i and column j with
@@ -50,6 +55,9 @@ from .kernels import TABLES, hc4_quaternion
 from .rotation import DIAGONAL, OFF_DIAGONAL, from_midrad   # R(q)'s entries as products of q's
 
 
+PAIR_ROUNDS = 2     # rounds of the leg-pair step (step 3) for a Gough-Stewart robot
+
+
 def root(x: Interval, t: Interval) -> Interval:
     """hull(x ∩ {y : y² ∈ t}); empty (lo > hi) where there is no such y.
 
@@ -84,6 +92,42 @@ def _inverse(system) -> Interval:
         one = np.ones(b.shape)
         return div(Interval.from_bounds(one, one), Interval.from_bounds(np.where(ok, b.lo, 1.0), np.where(ok, b.hi, 1.0)))
     return system.memo("hc4_inverse", build)
+
+
+def _differences(system) -> tuple[Interval, Interval]:
+    """Enclosures of b_i − b_j and a_i − a_j, (legs, legs, dim) each (step 3's leg pairs)."""
+    b, a = system.b, system.a
+    return b[:, None, :] - b[None, :, :], a[:, None, :] - a[None, :, :]
+
+
+def _legs(e: Interval, L: Interval, empty):
+    """Step 3: e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²), k in turn, for every leg; returns the new empty mask."""
+    dim = e.shape[-1]
+    s = sqr(e)
+    for k in range(dim):
+        others = None
+        for kk in range(dim):
+            if kk != k:
+                others = s[..., kk] if others is None else others + s[..., kk]
+        ek = root(e[..., k], L - others)
+        e[..., k] = ek
+        s[..., k] = sqr(ek)
+        empty = empty | np.any(ek.lo > ek.hi, axis=1)
+    return empty
+
+
+def _pairs(system, R: Interval, e: Interval, empty):
+    """Step 3, leg pairs: e_i ← e_i ∩ ⋂_j (e_j + (R (b_i − b_j) − (a_i − a_j))), from the e given;
+    R (b_i − b_j) as Σ_m R_km (b_i − b_j)_m, m increasing.  Returns (e, the new empty mask)."""
+    db, da = _differences(system)
+    d = None
+    for m in range(db.shape[-1]):   # (N, i, j, k)
+        t = R[:, None, None, :, m] * db[None, :, :, None, m]
+        d = t if d is None else d + t
+    cand = e[:, None, :, :] + (d - da[None])
+    lo = np.maximum(e.lo, np.max(cand.lo, axis=2))
+    hi = np.minimum(e.hi, np.min(cand.hi, axis=2))
+    return Interval.from_bounds(lo, hi), empty | np.any(lo > hi, axis=(1, 2))
 
 
 def _meet(x: Interval, y: Interval) -> Interval:
@@ -149,17 +193,12 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
         if p:
             e = e + X[:, None, :p]
         dim = e.shape[-1]
-        # 3. backward through each leg equation
-        s = sqr(e)
-        for k in range(dim):
-            others = None
-            for kk in range(dim):
-                if kk != k:
-                    others = s[..., kk] if others is None else others + s[..., kk]
-            ek = root(e[..., k], L - others)
-            e[..., k] = ek
-            s[..., k] = sqr(ek)
-            empty |= np.any(ek.lo > ek.hi, axis=1)
+        # 3. backward through each leg equation; then, for a position and a quaternion, the leg pairs
+        # and each leg equation again, PAIR_ROUNDS times
+        empty = _legs(e, L, empty)
+        for _ in range(PAIR_ROUNDS if p and quaternion else 0):
+            e, empty = _pairs(system, R, e, empty)
+            empty = _legs(e, L, empty)
         # 4. the position
         if p:
             for k in range(p):
@@ -251,12 +290,14 @@ def _hc4_native(system, lo, hi, L: Interval, keep: dict | None):
     def build():
         bm, inner, outer = system.b_midrad()
         b, inverse = system.b, _inverse(system)
+        db, da = _differences(system)
         return tuple(np.ascontiguousarray(v) for v in (
-            system.a.lo, system.a.hi, bm, inner, outer, (b.lo > 0) | (b.hi < 0), inverse.lo, inverse.hi))
+            system.a.lo, system.a.hi, bm, inner, outer, (b.lo > 0) | (b.hi < 0), inverse.lo, inverse.hi,
+            db.lo, db.hi, da.lo, da.hi))
     consts = system.memo("hc4_native_consts", build)
     f64 = np.ascontiguousarray
     return hc4_quaternion(lo, hi, f64(L.lo, dtype=np.float64), f64(L.hi, dtype=np.float64),
-                          f64(form[0]), f64(form[1]), *consts, system.n_pos, *TABLES)
+                          f64(form[0]), f64(form[1]), *consts, PAIR_ROUNDS, system.n_pos, *TABLES)
 
 
 def _hc4_planar(system, lo, hi, L: Interval):
