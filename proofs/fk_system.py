@@ -209,19 +209,18 @@ class System:
         R = self.rotation(z)
         e = self.e(z, u)
 
-        def legs(empty):                                        # 3. backward through each leg
-            s = [v.sqr() for v in e]
+        def legs(empty, i=slice(None)):                         # 3. backward through each leg (or leg i)
+            s = [v[:, i].sqr() for v in e]
             for k in range(dim):
-                e[k] = _root(e[k], L - _sum([s[j] for j in range(dim) if j != k]))
-                s[k], empty = e[k].sqr(), empty | e[k].empty().any(1)
+                e[k][:, i] = _root(e[k][:, i], L[:, i] - _sum([s[j] for j in range(dim) if j != k]))
+                s[k], empty = e[k][:, i].sqr(), empty | e[k][:, i].empty().any(1)
             return empty
         empty = legs(empty)
-        for _ in range(PAIR_ROUNDS if p and not self.planar else 0):   # leg pairs, then each leg again
-            for k in range(dim):                                # e_i ∩ (e_j + (R (b_i − b_j) − (a_i − a_j)))
-                c = e[k][:, None, :] + (_sum([R[k][m][:, None, None] * self.db[m] for m in range(dim)]) - self.da[k])
-                e[k] = e[k].meet(Iv(c.lo.max(2), c.hi.min(2)))
-                empty |= e[k].empty().any(1)
-            empty = legs(empty)
+        for i in list(range(self.legs)) * (PAIR_ROUNDS if p and not self.planar else 0):   # leg pairs, leg after leg:
+            for k in range(dim):                            # e_i ∩ (e_j + (R (b_i − b_j) − (a_i − a_j))), then its roots
+                c = e[k] + (_sum([R[k][m][:, None] * self.db[m][i] for m in range(dim)]) - self.da[k][i])
+                e[k][:, i] = e[k][:, i].meet(Iv(c.lo.max(1), c.hi.min(1)))
+            empty = legs(empty, slice(i, i + 1))
         for k in range(p):                                      # 4. the position
             for i in range(self.legs):
                 z[k] = z[k].meet((e[k][:, i] - u[k][:, i]) + self.a[k][i])

@@ -13,11 +13,11 @@ operations in mpmath interval arithmetic, so it finds a box inside ours):
    e_i = (u_i − a_i) + p;
 3. leg equation i, for coordinates k = 1..dim in turn:
    e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²);
-   then, for a Gough-Stewart robot, ``PAIR_ROUNDS`` times: the leg pairs, every leg i from the
-   e of the step before, e_i ← e_i ∩ ⋂_j (e_j + (R (b_i − b_j) − (a_i − a_j))) (e_i − e_j does not
-   hold p: a relation on the rotation alone, and R (b_i − b_j) is enclosed far tighter than
+   then, for a Gough-Stewart robot, ``PAIR_ROUNDS`` times, for leg i = 1..legs in turn: the leg
+   pairs e_i ← e_i ∩ ⋂_j (e_j + (R (b_i − b_j) − (a_i − a_j))) from the current e (e_i − e_j does
+   not hold p: a relation on the rotation alone, and R (b_i − b_j) is enclosed far tighter than
    R b_i − R b_j), R (b_i − b_j) = Σ_m R_km (b_i − b_j)_m with the R of step 2, m increasing; then
-   each leg equation again, as above;
+   leg i's equation again, as above;
 4. position: p_k ← p_k ∩ ⋂_i ((e_ik − u_ik) + a_ik);
 5. u_ik ← u_ik ∩ ((e_ik − p_k) + a_ik)   (no p for the spherical robot);
 6. entries of R, all from the R of step 2: for every leg i and column j with
@@ -116,18 +116,24 @@ def _legs(e: Interval, L: Interval, empty):
     return empty
 
 
-def _pairs(system, R: Interval, e: Interval, empty):
-    """Step 3, leg pairs: e_i ← e_i ∩ ⋂_j (e_j + (R (b_i − b_j) − (a_i − a_j))), from the e given;
-    R (b_i − b_j) as Σ_m R_km (b_i − b_j)_m, m increasing.  Returns (e, the new empty mask)."""
+def _pairs(system, R: Interval, e: Interval, L: Interval, empty):
+    """Step 3, leg pairs, leg after leg: e_i ← e_i ∩ ⋂_j (e_j + (R (b_i − b_j) − (a_i − a_j))) from the
+    current e, then leg i's roots (``_legs``); R (b_i − b_j) as Σ_m R_km (b_i − b_j)_m, m increasing.
+    Returns the new empty mask (e in place)."""
     db, da = _differences(system)
     d = None
     for m in range(db.shape[-1]):   # (N, i, j, k)
         t = R[:, None, None, :, m] * db[None, :, :, None, m]
         d = t if d is None else d + t
-    cand = e[:, None, :, :] + (d - da[None])
-    lo = np.maximum(e.lo, np.max(cand.lo, axis=2))
-    hi = np.minimum(e.hi, np.min(cand.hi, axis=2))
-    return Interval.from_bounds(lo, hi), empty | np.any(lo > hi, axis=(1, 2))
+    d = d - da[None]
+    for i in range(e.shape[1]):
+        cand = e + d[:, i]                               # (N, j, k): e_j + d_ij
+        e.lo[:, i] = np.maximum(e.lo[:, i], np.max(cand.lo, axis=1))
+        e.hi[:, i] = np.minimum(e.hi[:, i], np.min(cand.hi, axis=1))
+        leg = e[:, i:i + 1]
+        empty = _legs(leg, L[:, i:i + 1], empty)
+        e[:, i:i + 1] = leg
+    return empty
 
 
 def _meet(x: Interval, y: Interval) -> Interval:
@@ -197,8 +203,7 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
         # and each leg equation again, PAIR_ROUNDS times
         empty = _legs(e, L, empty)
         for _ in range(PAIR_ROUNDS if p and quaternion else 0):
-            e, empty = _pairs(system, R, e, empty)
-            empty = _legs(e, L, empty)
+            empty = _pairs(system, R, e, L, empty)
         # 4. the position
         if p:
             for k in range(p):

@@ -249,17 +249,16 @@ def _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):
 
 
 @njit(cache=True)
-def _legs(elo, ehi, Llo, Lhi, eslo, eshi):
-    """Step 3: e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²), k = 0, 1, 2, for each leg i; True if one is empty."""
+def _leg(elo, ehi, i, Llo, Lhi, eslo, eshi):
+    """Step 3 for leg i: e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²), k = 0, 1, 2; True if one is empty."""
     dead = False
-    for i in range(elo.shape[0]):
-        for k in range(3):
-            eslo[k], eshi[k] = sqr(elo[i, k], ehi[i, k])
-        for k in range(3):
-            olo, ohi = _sum_others(eslo, eshi, 0, 3, k)
-            elo[i, k], ehi[i, k] = _root(elo[i, k], ehi[i, k], down_sum(Llo[i] - ohi), up_sum(Lhi[i] - olo))
-            dead |= elo[i, k] > ehi[i, k]
-            eslo[k], eshi[k] = sqr(elo[i, k], ehi[i, k])
+    for k in range(3):
+        eslo[k], eshi[k] = sqr(elo[i, k], ehi[i, k])
+    for k in range(3):
+        olo, ohi = _sum_others(eslo, eshi, 0, 3, k)
+        elo[i, k], ehi[i, k] = _root(elo[i, k], ehi[i, k], down_sum(Llo[i] - ohi), up_sum(Lhi[i] - olo))
+        dead |= elo[i, k] > ehi[i, k]
+        eslo[k], eshi[k] = sqr(elo[i, k], ehi[i, k])
     return dead
 
 
@@ -281,11 +280,10 @@ def _pair_terms(Rlo, Rhi, dblo, dbhi, dalo, dahi, Dlo, Dhi):
 
 
 @njit(cache=True)
-def _pairs(elo, ehi, Dlo, Dhi, e2lo, e2hi):
-    """Step 3, leg pairs: e_i ← e_i ∩ ⋂_{j≠i} (e_j + d_ij) (``_pair_terms``), every e_j the one before this
-    step; True if one is empty."""
+def _pairs(elo, ehi, Dlo, Dhi, Llo, Lhi, eslo, eshi):
+    """Step 3, leg pairs, leg after leg: e_i ← e_i ∩ ⋂_{j≠i} (e_j + d_ij) (``_pair_terms``), then leg i's
+    roots (``_leg``); True if one is empty."""
     legs = elo.shape[0]
-    dead = False
     for i in range(legs):
         for k in range(3):
             vlo, vhi = elo[i, k], ehi[i, k]
@@ -293,11 +291,10 @@ def _pairs(elo, ehi, Dlo, Dhi, e2lo, e2hi):
                 if j != i:
                     vlo = max(vlo, down_sum(elo[j, k] + Dlo[i, j, k]))
                     vhi = min(vhi, up_sum(ehi[j, k] + Dhi[i, j, k]))
-            e2lo[i, k], e2hi[i, k] = vlo, vhi
-            dead |= vlo > vhi
-    elo[:, :] = e2lo
-    ehi[:, :] = e2hi
-    return dead
+            elo[i, k], ehi[i, k] = vlo, vhi
+        if _leg(elo, ehi, i, Llo, Lhi, eslo, eshi):
+            return True
+    return False
 
 
 @njit(cache=True)
@@ -334,8 +331,6 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
     Pr = np.empty((legs, 3, 3))
     elo = np.empty((legs, 3))
     ehi = np.empty((legs, 3))
-    e2lo = np.empty((legs, 3))
-    e2hi = np.empty((legs, 3))
     Dlo = np.empty((legs, legs, 3))
     Dhi = np.empty((legs, legs, 3))
     eslo = np.empty(3)
@@ -359,14 +354,16 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
         _rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr)           # 2.
         _rotated_points(box, zlo, zhi, p, Rm, Rr, bm, inner, outer, flo, fhi, alo, ahi, tm, te,
                         ulo, uhi, Pm, Pr, elo, ehi)
-        # 3. each leg equation, then (a position) the leg pairs and each leg equation again, ``rounds`` times
-        dead = _legs(elo, ehi, Llo[box], Lhi[box], eslo, eshi)
+        # 3. each leg equation, then (a position) ``rounds`` times the leg pairs, each leg's roots after its pairs
+        dead = False
+        for i in range(legs):
+            dead |= _leg(elo, ehi, i, Llo[box], Lhi[box], eslo, eshi)
         if p and rounds and not dead:
             _pair_terms(Rlo, Rhi, dblo, dbhi, dalo, dahi, Dlo, Dhi)
         for _ in range(rounds if p else 0):
             if dead:
                 break
-            dead = _pairs(elo, ehi, Dlo, Dhi, e2lo, e2hi) or _legs(elo, ehi, Llo[box], Lhi[box], eslo, eshi)
+            dead = _pairs(elo, ehi, Dlo, Dhi, Llo[box], Lhi[box], eslo, eshi)
         if dead:
             empty[box] = True
             continue
