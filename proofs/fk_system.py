@@ -99,9 +99,10 @@ class System:
         col = [Iv(v.lo[:, None], v.hi[:, None]) for v in y[self.p:]]
         return {kr: _sum([(self.b[j] * float(c)) * col[s] for c, j, s in terms]) for kr, terms in DROT.items()}
 
-    def rotated(self, z, centre=None):
+    def rotated(self, z, centre=None, parts=False):
         """R b_i over the boxes: natural ∩ centred form around the float midpoint c of ``centre``
-        (default: of z) with Y ∋ (x + c)/2 over z (a quaternion only; points stay natural)."""
+        (default: of z) with Y ∋ (x + c)/2 over z (a quaternion only; points stay natural); ``parts``:
+        also R b_i(c), the derivatives D over Y and the unknowns minus c."""
         rb = self.rotated_natural(z)
         if self.planar:
             return rb
@@ -109,14 +110,9 @@ class System:
         c = [mid(v.lo, v.hi) for v in src]
         rbc = self.rotated_natural([Iv(x) for x in c])
         D = self.drot([(v + x) * 0.5 for v, x in zip(z, c)])
-        out = []
-        for k in range(3):
-            acc = rbc[k]
-            for r in range(4):
-                d = z[self.p + r] - c[self.p + r]
-                acc = acc + D[k, r] * Iv(d.lo[:, None], d.hi[:, None])
-            out.append(rb[k].meet(acc))
-        return out
+        d = [z[self.p + r] - c[self.p + r] for r in range(4)]
+        out = [rb[k].meet(_sum([rbc[k]] + [D[k, r] * d[r][:, None] for r in range(4)])) for k in range(3)]
+        return (out, rbc, D, d) if parts else out
 
     # ----- equations, Jacobian, slopes ------------------------------------------------
     def e(self, z, rb):
@@ -205,7 +201,7 @@ class System:
             z[k] = _root(z[k], 1.0 - _sum([z[j].sqr() for j in range(p, n) if j != k]))
             empty |= z[k].empty()
         centre = [Iv(lo[:, k], hi[:, k]) for k in range(n)]     # 2. forward: R, u = R b_i, e
-        u = self.rotated(z, centre)
+        u, rbc, D, dq = self.rotated(z, centre, parts=True) if p and not self.planar else (self.rotated(z, centre),) * 4
         R = self.rotation(z)
         e = self.e(z, u)
 
@@ -217,8 +213,9 @@ class System:
             return empty
         empty = legs(empty)
         for i in list(range(self.legs)) * (PAIR_ROUNDS if p and not self.planar else 0):   # leg pairs, leg after leg:
-            for k in range(dim):                            # e_i ∩ (e_j + (R (b_i − b_j) − (a_i − a_j))), then its roots
-                c = e[k] + (_sum([R[k][m][:, None] * self.db[m][i] for m in range(dim)]) - self.da[k][i])
+            for k in range(dim):    # e_i ∩ (e_j + (R (b_i − b_j) − (a_i − a_j))), R (b_i − b_j) natural ∩ centred; roots
+                cen = _sum([rbc[k][:, i:i + 1] - rbc[k]] + [(D[k, r][:, i:i + 1] - D[k, r]) * dq[r][:, None] for r in range(4)])
+                c = e[k] + (_sum([R[k][m][:, None] * self.db[m][i] for m in range(dim)]).meet(cen) - self.da[k][i])
                 e[k][:, i] = e[k][:, i].meet(Iv(c.lo.max(1), c.hi.min(1)))
             empty = legs(empty, slice(i, i + 1))
         for k in range(p):                                      # 4. the position

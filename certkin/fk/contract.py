@@ -16,8 +16,9 @@ operations in mpmath interval arithmetic, so it finds a box inside ours):
    then, for a Gough-Stewart robot, ``PAIR_ROUNDS`` times, for leg i = 1..legs in turn: the leg
    pairs e_i ← e_i ∩ ⋂_j (e_j + (R (b_i − b_j) − (a_i − a_j))) from the current e (e_i − e_j does
    not hold p: a relation on the rotation alone, and R (b_i − b_j) is enclosed far tighter than
-   R b_i − R b_j), R (b_i − b_j) = Σ_m R_km (b_i − b_j)_m with the R of step 2, m increasing; then
-   leg i's equation again, as above;
+   R b_i − R b_j), R (b_i − b_j) = Σ_m R_km (b_i − b_j)_m with the R of step 2, m increasing, ∩ its
+   centred form over the given box (from the parts of R b_i's, step 2); then leg i's equation
+   again, as above;
 4. position: p_k ← p_k ∩ ⋂_i ((e_ik − u_ik) + a_ik);
 5. u_ik ← u_ik ∩ ((e_ik − p_k) + a_ik)   (no p for the spherical robot);
 6. entries of R, all from the R of step 2: for every leg i and column j with
@@ -49,7 +50,8 @@ import numpy as np
 
 from intervals import Interval, mul, sqr
 from intervals.interval import div
-from intervals.rounding import down, up
+from intervals.midrad import U, upper
+from intervals.rounding import down, up, up_sum
 
 from .kernels import TABLES, hc4_quaternion
 from .rotation import DIAGONAL, OFF_DIAGONAL, from_midrad   # R(q)'s entries as products of q's
@@ -116,16 +118,32 @@ def _legs(e: Interval, L: Interval, empty):
     return empty
 
 
-def _pairs(system, R: Interval, e: Interval, L: Interval, empty):
-    """Step 3, leg pairs, leg after leg: e_i ← e_i ∩ ⋂_j (e_j + (R (b_i − b_j) − (a_i − a_j))) from the
-    current e, then leg i's roots (``_legs``); R (b_i − b_j) as Σ_m R_km (b_i − b_j)_m, m increasing.
-    Returns the new empty mask (e in place)."""
+def _pairs(system, R: Interval, form, lo, hi, e: Interval, L: Interval, empty):
+    """Step 3, leg pairs, leg after leg: e_i ← e_i ∩ ⋂_j (e_j + d_ij) from the current e, then leg i's roots
+    (``_legs``); d_ij = R (b_i − b_j) − (a_i − a_j), R (b_i − b_j) as Σ_m R_km (b_i − b_j)_m (m increasing)
+    ∩ its centred form over the given boxes [lo, hi] from the parts of R b_i's (``form``; the operations of
+    ``kernels._pair_terms``).  Returns the new empty mask (e in place)."""
     db, da = _differences(system)
     d = None
     for m in range(db.shape[-1]):   # (N, i, j, k)
         t = R[:, None, None, :, m] * db[None, :, :, None, m]
         d = t if d is None else d + t
-    d = d - da[None]
+    _, _, cm, cr, Dm, Dr = form
+    p = system.n_pos
+    X = Interval.from_bounds(lo[:, p:], hi[:, p:])
+    c = X.mid()
+    h = np.maximum(up_sum(c - X.lo), up_sum(X.hi - c))[:, :, None, None, None]              # (N, 4, 1, 1, 1)
+    with np.errstate(invalid="ignore", over="ignore"):
+        dm = cm[:, :, None, :] - cm[:, None, :, :]                                           # (N, i, j, k)
+        rad = (cr[:, :, None, :] + cr[:, None, :, :]) + np.abs(dm) * U
+        terms = (np.abs(Dm[:, :, :, None, :] - Dm[:, :, None, :, :]) * (1.0 + 2.0 * U)
+                 + (Dr[:, :, :, None, :] + Dr[:, :, None, :, :])) * h
+        for r in range(4):
+            rad = rad + terms[:, r]
+        rad = upper(rad, 16)
+        ok = ~np.isnan(rad)
+        d = Interval.from_bounds(np.where(ok, np.maximum(d.lo, down(dm - rad)), d.lo),
+                                 np.where(ok, np.minimum(d.hi, up(dm + rad)), d.hi)) - da[None]
     for i in range(e.shape[1]):
         cand = e + d[:, i]                               # (N, j, k): e_j + d_ij
         e.lo[:, i] = np.maximum(e.lo[:, i], np.max(cand.lo, axis=1))
@@ -203,7 +221,7 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
         # and each leg equation again, PAIR_ROUNDS times
         empty = _legs(e, L, empty)
         for _ in range(PAIR_ROUNDS if p and quaternion else 0):
-            empty = _pairs(system, R, e, L, empty)
+            empty = _pairs(system, R, form, lo, hi, e, L, empty)
         # 4. the position
         if p:
             for k in range(p):
@@ -302,7 +320,7 @@ def _hc4_native(system, lo, hi, L: Interval, keep: dict | None):
     consts = system.memo("hc4_native_consts", build)
     f64 = np.ascontiguousarray
     return hc4_quaternion(lo, hi, f64(L.lo, dtype=np.float64), f64(L.hi, dtype=np.float64),
-                          f64(form[0]), f64(form[1]), *consts, PAIR_ROUNDS, system.n_pos, *TABLES)
+                          *(f64(v) for v in form), *consts, PAIR_ROUNDS, system.n_pos, *TABLES)
 
 
 def _hc4_planar(system, lo, hi, L: Interval):

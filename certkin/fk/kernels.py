@@ -23,9 +23,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from intervals.native import INF, div_regular, down, down_sum, gauss_jordan, gs_update, midrad, mul, sqr, up, up_sum, upper
+from intervals.native import INF, MAX, div_regular, down, down_sum, gauss_jordan, gs_update, midrad, mul, sqr, up, up_sum, upper
 
 from .rotation import DIAGONAL, OFF_DIAGONAL
+
+
+_U = 2.0 ** -53
 
 
 def _tables():
@@ -263,10 +266,17 @@ def _leg(elo, ehi, i, Llo, Lhi, eslo, eshi):
 
 
 @njit(cache=True)
-def _pair_terms(Rlo, Rhi, dblo, dbhi, dalo, dahi, Dlo, Dhi):
-    """d_ij = R (b_i − b_j) − (a_i − a_j), R (b_i − b_j) as Σ_m R_km (b_i − b_j)_m (m increasing), for i < j;
-    d_ji = −d_ij (the same operations on the negated operands: outward rounding is symmetric)."""
+def _pair_terms(box, lo, hi, p, Rlo, Rhi, cm, cr, Dm, Dr, dblo, dbhi, dalo, dahi, h, Dlo, Dhi):
+    """d_ij = R (b_i − b_j) − (a_i − a_j) for i < j, R (b_i − b_j) enclosed as Σ_m R_km (b_i − b_j)_m (m
+    increasing) ∩ its centred form over the given box: R b_i − R b_j at the midpoint c, in
+    [(cm_i − cm_j) ± (cr_i + cr_j)], plus Σ_r (∂(R b_i)/∂q_r − ∂(R b_j)/∂q_r)(Y) (q_r − c_r), each derivative
+    in [Dm ± Dr] (the parts of the centred form of R b_i: exact for a quadratic, as in step 2); d_ji = −d_ij
+    (the same operations on negated operands: outward rounding is symmetric)."""
     legs = Dlo.shape[0]
+    for r in range(4):
+        l, u = lo[box, p + r], hi[box, p + r]
+        c = min(max(0.5 * max(l, -MAX) + 0.5 * min(u, MAX), l), u)     # Interval.mid, as the form's c
+        h[r] = max(up_sum(c - l), up_sum(u - c))
     for i in range(legs):
         for j in range(i + 1, legs):
             for k in range(3):
@@ -274,6 +284,15 @@ def _pair_terms(Rlo, Rhi, dblo, dbhi, dalo, dahi, Dlo, Dhi):
                 for m in range(1, 3):
                     tlo, thi = mul(Rlo[k, m], Rhi[k, m], dblo[i, j, m], dbhi[i, j, m])
                     dlo, dhi = down_sum(dlo + tlo), up_sum(dhi + thi)
+                # the centred form: |fl(x − y)| ≤ (1 + u)|x − y| and the midpoint's own rounding (u|dm|) in rad;
+                # non-negative terms, at most 12 roundings deep (``upper``)
+                dm = cm[box, i, k] - cm[box, j, k]
+                rad = (cr[box, i, k] + cr[box, j, k]) + abs(dm) * _U
+                for r in range(4):
+                    rad += (abs(Dm[box, r, i, k] - Dm[box, r, j, k]) * (1.0 + 2.0 * _U) + (Dr[box, r, i, k] + Dr[box, r, j, k])) * h[r]
+                rad = upper(rad, 16)
+                if rad == rad:
+                    dlo, dhi = max(dlo, down(dm - rad)), min(dhi, up(dm + rad))
                 dlo, dhi = down_sum(dlo - dahi[i, j, k]), up_sum(dhi - dalo[i, j, k])
                 Dlo[i, j, k], Dhi[i, j, k] = dlo, dhi
                 Dlo[j, i, k], Dhi[j, i, k] = -dhi, -dlo
@@ -298,16 +317,17 @@ def _pairs(elo, ehi, Dlo, Dhi, Llo, Lhi, eslo, eshi):
 
 
 @njit(cache=True)
-def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonzero, invlo, invhi, dblo, dbhi, dalo, dahi,
+def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, cm, cr, Dm, Dr, alo, ahi, bm, inner, outer, nonzero, invlo, invhi, dblo, dbhi, dalo, dahi,
                    rounds, p, entries, off):
     """One HC4 pass (``fk.contract``) over the boxes [lo, hi] (N, p + 4) of a quaternion system.
 
     ``L`` (N, legs) squared leg lengths, ``f`` (N, legs, 3) the centred form of R b_i over the given
-    boxes, ``a`` (legs, 3), ``bm``/``inner``/``outer`` (3, ≥ legs; the first legs columns) the factors of
+    boxes and ``cm``, ``cr``, ``Dm``, ``Dr`` its parts (``FKSystem.centred_form``), ``a`` (legs, 3),
+    ``bm``/``inner``/``outer`` (3, ≥ legs; the first legs columns) the factors of
     ``FKSystem.rotated_midrad`` (``b_midrad``), ``nonzero`` (legs, 3) where 0 ∉ b_ij, ``inv``
     (legs, 3) enclosures of 1/b_ij, ``db``/``da`` (legs, legs, 3) enclosures of b_i − b_j and a_i − a_j,
-    ``rounds`` the leg-pair rounds of step 3 (a position only), ``entries``/``off`` the tables of ``_tables``.  Returns
-    (lo, hi, empty) as ``contract.hc4``.  One pass, one algorithm that reads best whole: steps 1, 2,
+    ``rounds`` the leg-pair rounds of step 3 (a position only), ``entries``/``off`` the tables of
+    ``_tables``.  Returns (lo, hi, empty) as ``contract.hc4``.  One pass, one algorithm that reads best whole: steps 1, 2,
     6 and 7 are helpers of their own, steps 3-5 stay inline on the box's working arrays (allocated
     once, passed on)."""
     N, n = lo.shape
@@ -333,6 +353,7 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
     ehi = np.empty((legs, 3))
     Dlo = np.empty((legs, legs, 3))
     Dhi = np.empty((legs, legs, 3))
+    hh = np.empty(4)
     eslo = np.empty(3)
     eshi = np.empty(3)
     tm = np.empty(3)
@@ -359,7 +380,7 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
         for i in range(legs):
             dead |= _leg(elo, ehi, i, Llo[box], Lhi[box], eslo, eshi)
         if p and rounds and not dead:
-            _pair_terms(Rlo, Rhi, dblo, dbhi, dalo, dahi, Dlo, Dhi)
+            _pair_terms(box, lo, hi, p, Rlo, Rhi, cm, cr, Dm, Dr, dblo, dbhi, dalo, dahi, hh, Dlo, Dhi)
         for _ in range(rounds if p else 0):
             if dead:
                 break
