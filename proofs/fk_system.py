@@ -212,10 +212,13 @@ class System:
                 s[k], empty = e[k][:, i].sqr(), empty | e[k][:, i].empty().any(1)
             return empty
         empty = legs(empty)
-        for i in list(range(self.legs)) * (PAIR_ROUNDS if p and not self.planar else 0):   # leg pairs, leg after leg:
-            for k in range(dim):    # e_i ∩ (e_j + (R (b_i − b_j) − (a_i − a_j))), R (b_i − b_j) natural ∩ centred; roots
-                cen = _sum([rbc[k][:, i:i + 1] - rbc[k]] + [(D[k, r][:, i:i + 1] - D[k, r]) * dq[r][:, None] for r in range(4)])
-                c = e[k] + (_sum([R[k][m][:, None] * self.db[m][i] for m in range(dim)]).meet(cen) - self.da[k][i])
+        rounds = PAIR_ROUNDS if p and not self.planar else 0     # leg pairs: d_ij = R (b_i − b_j) − (a_i − a_j),
+        d = [(_sum([R[k][m][:, None, None] * self.db[m] for m in range(dim)]).meet(_sum(    # natural ∩ centred
+            [rbc[k][:, :, None] - rbc[k][:, None, :]] + [(D[k, r][:, :, None] - D[k, r][:, None, :]) * dq[r][:, None, None]
+                                                         for r in range(4)])) - self.da[k]) for k in range(dim)] if rounds else []
+        for i in list(range(self.legs)) * rounds:               # leg after leg: e_i ∩ (e_j + d_ij), then its roots
+            for k in range(dim):
+                c = e[k] + d[k][:, i]
                 e[k][:, i] = e[k][:, i].meet(Iv(c.lo.max(1), c.hi.min(1)))
             empty = legs(empty, slice(i, i + 1))
         for k in range(p):                                      # 4. the position
