@@ -108,6 +108,15 @@ def down_square(a, p):
 
 # ----------------------------------------------------------------- interval operations on (lo, hi)
 @njit(cache=True)
+def sqr(lo, hi):
+    """``interval.sqr``: [max(down(mig²), 0), up(mag²)], a bound not widened where its square is
+    exact (``up_square``)."""
+    mig = 0.0 if (lo <= 0.0 and hi >= 0.0) else min(abs(lo), abs(hi))
+    mag = max(abs(lo), abs(hi))
+    return max(down_square(mig, mig * mig), 0.0), up_square(mag, mag * mag)
+
+
+@njit(cache=True)
 def mul(alo, ahi, blo, bhi):
     """``interval.mul`` for finite operands: the hull of the four corner products, rounded outward."""
     p1 = alo * blo

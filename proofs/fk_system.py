@@ -46,6 +46,7 @@ DROT = {(0, 0): ((-2, 1, 3), (2, 2, 2)), (0, 1): ((2, 1, 2), (2, 2, 3)), (0, 2):
 HC4_OFF_DIAGONAL = (((0, 1), (1, 2), (0, 3), -1), ((1, 0), (1, 2), (0, 3), 1), ((0, 2), (1, 3), (0, 2), 1),
                     ((2, 0), (1, 3), (0, 2), -1), ((1, 2), (2, 3), (0, 1), -1), ((2, 1), (2, 3), (0, 1), 1))
 HC4_DIAGONAL = ((0, 2, 3), (1, 1, 3), (2, 1, 2))
+PAIR_ROUNDS = 2     # HC4 step 3, Gough-Stewart: rounds of the leg pairs
 
 
 def mid(lo, hi):
@@ -71,6 +72,7 @@ class System:
         self.b = [stack([pt[k] for pt in b]) for k in range(self.dim)]
         self.na2 = _sum([v.sqr() for v in self.a])
         self.nb2 = _sum([v.sqr() for v in self.b])
+        self.db, self.da = ([v[:, None] - v[None, :] for v in pts] for pts in (self.b, self.a))   # (legs, legs)
         if self.planar:          # d(R b)_k/d(c, s): constants
             self.dconst = {(0, 0): self.b[0], (0, 1): -self.b[1], (1, 0): self.b[1], (1, 1): self.b[0]}
 
@@ -97,9 +99,10 @@ class System:
         col = [Iv(v.lo[:, None], v.hi[:, None]) for v in y[self.p:]]
         return {kr: _sum([(self.b[j] * float(c)) * col[s] for c, j, s in terms]) for kr, terms in DROT.items()}
 
-    def rotated(self, z, centre=None):
+    def rotated(self, z, centre=None, parts=False):
         """R b_i over the boxes: natural ∩ centred form around the float midpoint c of ``centre``
-        (default: of z) with Y ∋ (x + c)/2 over z (a quaternion only; points stay natural)."""
+        (default: of z) with Y ∋ (x + c)/2 over z (a quaternion only; points stay natural); ``parts``:
+        also R b_i(c), the derivatives D over Y and the unknowns minus c."""
         rb = self.rotated_natural(z)
         if self.planar:
             return rb
@@ -107,14 +110,9 @@ class System:
         c = [mid(v.lo, v.hi) for v in src]
         rbc = self.rotated_natural([Iv(x) for x in c])
         D = self.drot([(v + x) * 0.5 for v, x in zip(z, c)])
-        out = []
-        for k in range(3):
-            acc = rbc[k]
-            for r in range(4):
-                d = z[self.p + r] - c[self.p + r]
-                acc = acc + D[k, r] * Iv(d.lo[:, None], d.hi[:, None])
-            out.append(rb[k].meet(acc))
-        return out
+        d = [z[self.p + r] - c[self.p + r] for r in range(4)]
+        out = [rb[k].meet(_sum([rbc[k]] + [D[k, r] * d[r][:, None] for r in range(4)])) for k in range(3)]
+        return (out, rbc, D, d) if parts else out
 
     # ----- equations, Jacobian, slopes ------------------------------------------------
     def e(self, z, rb):
@@ -203,16 +201,26 @@ class System:
             z[k] = _root(z[k], 1.0 - _sum([z[j].sqr() for j in range(p, n) if j != k]))
             empty |= z[k].empty()
         centre = [Iv(lo[:, k], hi[:, k]) for k in range(n)]     # 2. forward: R, u = R b_i, e
-        u = self.rotated(z, centre)
+        u, rbc, D, dq = self.rotated(z, centre, parts=True) if p and not self.planar else (self.rotated(z, centre),) * 4
         R = self.rotation(z)
         e = self.e(z, u)
-        for i in range(self.legs):                              # 3. backward through each leg
+
+        def legs(empty, i=slice(None)):                         # 3. backward through each leg (or leg i)
             s = [v[:, i].sqr() for v in e]
             for k in range(dim):
-                col = _root(e[k][:, i], L[:, i] - _sum([s[j] for j in range(dim) if j != k]))
-                empty |= col.empty()
-                e[k][:, i] = col
-                s[k] = col.sqr()
+                e[k][:, i] = _root(e[k][:, i], L[:, i] - _sum([s[j] for j in range(dim) if j != k]))
+                s[k], empty = e[k][:, i].sqr(), empty | e[k][:, i].empty().any(1)
+            return empty
+        empty = legs(empty)
+        rounds = PAIR_ROUNDS if p and not self.planar else 0     # leg pairs: d_ij = R (b_i − b_j) − (a_i − a_j),
+        d = [(_sum([R[k][m][:, None, None] * self.db[m] for m in range(dim)]).meet(_sum(    # natural ∩ centred
+            [rbc[k][:, :, None] - rbc[k][:, None, :]] + [(D[k, r][:, :, None] - D[k, r][:, None, :]) * dq[r][:, None, None]
+                                                         for r in range(4)])) - self.da[k]) for k in range(dim)] if rounds else []
+        for i in list(range(self.legs)) * rounds:               # leg after leg: e_i ∩ (e_j + d_ij), then its roots
+            for k in range(dim):
+                c = e[k] + d[k][:, i]
+                e[k][:, i] = e[k][:, i].meet(Iv(c.lo.max(1), c.hi.min(1)))
+            empty = legs(empty, slice(i, i + 1))
         for k in range(p):                                      # 4. the position
             for i in range(self.legs):
                 z[k] = z[k].meet((e[k][:, i] - u[k][:, i]) + self.a[k][i])

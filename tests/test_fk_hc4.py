@@ -167,6 +167,26 @@ def test_kept_centred_form_gives_the_same_floats(gough_case):
 
 
 @pytest.mark.parametrize("which", ["gough", "spherical"])
+def test_native_centred_form_matches_numpy(which, gough_case):
+    """The machine-code centred form of R b_i (``fk.centred``) and the numpy one, on boxes around a
+    root, all over the domain and with infinite sides: the same floats to a few ulps (only the sums of
+    the midpoint-radius products may be taken in another order), the same non-finite entries."""
+    robot = gough_case[0] if which == "gough" else robot_from_dict(SPHERICAL_8)
+    system = FKSystem(robot)
+    rng = np.random.default_rng(17)
+    n = system.n
+    c = rng.uniform(-1.2, 1.2, (2000, n))
+    w = rng.uniform(0, 1, (2000, n)) * 10.0 ** rng.uniform(-9, 0, (2000, 1))
+    lo, hi = c - w, c + w
+    lo[:5, -1], hi[5:10, -2] = -np.inf, np.inf
+    X = Interval.from_bounds(lo, hi)
+    for a, b in zip(system.centred_form(X), system.centred_form(X, native=False)):
+        assert np.array_equal(np.isfinite(a), np.isfinite(b))
+        ok = np.isfinite(b)
+        assert np.all(np.abs(a[ok] - b[ok]) <= 2.0 ** -48 * (1.0 + np.abs(b[ok])))
+
+
+@pytest.mark.parametrize("which", ["gough", "spherical"])
 def test_native_quaternion_pass_matches_numpy(which, gough_case):
     """The machine-code pass (``fk_native``) and the numpy one, on boxes around every root and
     on boxes all over the domain: the same empty boxes and, elsewhere, the same bounds to a few ulps
@@ -196,3 +216,30 @@ def test_native_quaternion_pass_matches_numpy(which, gough_case):
     for a, b in zip(fast[:2], ref[:2]):
         assert np.all(np.abs(a[live] - b[live]) <= 2.0 ** -48 * (1.0 + np.abs(b[live])))
     assert np.all((fast[0][:3000] <= root_hi) & (root_lo <= fast[1][:3000]))   # the root's box is met
+
+
+def test_leg_pairs_rechecked_and_narrowed_child_rejected(monkeypatch):
+    """Gough-Stewart HC4 contracts with the leg pairs too (e_i − e_j holds no p): the certificate of a
+    search relies on them (a checker pass without them rejects it), the checker repeats them (accepts),
+    and an "hc4" child box narrowed past the pass with the pairs is rejected."""
+    from test_certificates_v2 import node_boxes
+    robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
+    result = forward_kinematics(robot, GOUGH_LENGTHS, domain="x=-0.9:-0.8,y=-0.4:-0.3,z=0.5:0.6,psi=-4:4,theta=-4:4,phi=-4:4")
+    assert result.complete and len(result.solutions) == 1
+    doc = Doc(result.certificate())
+    assert doc.check().ok
+    with monkeypatch.context() as m:
+        m.setattr(proofs.fk_system, "PAIR_ROUNDS", 0)
+        assert not doc.check().ok
+    kind = doc.arrays["tree.kind"]
+    lo, hi, child = node_boxes(doc)
+    i = next(j for j in doc.nodes(2, 0) if kind[child[j]] == 3)        # an hc4 contraction above a leaf
+    c = child[i]
+    L = _L(GOUGH_LENGTHS, 1)
+    z, _ = System(doc.header["model"], doc.header["robot"]).hc4(lo[i:i + 1], hi[i:i + 1], proofs.arith.Iv(L.lo, L.hi))
+    d = int(np.argmax(z.hi[0] - z.lo[0]))
+    new = np.stack([lo[c], hi[c]], -1)
+    new[d, 1] = z.hi[0, d] - 0.01 * (z.hi[0, d] - z.lo[0, d])          # its child cut 1 % into the checker's result
+    bad = doc.copy()
+    bad.arrays["tree.box"][bad.row("tree.box", i)] = np.stack([lo[i], hi[i]], -1).view(np.uint64) ^ new.view(np.uint64)
+    assert "not inside the child box" in bad.check().step

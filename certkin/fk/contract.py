@@ -13,6 +13,12 @@ operations in mpmath interval arithmetic, so it finds a box inside ours):
    e_i = (u_i − a_i) + p;
 3. leg equation i, for coordinates k = 1..dim in turn:
    e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²);
+   then, for a Gough-Stewart robot, ``PAIR_ROUNDS`` times, for leg i = 1..legs in turn: the leg
+   pairs e_i ← e_i ∩ ⋂_j (e_j + (R (b_i − b_j) − (a_i − a_j))) from the current e (e_i − e_j does
+   not hold p: a relation on the rotation alone, and R (b_i − b_j) is enclosed far tighter than
+   R b_i − R b_j), R (b_i − b_j) = Σ_m R_km (b_i − b_j)_m with the R of step 2, m increasing, ∩ its
+   centred form over the given box (from the parts of R b_i's, step 2); then leg i's equation
+   again, as above;
 4. position: p_k ← p_k ∩ ⋂_i ((e_ik − u_ik) + a_ik);
 5. u_ik ← u_ik ∩ ((e_ik − p_k) + a_ik)   (no p for the spherical robot);
 6. entries of R, all from the R of step 2: for every leg i and column j with
@@ -44,10 +50,14 @@ import numpy as np
 
 from intervals import Interval, mul, sqr
 from intervals.interval import div
-from intervals.rounding import down, up
+from intervals.midrad import U, upper
+from intervals.rounding import down, up, up_sum
 
 from .kernels import TABLES, hc4_quaternion
 from .rotation import DIAGONAL, OFF_DIAGONAL, from_midrad   # R(q)'s entries as products of q's
+
+
+PAIR_ROUNDS = 2     # rounds of the leg-pair step (step 3) for a Gough-Stewart robot
 
 
 def root(x: Interval, t: Interval) -> Interval:
@@ -84,6 +94,64 @@ def _inverse(system) -> Interval:
         one = np.ones(b.shape)
         return div(Interval.from_bounds(one, one), Interval.from_bounds(np.where(ok, b.lo, 1.0), np.where(ok, b.hi, 1.0)))
     return system.memo("hc4_inverse", build)
+
+
+def _differences(system) -> tuple[Interval, Interval]:
+    """Enclosures of b_i − b_j and a_i − a_j, (legs, legs, dim) each (step 3's leg pairs)."""
+    b, a = system.b, system.a
+    return b[:, None, :] - b[None, :, :], a[:, None, :] - a[None, :, :]
+
+
+def _legs(e: Interval, L: Interval, empty):
+    """Step 3: e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²), k in turn, for every leg; returns the new empty mask."""
+    dim = e.shape[-1]
+    s = sqr(e)
+    for k in range(dim):
+        others = None
+        for kk in range(dim):
+            if kk != k:
+                others = s[..., kk] if others is None else others + s[..., kk]
+        ek = root(e[..., k], L - others)
+        e[..., k] = ek
+        s[..., k] = sqr(ek)
+        empty = empty | np.any(ek.lo > ek.hi, axis=1)
+    return empty
+
+
+def _pairs(system, R: Interval, form, lo, hi, e: Interval, L: Interval, empty):
+    """Step 3, leg pairs, leg after leg: e_i ← e_i ∩ ⋂_j (e_j + d_ij) from the current e, then leg i's roots
+    (``_legs``); d_ij = R (b_i − b_j) − (a_i − a_j), R (b_i − b_j) as Σ_m R_km (b_i − b_j)_m (m increasing)
+    ∩ its centred form over the given boxes [lo, hi] from the parts of R b_i's (``form``; the operations of
+    ``kernels._pair_terms``).  Returns the new empty mask (e in place)."""
+    db, da = _differences(system)
+    d = None
+    for m in range(db.shape[-1]):   # (N, i, j, k)
+        t = R[:, None, None, :, m] * db[None, :, :, None, m]
+        d = t if d is None else d + t
+    _, _, cm, cr, Dm, Dr = form
+    p = system.n_pos
+    X = Interval.from_bounds(lo[:, p:], hi[:, p:])
+    c = X.mid()
+    h = np.maximum(up_sum(c - X.lo), up_sum(X.hi - c))[:, :, None, None, None]              # (N, 4, 1, 1, 1)
+    with np.errstate(invalid="ignore", over="ignore"):
+        dm = cm[:, :, None, :] - cm[:, None, :, :]                                           # (N, i, j, k)
+        rad = (cr[:, :, None, :] + cr[:, None, :, :]) + np.abs(dm) * U
+        terms = (np.abs(Dm[:, :, :, None, :] - Dm[:, :, None, :, :]) * (1.0 + 2.0 * U)
+                 + (Dr[:, :, :, None, :] + Dr[:, :, None, :, :])) * h
+        for r in range(4):
+            rad = rad + terms[:, r]
+        rad = upper(rad, 16)
+        ok = ~np.isnan(rad)
+        d = Interval.from_bounds(np.where(ok, np.maximum(d.lo, down(dm - rad)), d.lo),
+                                 np.where(ok, np.minimum(d.hi, up(dm + rad)), d.hi)) - da[None]
+    for i in range(e.shape[1]):
+        cand = e + d[:, i]                               # (N, j, k): e_j + d_ij
+        e.lo[:, i] = np.maximum(e.lo[:, i], np.max(cand.lo, axis=1))
+        e.hi[:, i] = np.minimum(e.hi[:, i], np.min(cand.hi, axis=1))
+        leg = e[:, i:i + 1]
+        empty = _legs(leg, L[:, i:i + 1], empty)
+        e[:, i:i + 1] = leg
+    return empty
 
 
 def _meet(x: Interval, y: Interval) -> Interval:
@@ -149,17 +217,11 @@ def hc4(system, lo, hi, L: Interval, generic: bool = False, keep: dict | None = 
         if p:
             e = e + X[:, None, :p]
         dim = e.shape[-1]
-        # 3. backward through each leg equation
-        s = sqr(e)
-        for k in range(dim):
-            others = None
-            for kk in range(dim):
-                if kk != k:
-                    others = s[..., kk] if others is None else others + s[..., kk]
-            ek = root(e[..., k], L - others)
-            e[..., k] = ek
-            s[..., k] = sqr(ek)
-            empty |= np.any(ek.lo > ek.hi, axis=1)
+        # 3. backward through each leg equation; then, for a position and a quaternion, the leg pairs
+        # and each leg equation again, PAIR_ROUNDS times
+        empty = _legs(e, L, empty)
+        for _ in range(PAIR_ROUNDS if p and quaternion else 0):
+            empty = _pairs(system, R, form, lo, hi, e, L, empty)
         # 4. the position
         if p:
             for k in range(p):
@@ -251,12 +313,14 @@ def _hc4_native(system, lo, hi, L: Interval, keep: dict | None):
     def build():
         bm, inner, outer = system.b_midrad()
         b, inverse = system.b, _inverse(system)
+        db, da = _differences(system)
         return tuple(np.ascontiguousarray(v) for v in (
-            system.a.lo, system.a.hi, bm, inner, outer, (b.lo > 0) | (b.hi < 0), inverse.lo, inverse.hi))
+            system.a.lo, system.a.hi, bm, inner, outer, (b.lo > 0) | (b.hi < 0), inverse.lo, inverse.hi,
+            db.lo, db.hi, da.lo, da.hi))
     consts = system.memo("hc4_native_consts", build)
     f64 = np.ascontiguousarray
     return hc4_quaternion(lo, hi, f64(L.lo, dtype=np.float64), f64(L.hi, dtype=np.float64),
-                          f64(form[0]), f64(form[1]), *consts, system.n_pos, *TABLES)
+                          *(f64(v) for v in form), *consts, PAIR_ROUNDS, system.n_pos, *TABLES)
 
 
 def _hc4_planar(system, lo, hi, L: Interval):

@@ -7,8 +7,7 @@
   be taken in another order, which their error bound allows (Higham 2002,
   eq. 3.5).  The centred form of R b_i (step 2) is computed by
   ``FKSystem.centred_form`` and passed in.
-- ``slope_quaternion``: ``FKSystem.slope`` and ``FKSystem.equations`` at the
-  midpoints, from the same enclosures of R b_i, with the same operations.
+- (``slope_quaternion``, beside the centred form of R b_i: ``fk.centred``);
 - ``position_gauss_seidel``: ``step.contract_position`` for a spatial robot (the
   difference equations, P [D | g] in midpoint-radius form, one Gauss-Seidel
   sweep), with the same operations and bounds.
@@ -24,10 +23,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from intervals.native import (INF, div_regular, down, down_square, down_sum, gauss_jordan, gs_update, midrad, mul, up,
-                              up_square, up_sum, upper)
+from intervals.native import INF, MAX, div_regular, down, down_sum, gauss_jordan, gs_update, midrad, mul, sqr, up, up_sum, upper
 
 from .rotation import DIAGONAL, OFF_DIAGONAL
+
+
+_U = 2.0 ** -53
 
 
 def _tables():
@@ -44,15 +45,6 @@ def _tables():
 
 
 TABLES = _tables()
-
-
-@njit(cache=True)
-def _sqr(lo, hi):
-    """``interval.sqr``: [max(down(mig²), 0), up(mag²)], a bound not widened where its square is
-    exact (``native.up_square``)."""
-    mig = 0.0 if (lo <= 0.0 and hi >= 0.0) else min(abs(lo), abs(hi))
-    mag = max(abs(lo), abs(hi))
-    return max(down_square(mig, mig * mig), 0.0), up_square(mag, mag * mag)
 
 
 @njit(cache=True)
@@ -115,13 +107,13 @@ def _norm_equation(zlo, zhi, slo, shi, p, n):
     """Step 1: r_k ← root(r_k, 1 − Σ_{j≠k} r_j²) for the rotation unknowns r, j increasing
     (``slo``/``shi``: their squares); True if the box holds no root."""
     for k in range(p, n):
-        slo[k], shi[k] = _sqr(zlo[k], zhi[k])
+        slo[k], shi[k] = sqr(zlo[k], zhi[k])
     for k in range(p, n):
         olo, ohi = _sum_others(slo, shi, p, n, k)
         zlo[k], zhi[k] = _root(zlo[k], zhi[k], down_sum(1.0 - ohi), up_sum(1.0 - olo))
         if zlo[k] > zhi[k]:
             return True
-        slo[k], shi[k] = _sqr(zlo[k], zhi[k])
+        slo[k], shi[k] = sqr(zlo[k], zhi[k])
     return False
 
 
@@ -230,11 +222,11 @@ def _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):
         a, b_ = entries[k, k, 1], entries[k, k, 2]
         tlo, thi = down_sum(1.0 - R2hi[k, k]), up_sum(1.0 - R2lo[k, k])
         tlo, thi = _scale(tlo, thi, 0.5)
-        sl, sh = _sqr(zlo[p + b_], zhi[p + b_])
+        sl, sh = sqr(zlo[p + b_], zhi[p + b_])
         zlo[p + a], zhi[p + a] = _root(zlo[p + a], zhi[p + a], down_sum(tlo - sh), up_sum(thi - sl))
         if zlo[p + a] > zhi[p + a]:
             return True
-        sl, sh = _sqr(zlo[p + a], zhi[p + a])
+        sl, sh = sqr(zlo[p + a], zhi[p + a])
         zlo[p + b_], zhi[p + b_] = _root(zlo[p + b_], zhi[p + b_], down_sum(tlo - sh), up_sum(thi - sl))
         if zlo[p + b_] > zhi[p + b_]:
             return True
@@ -260,14 +252,82 @@ def _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):
 
 
 @njit(cache=True)
-def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonzero, invlo, invhi, p, entries, off):
+def _leg(elo, ehi, i, Llo, Lhi, eslo, eshi):
+    """Step 3 for leg i: e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²), k = 0, 1, 2; True if one is empty."""
+    dead = False
+    for k in range(3):
+        eslo[k], eshi[k] = sqr(elo[i, k], ehi[i, k])
+    for k in range(3):
+        olo, ohi = _sum_others(eslo, eshi, 0, 3, k)
+        elo[i, k], ehi[i, k] = _root(elo[i, k], ehi[i, k], down_sum(Llo[i] - ohi), up_sum(Lhi[i] - olo))
+        dead |= elo[i, k] > ehi[i, k]
+        eslo[k], eshi[k] = sqr(elo[i, k], ehi[i, k])
+    return dead
+
+
+@njit(cache=True)
+def _pair_terms(box, lo, hi, p, Rlo, Rhi, cm, cr, Dm, Dr, dblo, dbhi, dalo, dahi, h, Dlo, Dhi):
+    """d_ij = R (b_i − b_j) − (a_i − a_j) for i < j, R (b_i − b_j) enclosed as Σ_m R_km (b_i − b_j)_m (m
+    increasing) ∩ its centred form over the given box: R b_i − R b_j at the midpoint c, in
+    [(cm_i − cm_j) ± (cr_i + cr_j)], plus Σ_r (∂(R b_i)/∂q_r − ∂(R b_j)/∂q_r)(Y) (q_r − c_r), each derivative
+    in [Dm ± Dr] (the parts of the centred form of R b_i: exact for a quadratic, as in step 2); d_ji = −d_ij
+    (the same operations on negated operands: outward rounding is symmetric)."""
+    legs = Dlo.shape[0]
+    for r in range(4):
+        l, u = lo[box, p + r], hi[box, p + r]
+        c = min(max(0.5 * max(l, -MAX) + 0.5 * min(u, MAX), l), u)     # Interval.mid, as the form's c
+        h[r] = max(up_sum(c - l), up_sum(u - c))
+    for i in range(legs):
+        for j in range(i + 1, legs):
+            for k in range(3):
+                dlo, dhi = mul(Rlo[k, 0], Rhi[k, 0], dblo[i, j, 0], dbhi[i, j, 0])
+                for m in range(1, 3):
+                    tlo, thi = mul(Rlo[k, m], Rhi[k, m], dblo[i, j, m], dbhi[i, j, m])
+                    dlo, dhi = down_sum(dlo + tlo), up_sum(dhi + thi)
+                # the centred form: |fl(x − y)| ≤ (1 + u)|x − y| and the midpoint's own rounding (u|dm|) in rad;
+                # non-negative terms, at most 12 roundings deep (``upper``)
+                dm = cm[box, i, k] - cm[box, j, k]
+                rad = (cr[box, i, k] + cr[box, j, k]) + abs(dm) * _U
+                for r in range(4):
+                    rad += (abs(Dm[box, r, i, k] - Dm[box, r, j, k]) * (1.0 + 2.0 * _U) + (Dr[box, r, i, k] + Dr[box, r, j, k])) * h[r]
+                rad = upper(rad, 16)
+                if rad == rad:
+                    dlo, dhi = max(dlo, down(dm - rad)), min(dhi, up(dm + rad))
+                dlo, dhi = down_sum(dlo - dahi[i, j, k]), up_sum(dhi - dalo[i, j, k])
+                Dlo[i, j, k], Dhi[i, j, k] = dlo, dhi
+                Dlo[j, i, k], Dhi[j, i, k] = -dhi, -dlo
+
+
+@njit(cache=True)
+def _pairs(elo, ehi, Dlo, Dhi, Llo, Lhi, eslo, eshi):
+    """Step 3, leg pairs, leg after leg: e_i ← e_i ∩ ⋂_{j≠i} (e_j + d_ij) (``_pair_terms``), then leg i's
+    roots (``_leg``); True if one is empty."""
+    legs = elo.shape[0]
+    for i in range(legs):
+        for k in range(3):
+            vlo, vhi = elo[i, k], ehi[i, k]
+            for j in range(legs):
+                if j != i:
+                    vlo = max(vlo, down_sum(elo[j, k] + Dlo[i, j, k]))
+                    vhi = min(vhi, up_sum(ehi[j, k] + Dhi[i, j, k]))
+            elo[i, k], ehi[i, k] = vlo, vhi
+        if _leg(elo, ehi, i, Llo, Lhi, eslo, eshi):
+            return True
+    return False
+
+
+@njit(cache=True)
+def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, cm, cr, Dm, Dr, alo, ahi, bm, inner, outer, nonzero, invlo, invhi, dblo, dbhi, dalo, dahi,
+                   rounds, p, entries, off):
     """One HC4 pass (``fk.contract``) over the boxes [lo, hi] (N, p + 4) of a quaternion system.
 
     ``L`` (N, legs) squared leg lengths, ``f`` (N, legs, 3) the centred form of R b_i over the given
-    boxes, ``a`` (legs, 3), ``bm``/``inner``/``outer`` (3, ≥ legs; the first legs columns) the factors of
+    boxes and ``cm``, ``cr``, ``Dm``, ``Dr`` its parts (``FKSystem.centred_form``), ``a`` (legs, 3),
+    ``bm``/``inner``/``outer`` (3, ≥ legs; the first legs columns) the factors of
     ``FKSystem.rotated_midrad`` (``b_midrad``), ``nonzero`` (legs, 3) where 0 ∉ b_ij, ``inv``
-    (legs, 3) enclosures of 1/b_ij, ``entries``/``off`` the tables of ``_tables``.  Returns
-    (lo, hi, empty) as ``contract.hc4``.  One pass, one algorithm that reads best whole: steps 1, 2,
+    (legs, 3) enclosures of 1/b_ij, ``db``/``da`` (legs, legs, 3) enclosures of b_i − b_j and a_i − a_j,
+    ``rounds`` the leg-pair rounds of step 3 (a position only), ``entries``/``off`` the tables of
+    ``_tables``.  Returns (lo, hi, empty) as ``contract.hc4``.  One pass, one algorithm that reads best whole: steps 1, 2,
     6 and 7 are helpers of their own, steps 3-5 stay inline on the box's working arrays (allocated
     once, passed on)."""
     N, n = lo.shape
@@ -291,6 +351,9 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
     Pr = np.empty((legs, 3, 3))
     elo = np.empty((legs, 3))
     ehi = np.empty((legs, 3))
+    Dlo = np.empty((legs, legs, 3))
+    Dhi = np.empty((legs, legs, 3))
+    hh = np.empty(4)
     eslo = np.empty(3)
     eshi = np.empty(3)
     tm = np.empty(3)
@@ -306,24 +369,22 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
         for k in range(n):
             zlo[k] = lo[box, k]
             zhi[k] = hi[box, k]
-        dead = False
         if _norm_equation(zlo, zhi, slo, shi, p, n):                                  # 1.
             empty[box] = True
             continue
         _rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr)           # 2.
         _rotated_points(box, zlo, zhi, p, Rm, Rr, bm, inner, outer, flo, fhi, alo, ahi, tm, te,
                         ulo, uhi, Pm, Pr, elo, ehi)
-        # 3. each leg equation: e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²), k = 0, 1, 2
+        # 3. each leg equation, then (a position) ``rounds`` times the leg pairs, each leg's roots after its pairs
+        dead = False
         for i in range(legs):
-            for k in range(3):
-                eslo[k], eshi[k] = _sqr(elo[i, k], ehi[i, k])
-            for k in range(3):
-                olo, ohi = _sum_others(eslo, eshi, 0, 3, k)
-                tl, th = down_sum(Llo[box, i] - ohi), up_sum(Lhi[box, i] - olo)
-                elo[i, k], ehi[i, k] = _root(elo[i, k], ehi[i, k], tl, th)
-                if elo[i, k] > ehi[i, k]:
-                    dead = True
-                eslo[k], eshi[k] = _sqr(elo[i, k], ehi[i, k])
+            dead |= _leg(elo, ehi, i, Llo[box], Lhi[box], eslo, eshi)
+        if p and rounds and not dead:
+            _pair_terms(box, lo, hi, p, Rlo, Rhi, cm, cr, Dm, Dr, dblo, dbhi, dalo, dahi, hh, Dlo, Dhi)
+        for _ in range(rounds if p else 0):
+            if dead:
+                break
+            dead = _pairs(elo, ehi, Dlo, Dhi, Llo[box], Lhi[box], eslo, eshi)
         if dead:
             empty[box] = True
             continue
@@ -363,81 +424,6 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, alo, ahi, bm, inner, outer, nonze
             nlo_out[box, k] = max(zlo[k], lo[box, k])
             nhi_out[box, k] = min(zhi[k], hi[box, k])
     return nlo_out, nhi_out, empty
-
-
-@njit(cache=True)
-def slope_quaternion(xlo, xhi, c, rblo, rbhi, rclo, rchi, Dm, Dr, alo, ahi, Llo, Lhi, p):
-    """(S lo, S hi, f lo, f hi): ``FKSystem.slope`` (N, n, n) at the points c (N, n) over the boxes x, and
-    ``FKSystem.equations`` at c (N, n), from R b_i over x (``rb``) and at c (``rc``), (N, legs, 3), and the
-    derivatives of R b_i over Y ∋ (x + c)/2 in [Dm ± Dr] (N, 4, legs, 3).  Rows with a non-finite input
-    get entire slope entries and equation values."""
-    N, n = xlo.shape
-    legs = rblo.shape[1]
-    Slo = np.zeros((N, n, n))
-    Shi = np.zeros((N, n, n))
-    flo = np.empty((N, n))
-    fhi = np.empty((N, n))
-    slo = np.empty(3)
-    shi = np.empty(3)
-    for b in range(N):
-        finite = True
-        for k in range(n):
-            finite &= np.isfinite(xlo[b, k]) and np.isfinite(xhi[b, k]) and np.isfinite(c[b, k])
-        for i in range(legs):
-            finite &= np.isfinite(Llo[b, i]) and np.isfinite(Lhi[b, i])
-            for k in range(3):
-                finite &= np.isfinite(rblo[b, i, k]) and np.isfinite(rbhi[b, i, k])
-                finite &= np.isfinite(rclo[b, i, k]) and np.isfinite(rchi[b, i, k])
-                for r in range(4):
-                    finite &= np.isfinite(Dm[b, r, i, k]) and np.isfinite(Dr[b, r, i, k])
-        if not finite:
-            for i in range(n):
-                flo[b, i], fhi[b, i] = -INF, INF
-                for j in range(n):
-                    Slo[b, i, j], Shi[b, i, j] = -INF, INF
-            continue
-        for i in range(legs):
-            # ell = (R b_i − a_i) + p over x, ellc the same at c; s = ell + ellc
-            glo = 0.0
-            ghi = 0.0
-            for k in range(3):
-                el, eh = down_sum(rblo[b, i, k] - ahi[i, k]), up_sum(rbhi[b, i, k] - alo[i, k])
-                cl, ch = down_sum(rclo[b, i, k] - ahi[i, k]), up_sum(rchi[b, i, k] - alo[i, k])
-                if p:
-                    el, eh = down_sum(el + xlo[b, k]), up_sum(eh + xhi[b, k])
-                    cl, ch = down_sum(cl + c[b, k]), up_sum(ch + c[b, k])
-                slo[k], shi[k] = down_sum(el + cl), up_sum(eh + ch)
-                ql, qh = _sqr(cl, ch)                   # leg equation at c: Σ_k ellc_k² − L_i
-                if k == 0:
-                    glo, ghi = ql, qh
-                else:
-                    glo, ghi = down_sum(glo + ql), up_sum(ghi + qh)
-            flo[b, i], fhi[b, i] = down_sum(glo - Lhi[b, i]), up_sum(ghi - Llo[b, i])
-            for k in range(p):
-                Slo[b, i, k], Shi[b, i, k] = slo[k], shi[k]
-            for r in range(4):                          # Σ_k s_k ∂(R b_i)_k/∂q_r(Y)
-                tlo = 0.0
-                thi = 0.0
-                for k in range(3):
-                    dl, dh = down(Dm[b, r, i, k] - Dr[b, r, i, k]), up(Dm[b, r, i, k] + Dr[b, r, i, k])
-                    ml, mh = mul(slo[k], shi[k], dl, dh)
-                    if k == 0:
-                        tlo, thi = ml, mh
-                    else:
-                        tlo, thi = down_sum(tlo + ml), up_sum(thi + mh)
-                Slo[b, i, p + r], Shi[b, i, p + r] = tlo, thi
-        # the norm row: x_r + c_r; the norm equation at c: Σ_r c_r² − 1
-        glo = 0.0
-        ghi = 0.0
-        for k in range(p, n):
-            Slo[b, legs, k], Shi[b, legs, k] = down_sum(xlo[b, k] + c[b, k]), up_sum(xhi[b, k] + c[b, k])
-            ql, qh = _sqr(c[b, k], c[b, k])
-            if k == p:
-                glo, ghi = ql, qh
-            else:
-                glo, ghi = down_sum(glo + ql), up_sum(ghi + qh)
-        flo[b, legs], fhi[b, legs] = down_sum(glo - 1.0), up_sum(ghi - 1.0)
-    return Slo, Shi, flo, fhi
 
 
 @njit(cache=True)

@@ -21,6 +21,8 @@ from intervals import Interval
 from intervals.midrad import ETA, U, midrad, product_midrad, upper
 from intervals.rounding import down, down_sum, up, up_sum
 
+from .centred import centred_form_quaternion
+
 # dR/dq_r of the quaternion rotation (see FKSystem.rotation_derivatives) as indices into
 # [0, 2q0..2q3, -2q0..-2q3, -4q0..-4q3]
 DQ_INDEX = np.array([[[0, 8, 3], [4, 0, 6], [7, 2, 0]],
@@ -150,12 +152,16 @@ class RotatedPoints:
             return out
         return out, from_midrad(cm, cr), (Dm, Dr)
 
-    def centred_form(self, X: Interval):
+    def centred_form(self, X: Interval, native: bool = True):
         """Quaternion: (lo, hi, cm, cr, Dm, Dr): the centred form of R b_i over the boxes X around
         their midpoints c = X.mid(), [lo, hi] (N, legs, dim), with R b_i(c) in [cm ± cr] and the
-        derivatives over Y ∋ (x + c)/2 in [Dm ± Dr] (N, 4, legs, dim) (``rotated_centred``)."""
-        c = X.mid()
+        derivatives over Y ∋ (x + c)/2 in [Dm ± Dr] (N, 4, legs, dim) (``rotated_centred``); by the
+        machine-code twin (``fk.centred``) unless ``native`` is false."""
         p = self.n_pos
+        if native:      # the same operations box by box (``fk.centred``)
+            return centred_form_quaternion(np.ascontiguousarray(X.lo, dtype=np.float64),
+                                           np.ascontiguousarray(X.hi, dtype=np.float64), p, *self._centred_tables())
+        c = X.mid()
         cm, cr, Dm, Dr = self._centre_parts(X, c)
         with np.errstate(invalid="ignore", over="ignore"):
             # c = X.mid(): X_r − c_r ⊆ [−h_r, h_r], so Σ_r ∂(R b_i)/∂q_r(Y) (X_r − c_r) ⊆ ±Σ_r (|Dm_r| + Dr_r) h_r,
@@ -165,6 +171,16 @@ class RotatedPoints:
             rad = upper(cr + np.add.reduce((np.abs(Dm) + Dr) * h[:, :, None, None], axis=1), 8)
             lo, hi = down(cm - rad), up(cm + rad)
         return lo, hi, cm, cr, Dm, Dr
+
+    def _centred_tables(self):
+        """The constant factors of ``centred_form_quaternion``: ``b_midrad`` and the derivative tables G
+        with ``product_midrad``'s factors 5u|Gm| + Gr and |Gm| + Gr.  Computed once."""
+        t = self.__dict__.get("_centred_tables_")
+        if t is None:
+            Gm, Gr = self._quaternion_tables()
+            t = self._centred_tables_ = tuple(np.ascontiguousarray(v) for v in (
+                *self.b_midrad(), Gm, 5 * U * np.abs(Gm) + Gr, np.abs(Gm) + Gr))
+        return t
 
     def _centre_parts(self, X: Interval, c: np.ndarray):
         """R b_i at the points c in midpoint-radius form [cm ± cr] (N, legs, dim) and its quaternion

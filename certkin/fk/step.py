@@ -25,7 +25,8 @@ from intervals import Interval, linalg
 from intervals import native
 from intervals.rounding import down, down_sum, up, up_sum
 
-from .kernels import position_gauss_seidel, slope_quaternion
+from .centred import slope_quaternion
+from .kernels import position_gauss_seidel
 from .stacked import StackedFKSystem
 
 MARGIN = 2.0 ** -30      # uniqueness requires K inside X shrunk by this relative margin

@@ -1,0 +1,177 @@
+"""The expansions of R b_i around the box midpoints (quaternion), box by box in machine code (numba).
+
+- ``slope_quaternion``: ``FKSystem.slope`` and ``FKSystem.equations`` at the
+  midpoints, from the same enclosures of R b_i, with the same operations
+  (``tests/test_fk.py`` compares them).
+
+``centred_form_quaternion`` is ``RotatedPoints.centred_form`` (``fk.rotation``): the same
+operations, with the outward-rounded primitives of ``intervals.native``, for
+
+- c, the float midpoint of the box (``Interval.mid``);
+- R(c) in [Rm ± Rr] (``rotation_at_points``: the float entries, their Σ|terms| bound);
+- R b_i(c) in [cm ± cr] (``rotated_midrad``) and the derivatives ∂(R b_i)/∂q_r over Y ∋ (x + c)/2 in
+  [Dm ± Dr] (``rotated_derivatives_midrad``: ``product_midrad`` with the tables G);
+- the form [cm ± (cr + Σ_r (|Dm_r| + Dr_r) h_r)], h_r ≥ |x_r − c_r|.
+
+Only the float sums of the midpoint-radius products may be taken in another order than numpy's
+matrix products, which their error bounds allow (Higham 2002, eq. 3.5; docs/soundness.md §8,
+"midpoint-radius R b_i"); ``tests/test_fk_hc4.py`` compares the two.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from intervals.native import INF, MAX, down, down_sum, midrad, mul, sqr, up, up_sum, upper
+
+_U = 2.0 ** -53
+_ETA = 2.0 ** -1022
+
+
+@njit(cache=True)
+def _rotation_at_point(q, Rm, Rr):
+    """``rotation_at_points`` for one quaternion q: R(q) in [Rm ± Rr] (the expressions of
+    ``FKSystem.float_rotation``, the Σ|terms| bound with 6 roundings)."""
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    Rm[0, 0], Rm[0, 1], Rm[0, 2] = 1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)
+    Rm[1, 0], Rm[1, 1], Rm[1, 2] = 2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)
+    Rm[2, 0], Rm[2, 1], Rm[2, 2] = 2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)
+    mags = ((1.0 + 2.0 * (q2 * q2 + q3 * q3), 2.0 * (abs(q1 * q2) + abs(q0 * q3)), 2.0 * (abs(q1 * q3) + abs(q0 * q2))),
+            (2.0 * (abs(q1 * q2) + abs(q0 * q3)), 1.0 + 2.0 * (q1 * q1 + q3 * q3), 2.0 * (abs(q2 * q3) + abs(q0 * q1))),
+            (2.0 * (abs(q1 * q3) + abs(q0 * q2)), 2.0 * (abs(q2 * q3) + abs(q0 * q1)), 1.0 + 2.0 * (q1 * q1 + q2 * q2)))
+    for k in range(3):
+        for j in range(3):
+            Rr[k, j] = upper(4.0 * _U * mags[k][j], 6) + 3 * _ETA
+
+
+@njit(cache=True)
+def centred_form_quaternion(lo, hi, p, bm, inner, outer, Gm, Ginner, Gouter):
+    """(lo, hi, cm, cr, Dm, Dr) of ``centred_form`` over the boxes [lo, hi] (N, p + 4): the form
+    (N, legs, 3), R b_i at the midpoints in [cm ± cr] (N, legs, 3), the derivatives in [Dm ± Dr]
+    (N, 4, legs, 3).  ``bm``/``inner``/``outer`` (3, ≥ legs): ``b_midrad``; ``Gm`` (4, 4 legs 3) the
+    derivative tables, ``Ginner`` = 5u|Gm| + Gr, ``Gouter`` = |Gm| + Gr (``product_midrad``'s factors)."""
+    N = lo.shape[0]
+    legs = Gm.shape[1] // 12
+    flo = np.empty((N, legs, 3))
+    fhi = np.empty((N, legs, 3))
+    cm = np.empty((N, legs, 3))
+    cr = np.empty((N, legs, 3))
+    Dm = np.empty((N, 4, legs, 3))
+    Dr = np.empty((N, 4, legs, 3))
+    c = np.empty(4)
+    h = np.empty(4)
+    ym = np.empty(4)
+    yr = np.empty(4)
+    Rm = np.empty((3, 3))
+    Rr = np.empty((3, 3))
+    for box in range(N):
+        for r in range(4):
+            l, u = lo[box, p + r], hi[box, p + r]
+            m = 0.5 * max(l, -MAX) + 0.5 * min(u, MAX)          # Interval.mid
+            c[r] = min(max(m, l), u)
+            ym[r], yr[r] = midrad(down(0.5 * down_sum(l + c[r])), up(0.5 * up_sum(u + c[r])))   # Y ∋ (x + c)/2
+            h[r] = max(up_sum(c[r] - l), up_sum(u - c[r]))
+        _rotation_at_point(c, Rm, Rr)
+        for i in range(legs):
+            for k in range(3):
+                sm = 0.0
+                sr = 0.0
+                for j in range(3):            # R b_i(c): rotated_midrad
+                    sm += Rm[k, j] * bm[j, i]
+                    sr += abs(Rm[k, j]) * inner[j, i] + Rr[k, j] * outer[j, i]
+                sr = upper(sr, 16) + 3 * _ETA
+                if not (np.isfinite(sm) and np.isfinite(sr)):
+                    sm, sr = 0.0, INF
+                cm[box, i, k], cr[box, i, k] = sm, sr
+                col = (i * 3 + k)
+                acc = 0.0
+                for r in range(4):            # ∂(R b_i)_k/∂q_r over Y: product_midrad
+                    t = r * legs * 3 + col
+                    dm = 0.0
+                    dr = 0.0
+                    for s in range(4):
+                        dm += ym[s] * Gm[s, t]
+                        dr += abs(ym[s]) * Ginner[s, t] + yr[s] * Gouter[s, t]
+                    dr = upper(dr, 20) + 4 * _ETA
+                    if not (np.isfinite(dm) and np.isfinite(dr)):
+                        dm, dr = 0.0, INF
+                    Dm[box, r, i, k], Dr[box, r, i, k] = dm, dr
+                    acc += (abs(dm) + dr) * h[r]
+                rad = upper(sr + acc, 8)
+                flo[box, i, k], fhi[box, i, k] = down(sm - rad), up(sm + rad)
+    return flo, fhi, cm, cr, Dm, Dr
+
+
+@njit(cache=True)
+def slope_quaternion(xlo, xhi, c, rblo, rbhi, rclo, rchi, Dm, Dr, alo, ahi, Llo, Lhi, p):
+    """(S lo, S hi, f lo, f hi): ``FKSystem.slope`` (N, n, n) at the points c (N, n) over the boxes x, and
+    ``FKSystem.equations`` at c (N, n), from R b_i over x (``rb``) and at c (``rc``), (N, legs, 3), and the
+    derivatives of R b_i over Y ∋ (x + c)/2 in [Dm ± Dr] (N, 4, legs, 3).  Rows with a non-finite input
+    get entire slope entries and equation values."""
+    N, n = xlo.shape
+    legs = rblo.shape[1]
+    Slo = np.zeros((N, n, n))
+    Shi = np.zeros((N, n, n))
+    flo = np.empty((N, n))
+    fhi = np.empty((N, n))
+    slo = np.empty(3)
+    shi = np.empty(3)
+    for b in range(N):
+        finite = True
+        for k in range(n):
+            finite &= np.isfinite(xlo[b, k]) and np.isfinite(xhi[b, k]) and np.isfinite(c[b, k])
+        for i in range(legs):
+            finite &= np.isfinite(Llo[b, i]) and np.isfinite(Lhi[b, i])
+            for k in range(3):
+                finite &= np.isfinite(rblo[b, i, k]) and np.isfinite(rbhi[b, i, k])
+                finite &= np.isfinite(rclo[b, i, k]) and np.isfinite(rchi[b, i, k])
+                for r in range(4):
+                    finite &= np.isfinite(Dm[b, r, i, k]) and np.isfinite(Dr[b, r, i, k])
+        if not finite:
+            for i in range(n):
+                flo[b, i], fhi[b, i] = -INF, INF
+                for j in range(n):
+                    Slo[b, i, j], Shi[b, i, j] = -INF, INF
+            continue
+        for i in range(legs):
+            # ell = (R b_i − a_i) + p over x, ellc the same at c; s = ell + ellc
+            glo = 0.0
+            ghi = 0.0
+            for k in range(3):
+                el, eh = down_sum(rblo[b, i, k] - ahi[i, k]), up_sum(rbhi[b, i, k] - alo[i, k])
+                cl, ch = down_sum(rclo[b, i, k] - ahi[i, k]), up_sum(rchi[b, i, k] - alo[i, k])
+                if p:
+                    el, eh = down_sum(el + xlo[b, k]), up_sum(eh + xhi[b, k])
+                    cl, ch = down_sum(cl + c[b, k]), up_sum(ch + c[b, k])
+                slo[k], shi[k] = down_sum(el + cl), up_sum(eh + ch)
+                ql, qh = sqr(cl, ch)                   # leg equation at c: Σ_k ellc_k² − L_i
+                if k == 0:
+                    glo, ghi = ql, qh
+                else:
+                    glo, ghi = down_sum(glo + ql), up_sum(ghi + qh)
+            flo[b, i], fhi[b, i] = down_sum(glo - Lhi[b, i]), up_sum(ghi - Llo[b, i])
+            for k in range(p):
+                Slo[b, i, k], Shi[b, i, k] = slo[k], shi[k]
+            for r in range(4):                          # Σ_k s_k ∂(R b_i)_k/∂q_r(Y)
+                tlo = 0.0
+                thi = 0.0
+                for k in range(3):
+                    dl, dh = down(Dm[b, r, i, k] - Dr[b, r, i, k]), up(Dm[b, r, i, k] + Dr[b, r, i, k])
+                    ml, mh = mul(slo[k], shi[k], dl, dh)
+                    if k == 0:
+                        tlo, thi = ml, mh
+                    else:
+                        tlo, thi = down_sum(tlo + ml), up_sum(thi + mh)
+                Slo[b, i, p + r], Shi[b, i, p + r] = tlo, thi
+        # the norm row: x_r + c_r; the norm equation at c: Σ_r c_r² − 1
+        glo = 0.0
+        ghi = 0.0
+        for k in range(p, n):
+            Slo[b, legs, k], Shi[b, legs, k] = down_sum(xlo[b, k] + c[b, k]), up_sum(xhi[b, k] + c[b, k])
+            ql, qh = sqr(c[b, k], c[b, k])
+            if k == p:
+                glo, ghi = ql, qh
+            else:
+                glo, ghi = down_sum(glo + ql), up_sum(ghi + qh)
+        flo[b, legs], fhi[b, legs] = down_sum(glo - 1.0), up_sum(ghi - 1.0)
+    return Slo, Shi, flo, fhi
