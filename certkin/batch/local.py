@@ -4,8 +4,8 @@ Each worker is a one-process ``ProcessPoolExecutor``, so when a worker dies (kil
 the job it was running is known: the oldest of the (at most ``IN_FLIGHT``) tasks handed to it that
 has not returned.  That job is tried again, at most ``RETRIES`` times, then reported as ``Died``;
 the other tasks of that worker go back to the queue uncharged, and a fresh worker takes its place.
-Workers are started by a fork server that has imported ``PRELOAD`` once, so a new worker costs no
-start-up; robots are loaded once per worker by the work function's own cache.  Workers ignore
+Workers are started by a fork server that has imported the work function's module once, so a new
+worker costs no start-up; robots are loaded once per worker by the work function's own cache.  Workers ignore
 Ctrl-C (the parent decides what an interrupt means) and exit when the parent process goes away.
 """
 from __future__ import annotations
@@ -22,7 +22,6 @@ import time
 
 RETRIES = 2             # a job whose worker dies is tried again at most this many times
 IN_FLIGHT = 2           # tasks handed to a worker at once: the next one is ready when a job ends
-PRELOAD = ["certkin.cli"]
 
 
 @dataclass
@@ -73,7 +72,7 @@ def run_local(tasks: list, work, workers: int, report, retries: int = RETRIES) -
     were not run; the CPU is then None); the CPU is that of the workers alive at the end (a worker
     that died took its own count with it)."""
     context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload(PRELOAD)
+    context.set_forkserver_preload([work.__module__])
     queue = deque(range(len(tasks)))
     attempts = [0] * len(tasks)
     pool = [_Worker(context) for _ in range(max(1, min(workers, len(tasks))))]

@@ -9,6 +9,7 @@ robots are loaded once per worker.  The pool, the cluster, resuming and the summ
 """
 from __future__ import annotations
 
+import hashlib
 import importlib.util
 import json
 import os
@@ -23,6 +24,7 @@ from ..batch.results import ERROR, certificate_path, done, file_facts, row, writ
 from ..errors import InputError
 from ..report import batch_report
 from ..robots import load_robot, robot_from_dict
+from ..robots.files import MAX_FILE_BYTES
 from . import fk, plan, singular, trajectory, workspace
 from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, write_certificate
 
@@ -83,10 +85,14 @@ def _text(value) -> str:
 
 
 def robot_of(job: dict):
-    """The job's robot, loaded once per worker process (a file path, or an inline robot table)."""
+    """The job's robot, loaded once per worker process and content: a file path (keyed by the
+    SHA-256 of the file's bytes, so a worker that outlives an edit of the file loads it again), or
+    an inline robot table."""
     robot = job.get("robot")
     if isinstance(robot, str):
-        key = ("file", robot)
+        key = ("file", robot, _content_sha256(robot))
+        if key[2] is None:                  # unreadable: load_robot gives the command line's message
+            return load_robot(robot)
     elif isinstance(robot, dict):
         key = ("table", json.dumps(robot, sort_keys=True, default=str))
     else:
@@ -99,6 +105,16 @@ def robot_of(job: dict):
     if isinstance(_ROBOTS[key], InputError):
         raise _ROBOTS[key]
     return _ROBOTS[key]
+
+
+def _content_sha256(path: str) -> str | None:
+    """SHA-256 of a robot file's first ``MAX_FILE_BYTES`` + 1 bytes (what ``load_robot`` reads), or
+    None when it cannot be read."""
+    try:
+        with open(path, "rb") as fh:
+            return hashlib.sha256(fh.read(MAX_FILE_BYTES + 1)).hexdigest()
+    except (OSError, ValueError):
+        return None
 
 
 def verdict(command, document: dict) -> str:
