@@ -9,8 +9,8 @@ several jobs, they go back to the queue uncharged, each to run alone (the jobs i
 found done on disk and skipped); a job that runs alone and kills its worker is tried again, at
 most ``RETRIES`` times, then reported as ``Died``.  The other tasks of that worker go back to the
 queue uncharged, and a fresh worker takes its place.  Workers are started by a fork server that has
-imported the work function's module once, so a new worker costs no start-up; robots are loaded
-once per worker by the work function's own cache.  Workers ignore Ctrl-C (the parent decides what
+imported the work function's module (and ``preload``) once, so a new worker costs no start-up;
+robots are loaded once per worker by the work function's own cache.  Workers ignore Ctrl-C (the parent decides what
 an interrupt means) and exit when the parent process goes away.
 """
 from __future__ import annotations
@@ -110,14 +110,16 @@ class TaskQueue:
             self.alone.update(indices)
 
 
-def run_local(tasks: list, work, workers: int, report, retries: int = RETRIES) -> tuple[bool, float | None]:
+def run_local(tasks: list, work, workers: int, report, retries: int = RETRIES,
+              preload=()) -> tuple[bool, float | None]:
     """Run ``work(*tasks[i])`` for every i on ``workers`` processes; ``report(i, value)`` in this
     process as each chunk ends (``value``: what ``work`` returned, or ``Died``).  Returns (interrupted,
     CPU seconds of the workers): interrupted is True when Ctrl-C stopped the run (unreported tasks
     were not run; the CPU is then None); the CPU is that of the workers alive at the end (a worker
-    that died took its own count with it)."""
+    that died took its own count with it).  ``preload``: modules to import in the fork server, besides
+    the work function's."""
     context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload([work.__module__])
+    context.set_forkserver_preload([work.__module__, *preload])
     queue = TaskQueue(len(tasks))
     attempts = [0] * len(tasks)
     pool = [_Worker(context) for _ in range(max(1, min(workers, len(tasks))))]

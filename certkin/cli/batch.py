@@ -10,6 +10,7 @@ robots are loaded once per worker.  The pool, the cluster, resuming and the summ
 from __future__ import annotations
 
 import hashlib
+import importlib
 import importlib.util
 import json
 import os
@@ -25,10 +26,10 @@ from ..errors import InputError
 from ..report import batch_report
 from ..robots import load_robot, robot_from_dict
 from ..robots.files import MAX_FILE_BYTES
-from . import fk, plan, singular, trajectory, workspace
+from . import COMMANDS as CLI_COMMANDS
 from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, write_certificate
 
-COMMANDS = {"fk": fk, "singular": singular, "trajectory": trajectory, "plan": plan, "workspace": workspace}
+COMMANDS = ("fk", "singular", "trajectory", "plan", "workspace")
 OUTPUTS = ("json", "certificate", "report", "plot", "progress")   # the batch writes a job's outputs itself
 FIXED = ("id", "command", "robot")
 
@@ -49,10 +50,22 @@ def parse_job(job: dict):
     command = job.get("command")
     if command not in COMMANDS:
         raise InputError("command", "", f"expected one of {', '.join(COMMANDS)}, got {command!r}")
+    module = command_module(command)
     if command not in _PARSERS:
         _PARSERS[command] = JobParser(prog=f"certkin {command}")
-        COMMANDS[command].add_arguments(_PARSERS[command])
-    return COMMANDS[command], _PARSERS[command].parse_args(job_argv(job))
+        module.add_arguments(_PARSERS[command])
+    return module, _PARSERS[command].parse_args(job_argv(job))
+
+
+def command_module(command: str):
+    """The module of a command, imported when a job of it runs (``certkin.cli.COMMANDS``): the batch
+    process itself imports none, its workers' fork server those of the batch's jobs (``preload``)."""
+    return importlib.import_module(CLI_COMMANDS[command][0])
+
+
+def preload(jobs: list) -> list[str]:
+    """The modules a worker needs for these jobs, to import once in the fork server."""
+    return sorted({CLI_COMMANDS[j["command"]][0] for j in jobs if j.get("command") in COMMANDS})
 
 
 def job_argv(job: dict) -> list[str]:
@@ -198,7 +211,7 @@ def run(args):
     _check(args, jobs)
     bar = tqdm(total=len(jobs), desc="jobs", unit="job", file=sys.stderr, leave=False) if args.progress else None
     summary = run_batch(jobs, args.out, run_job, args.workers, args.scheduler,
-                        (lambda r: bar.update(1)) if bar else None)
+                        (lambda r: bar.update(1)) if bar else None, preload(jobs))
     if bar:
         bar.close()
     if args.report:
