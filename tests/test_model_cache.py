@@ -62,7 +62,8 @@ def evaluate(robot, what):
 @pytest.mark.parametrize("path", [PLANAR, MEL, ROOT / "examples" / "robots" / "seed003-spherical-example-1.toml"])
 def test_an_entry_gives_the_compilers_evaluator_bit_for_bit(cache, monkeypatch, path):
     robot = load_robot(path)
-    questions = [q for q in QUESTIONS if q != "det" or robot.symbolic_det] + (["R"] if robot.kind != "planar-3rpr" else [])
+    questions = [q for q in QUESTIONS if q != "det" or robot.symbolic_det]
+    questions += ["R"] if robot.kind != "planar-3rpr" else []
     fresh = {q: evaluate(robot, q) for q in questions}
     sources = {q: robot.compiled(q).source for q in questions}
     facts = (robot.model_parts(), robot.rigid_legs())
@@ -79,7 +80,8 @@ def test_an_entry_gives_the_compilers_evaluator_bit_for_bit(cache, monkeypatch, 
 
 def test_the_trajectory_verdicts_are_the_same_from_the_disk(cache, monkeypatch):
     robot = load_robot(MEL)
-    ends = [("1,2,520,85deg,10deg,0", "30,-20,520,85deg,10deg,0"), ("-60,-60,520,85deg,10deg,0", "60,60,520,85deg,10deg,0")]
+    ends = [("1,2,520,85deg,10deg,0", "30,-20,520,85deg,10deg,0"),
+            ("-60,-60,520,85deg,10deg,0", "60,60,520,85deg,10deg,0")]
     first = [verify_trajectory(robot, a, b).to_json() for a, b in ends]
     models.forget()
     no_sympy(monkeypatch)
@@ -129,15 +131,12 @@ def test_a_corrupt_entry_is_ignored_and_rebuilt(cache, damage):
 def test_a_stale_entry_is_never_used(cache, monkeypatch, tmp_path):
     """The key covers the sources the model depends on: change one, and the entry is not found."""
     robot = load_robot(PLANAR)
+    assert {p.name for p in models.sources(type(robot))} == {"symbolic.py", "base.py", "compiler.py", "planar.py"}
     robot.compiled("det")
     old = entry(cache, "det")
     dependency = tmp_path / "symbolic_copy.py"
     dependency.write_text("# a model source\n")
-    fake_spec = type("Spec", (), {"origin": str(dependency)})
-    monkeypatch.setattr(models, "DEPENDS", models.DEPENDS + ("a changed model source",))
-    monkeypatch.setattr(models.importlib.util, "find_spec",
-                        lambda name, _real=models.importlib.util.find_spec: fake_spec if name == "a changed model source"
-                        else _real(name))
+    monkeypatch.setattr(models, "sources", lambda cls, real=models.sources: real(cls) + [dependency])
     models.forget()
     built = []
     real = models.symbolic
