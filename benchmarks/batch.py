@@ -1,36 +1,48 @@
 """Batch throughput: ``certkin batch`` beside the in-process API and separate command-line calls.
 
-Workloads (DESIGN.md: ``certkin batch`` >= 0.8x the in-process API's per-instance speed):
+Workloads (issue: ``certkin batch`` >= 0.8x the in-process API's per-instance speed on the same
+core count):
 
 - 1000 small planar FK jobs: seed 003 planar example 2, a 10x10x10 grid of leg lengths around
   the 6-mode instance 28.99, 13.66, 40.53 (``certkin jobs grid``);
 - 1000 seed 000 trajectories: the MEL robot, constant orientation (85deg, 10deg, 0) at z = 520,
   start and goal drawn in [-60, 60]^2 with seed 0 (as benchmarks/trajectory.py).
 
-Methods, same jobs, same outputs where said:
+Methods, the same jobs and the same solve with the same options (default budgets):
 
-- API: the in-process API in one process, one call per job (``forward_kinematics`` /
-  ``verify_trajectory``), answers only;
-- API + files: the same, also writing each job's JSON document and certificate (what a batch writes);
-- batch, W workers: ``certkin batch JOBS --out DIR --workers W`` as a whole process (start-up included);
-- CLI calls: ``certkin fk|trajectory ... --json --certificate FILE``, one process per job, W at a time
-  (``--cli-calls`` of them; the per-job figure is what 1000 such calls cost).
+- API: one process, one call per job (``forward_kinematics(robot, lengths)`` /
+  ``verify_trajectory(robot, start, goal)`` on the robot loaded once), answers only, nothing
+  written; the first call (compiling, building the model) is made before the clock starts;
+- API + files: the same, also writing each job's JSON document and certificate (what a batch
+  writes per job; the certificate's search tree is the same, the document without the job echo);
+- batch, W workers: ``certkin batch JOBS --out DIR --workers W``, the whole process from start-up
+  to exit (imports, fork server, workers, every document and certificate written);
+- CLI calls: ``certkin fk|trajectory ... --json --certificate FILE``, one process per job, W at a time.
 
-Two ratios against the API on one core: wall (jobs / wall) / (W x API jobs/s), for a quiet
-machine; CPU (API CPU per job) / (CPU per job of the method, every process of it counted), which a
-shared machine does not distort much.  Usage: ``python benchmarks/batch.py [--jobs 1000] [--workers 2] [--cli-calls 1000]``.
+The compiled robot models are on disk (``certkin.robots.models``) once the API's first call has
+run, so no batch worker nor CLI call compiles them.  Wall ratio: (jobs per second per core of the
+method) / (jobs per second of the API on one core), for a quiet machine; CPU ratio: (CPU per job of
+the API) / (CPU per job of the method, every process of it counted: the batch process, its fork
+server and workers, sampled with psutil), which a shared machine distorts less.  Each figure is the
+median of ``--repeat`` runs.  Usage: ``python benchmarks/batch.py [--jobs 1000] [--workers 2]
+[--cli-calls 1000] [--repeat 1]``.
 """
 from __future__ import annotations
 
 import argparse
+from concurrent.futures import ThreadPoolExecutor
 import json
 from pathlib import Path
 import resource
+import shutil
+from statistics import median
 import subprocess
 import sys
 import tempfile
+import threading
 import time
-from concurrent.futures import ThreadPoolExecutor
+
+import psutil
 
 from certkin import forward_kinematics, load_robot, verify_trajectory
 from certkin.batch.grid import fk_jobs, trajectory_jobs
@@ -44,6 +56,7 @@ ROOT = Path(__file__).resolve().parent.parent
 PLANAR = str(ROOT / "examples" / "robots" / "seed003-planar-example-2.toml")
 MEL = str(ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml")
 SPACE = "x=-60:60,y=-60:60,z=520,psi=85deg,theta=10deg,phi=0"
+CERTKIN = [sys.executable, "-m", "certkin.cli"]
 
 
 def workloads(n: int):
@@ -61,7 +74,7 @@ def solve(robot, job):
 
 
 def api(robot, jobs, out: Path | None):
-    """Wall and CPU seconds of the API over the jobs (the first job, compiling, not counted)."""
+    """Wall and CPU seconds of the API over the jobs (a first call before the clock starts)."""
     solve(robot, jobs[0])
     w, c = time.perf_counter(), time.process_time()
     for job in jobs:
@@ -72,25 +85,62 @@ def api(robot, jobs, out: Path | None):
     return time.perf_counter() - w, time.process_time() - c
 
 
+class TreeCPU:
+    """CPU seconds (user + system) of a process and all its descendants while it runs: every process
+    sampled every ``period`` seconds (a process's last ``period`` may be missed), the top one exact."""
+
+    def __init__(self, popen, period=0.05):
+        self.top, self.seen, self.period = psutil.Process(popen.pid), {}, period
+        self.thread = threading.Thread(target=self._watch, daemon=True)
+        self.thread.start()
+
+    def _watch(self):
+        while True:
+            try:
+                if self.top.status() == psutil.STATUS_ZOMBIE:
+                    return
+                children = self.top.children(recursive=True)
+            except psutil.Error:
+                return
+            for p in children:
+                try:
+                    t = p.cpu_times()
+                    self.seen[p.pid] = t.user + t.system
+                except psutil.Error:
+                    pass
+            time.sleep(self.period)
+
+    def total(self, top_cpu: float) -> float:
+        self.thread.join()
+        return top_cpu + sum(self.seen.values())
+
+
 def children_cpu() -> float:
     u = resource.getrusage(resource.RUSAGE_CHILDREN)
     return u.ru_utime + u.ru_stime
 
 
 def batch(jobs, workers: int, directory: Path):
+    """Wall and CPU seconds of ``certkin batch`` as a whole process tree."""
     path = directory / "jobs.jsonl"
     path.write_text("".join(dumps(j) + "\n" for j in jobs))
-    w = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "certkin.cli", "batch", str(path), "--out", str(directory / "out"),
-                    "--workers", str(workers)], check=True, capture_output=True)
+    out = directory / "out"
+    shutil.rmtree(out, ignore_errors=True)
+    c, w = children_cpu(), time.perf_counter()
+    p = subprocess.Popen(CERTKIN + ["batch", str(path), "--out", str(out), "--workers", str(workers)],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    tree = TreeCPU(p)
+    _, err = p.communicate()
     wall = time.perf_counter() - w
-    summary = json.loads((directory / "out" / "summary.json").read_text())
+    assert p.returncode == 0, err
+    cpu = tree.total(children_cpu() - c)
+    summary = json.loads((out / "summary.json").read_text())
     assert summary["jobs"] == len(jobs) and not summary["errors"] and not summary["failed"]
-    return wall, summary["batch_cpu_seconds"]
+    return wall, cpu
 
 
 def cli_argv(job, cert):
-    argv = [sys.executable, "-m", "certkin.cli", job["command"], job["robot"], "--json", "--certificate", str(cert)]
+    argv = CERTKIN + [job["command"], job["robot"], "--json", "--certificate", str(cert)]
     if job["command"] == "fk":
         return argv + [f"--lengths={job['lengths']}"]
     return argv + [f"--from={job['from']}", f"--to={job['to']}"]
@@ -104,44 +154,59 @@ def cli(jobs, workers: int, directory: Path):
     return time.perf_counter() - w, children_cpu() - c
 
 
+def medians(runs):
+    return median(r[0] for r in runs), median(r[1] for r in runs)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--jobs", type=int, default=1000)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--cli-calls", type=int, default=1000)
+    ap.add_argument("--repeat", type=int, default=1, help="runs of each method (medians)")
     args = ap.parse_args()
-    print(describe())
+    print(describe(), time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), flush=True)
     rows = []
     for name, (robot, jobs) in workloads(args.jobs).items():
         n = len(jobs)
         with tempfile.TemporaryDirectory() as d:
             d = Path(d)
-            api_wall, api_cpu = api(robot, jobs, None)
-            files_wall, files_cpu = api(robot, jobs, d)
-            base = {"API": n / api_wall, "API + files": n / files_wall, "cpu": api_cpu / n, "files cpu": files_cpu / n}
-            rows.append((name, "API, 1 process", n, api_wall, api_cpu, 1, base))
-            rows.append((name, "API + files, 1 process", n, files_wall, files_cpu, 1, base))
-            for w in sorted({1, args.workers}):
-                (d / f"b{w}").mkdir()
-                wall, cpu = batch(jobs, w, d / f"b{w}")
-                rows.append((name, f"certkin batch, {w} worker{'s' if w > 1 else ''}", n, wall, cpu, w, base))
+            runs = {}
+            for _ in range(args.repeat):
+                runs.setdefault("API, 1 process, answers only", []).append(api(robot, jobs, None))
+                (d / "api").mkdir(exist_ok=True)
+                runs.setdefault("API + files, 1 process", []).append(api(robot, jobs, d / "api"))
+                for w in sorted({1, args.workers}):
+                    (d / f"b{w}").mkdir(exist_ok=True)
+                    runs.setdefault(f"certkin batch, {w} worker{'s' if w > 1 else ''}", []).append(
+                        (*batch(jobs, w, d / f"b{w}"), w))
+                print(f"{name}: run {_ + 1} of {args.repeat} done", file=sys.stderr, flush=True)
             calls = jobs[:args.cli_calls]
             if calls:
                 (d / "cli").mkdir()
-                wall, cpu = cli(calls, args.workers, d / "cli")
-                rows.append((name, f"{len(calls)} CLI calls, {args.workers} at a time", len(calls), wall, cpu,
-                             args.workers, base))
-    print(f"{'workload':22s} {'method':34s} {'jobs':>5s} {'wall s':>8s} {'ms/job':>8s} {'CPU ms/job':>11s} "
-          f"{'wall ratio':>10s} {'CPU ratio':>9s} {'CPU ratio vs API+files':>22s}")
-    for name, method, n, wall, cpu, cores, base in rows:
-        speed = n / wall / cores
-        print(f"{name:22s} {method:34s} {n:5d} {wall:8.2f} {1e3 * wall / n:8.2f} {1e3 * cpu / n:11.2f} "
-              f"{speed / base['API']:10.2f} {base['cpu'] * n / cpu:9.2f} {base['files cpu'] * n / cpu:22.2f}")
-    print("wall ratio: jobs per second per core against the in-process API on one core (target >= 0.8; "
-          "meaningless on a loaded machine); CPU ratio: CPU per job of the API (answers only) / CPU per job of "
-          "the method; vs API+files: against the API writing the same documents and certificates")
-    print("CPU ms/job: API rows: process_time; CLI rows: the calls' CPU (start-up included); batch rows: the "
-          "whole batch (summary.json batch_cpu_seconds: the batch process and its workers, start-up included)")
+                runs[f"{len(calls)} CLI calls, {args.workers} at a time"] = [(*cli(calls, args.workers, d / "cli"),
+                                                                             args.workers, len(calls))]
+            base = {k: medians(runs[k]) for k in ("API, 1 process, answers only", "API + files, 1 process")}
+            for method, rs in runs.items():
+                wall, cpu = medians(rs)
+                cores = rs[0][2] if len(rs[0]) > 2 else 1
+                count = rs[0][3] if len(rs[0]) > 3 else n
+                rows.append((name, method, count, wall, cpu, cores, base, n))
+    api_key, files_key = "API, 1 process, answers only", "API + files, 1 process"
+    print(f"{'workload':22s} {'method':32s} {'jobs':>5s} {'wall s':>8s} {'wall ms/job':>11s} {'CPU ms/job':>10s} "
+          f"{'wall ratio vs API':>17s} {'vs API+files':>12s} {'CPU ratio vs API':>16s} {'vs API+files':>12s}")
+    for name, method, count, wall, cpu, cores, base, n in rows:
+        per_core_wall = wall * cores / count            # seconds of one core per job
+        api_wall, api_cpu = base[api_key][0] / n, base[api_key][1] / n
+        files_wall, files_cpu = base[files_key][0] / n, base[files_key][1] / n
+        print(f"{name:22s} {method:32s} {count:5d} {wall:8.2f} {1e3 * wall / count:11.2f} {1e3 * cpu / count:10.2f} "
+              f"{api_wall / per_core_wall:17.2f} {files_wall / per_core_wall:12.2f} "
+              f"{api_cpu * count / cpu:16.2f} {files_cpu * count / cpu:12.2f}")
+    print("wall ratio: (jobs per second per core of the method) / (jobs per second of the in-process API on one core); "
+          "target >= 0.8 against the API answering only; meaningful on a quiet machine only.\n"
+          "CPU ratio: (CPU per job of the API) / (CPU per job of the method); batch rows: every process of the batch "
+          "(start-up, fork server, workers) sampled with psutil; CLI rows: the calls' processes (start-up included).\n"
+          f"medians of {args.repeat} run(s) per method (CLI calls: one run).")
 
 
 if __name__ == "__main__":

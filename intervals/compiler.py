@@ -19,20 +19,15 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-import numpy as np
 import sympy as sp
 
-from . import autodiff
-from . import elementary as el
-from . import polynomial as pl
-from .interval import Interval, pown, sqr, stack
+from .evaluator import Evaluator
+from .interval import Interval
 
 _FUNCTIONS = {
     sp.sin: "sin", sp.cos: "cos", sp.tan: "tan", sp.atan: "atan", sp.exp: "exp",
     sp.log: "log", sp.Abs: "abs", sp.atan2: "atan2",
 }
-
-CHUNK = 8192  # rows per block: keeps the temporaries of one block in cache
 
 
 class _Printer:
@@ -121,32 +116,9 @@ class _Printer:
         raise NotImplementedError(f"cannot compile {type(e).__name__}: {e}")
 
 
-def _unsupported(name):
-    def fn(*args):
-        raise NotImplementedError(f"{name} of a polynomial in t is not supported")
-    return fn
-
-
-def _poly_namespace():
-    """Functions for ``polynomial.Poly`` variables (polynomials in t ∈ [0, 1])."""
-    ns = {name: _unsupported(name) for name in ("tan", "atan", "atan2", "exp", "log", "abs", "sqrt", "min", "max")}
-    ns.update(sin=pl.sin, cos=pl.cos, sqr=pl.sqr, pown=pl.pown, pi=el.pi)
-    return ns
-
-
-def _namespace(dual):
-    if dual == "poly":
-        return _poly_namespace()
-    src = autodiff if dual else el
-    ns = {name: getattr(src, name) for name in ("sin", "cos", "tan", "atan", "atan2", "exp", "log", "abs", "sqrt")}
-    ns.update(min=el.min, max=el.max, pi=el.pi)
-    ns["sqr"] = autodiff.sqr if dual else sqr
-    ns["pown"] = autodiff.pown if dual else pown
-    return ns
-
-
-class CompiledExprs:
-    """A batch evaluator of m expressions in d variables (and fixed parameters)."""
+class CompiledExprs(Evaluator):
+    """The evaluator of m sympy expressions in d variables (and fixed parameters); ``exprs``,
+    ``variables`` and ``parameters`` as given."""
 
     def __init__(self, exprs, variables, parameters=()):
         self.exprs = [sp.sympify(e) for e in exprs]
@@ -164,85 +136,7 @@ class CompiledExprs:
         outs = [printer(r) for r in reduced]
         src = "def _f(v, p):\n" + "\n".join(lines) + ("\n" if lines else "")
         src += "    return [" + ", ".join(outs) + "]\n"
-        self.source = src
-        self._fns = {}
-        for dual in (False, True, "poly"):
-            ns = _namespace(dual)
-            ns.update(printer.constants)
-            exec(compile(src, "<certkin-compiled>", "exec"), ns)
-            self._fns[dual] = ns["_f"]
-
-    def _params(self, params):
-        if params is None:
-            params = []
-        if len(params) != len(self.parameters):
-            raise ValueError(f"expected {len(self.parameters)} parameter values, got {len(params)}")
-        return [p if isinstance(p, Interval) else Interval(p) for p in params]
-
-    def _blocks(self, box: Interval):
-        n = box.shape[0] if box.ndim > 1 else None
-        if n is None or n <= CHUNK:
-            yield slice(None)
-            return
-        for start in range(0, n, CHUNK):
-            yield slice(start, min(start + CHUNK, n))
-
-    @staticmethod
-    def _broadcast(out, shape):
-        """Expressions that do not depend on the variables come back 0-d: broadcast them."""
-        fixed = []
-        for o in out:
-            if not isinstance(o, Interval):
-                o = Interval(o)
-            fixed.append(Interval.from_bounds(np.broadcast_to(o.lo, shape), np.broadcast_to(o.hi, shape)))
-        return fixed
-
-    def __call__(self, box: Interval, params=None) -> Interval:
-        """Enclosures of the m expressions over a batch of boxes (..., d) -> (..., m)."""
-        params = self._params(params)
-        box = box if isinstance(box, Interval) else Interval(box)
-        parts = []
-        for blk in self._blocks(box):
-            b = box[blk]
-            v = [b[..., i] for i in range(len(self.variables))]
-            out = self._broadcast(self._fns[False](v, params), b.shape[:-1])
-            parts.append(stack(out, axis=-1))
-        if len(parts) == 1:
-            return parts[0]
-        return Interval.from_bounds(np.concatenate([p.lo for p in parts]), np.concatenate([p.hi for p in parts]))
-
-    def evaluate(self, variables, params=None) -> list:
-        """The m expressions at prebuilt variable values (``Interval``, ``autodiff.Dual`` or
-        ``polynomial.Poly``, one per variable, any common shape); returns a list of m values
-        (constants come back unbroadcast).  Polynomial variables support + − × and sin/cos of
-        degree-1 arguments (NotImplementedError otherwise)."""
-        if any(isinstance(v, pl.Poly) for v in variables):
-            return self._fns["poly"](list(variables), self._params(params))
-        dual = any(isinstance(v, autodiff.Dual) for v in variables)
-        return self._fns[dual](list(variables), self._params(params))
-
-    def jacobian(self, box: Interval, params=None):
-        """(values (..., m), Jacobian enclosure (..., m, d)) over a batch of boxes."""
-        params = self._params(params)
-        box = box if isinstance(box, Interval) else Interval(box)
-        d = len(self.variables)
-        vals, jacs = [], []
-        for blk in self._blocks(box):
-            b = box[blk]
-            out = self._fns[True](autodiff.Dual.variables(b), params)
-            vs, gs = [], []
-            for o in out:
-                if not isinstance(o, autodiff.Dual):
-                    o = autodiff.Dual.variables(b)[0].lift(o if isinstance(o, Interval) else Interval(o))
-                vs.append(Interval.from_bounds(np.broadcast_to(o.value.lo, b.shape[:-1]), np.broadcast_to(o.value.hi, b.shape[:-1])))
-                gs.append(Interval.from_bounds(np.broadcast_to(o.grad.lo, b.shape[:-1] + (d,)),
-                                        np.broadcast_to(o.grad.hi, b.shape[:-1] + (d,))))
-            vals.append(stack(vs, axis=-1))
-            jacs.append(stack(gs, axis=-2))
-        if len(vals) == 1:
-            return vals[0], jacs[0]
-        cat = lambda xs: Interval.from_bounds(np.concatenate([x.lo for x in xs]), np.concatenate([x.hi for x in xs]))
-        return cat(vals), cat(jacs)
+        super().__init__(src, printer.constants, len(self.variables), len(self.parameters))
 
 
 def compile_exprs(exprs, variables, parameters=()) -> CompiledExprs:

@@ -10,3 +10,10 @@ def dies_on_boom(job, out):
     if job["id"] == "boom":
         os.kill(os.getpid(), signal.SIGKILL)
     return run_job(job, out)
+
+
+def square_or_die(job, out):
+    """``job["x"]`` squared, at once (jobs that short run in chunks); the job ``boom`` kills its worker."""
+    if job["id"] == "boom":
+        os.kill(os.getpid(), signal.SIGKILL)
+    return {"id": job["id"], "square": job["x"] ** 2}

@@ -15,9 +15,9 @@ import time
 import pytest
 
 import proofs
-from batch_work import dies_on_boom
+from batch_work import dies_on_boom, square_or_die
 from certfile import Doc
-from certkin.batch import read_jobs, run_batch
+from certkin.batch import local, read_jobs, run_batch
 from certkin.batch.jobs import dumps
 from certkin.batch.results import untimed
 from certkin.cli import main
@@ -168,6 +168,34 @@ def test_a_job_that_kills_its_worker_is_tried_three_times_then_failed(tmp_path):
     assert "died 3 times" in rows["boom"]["error"]
     assert json.loads((tmp_path / "boom.json").read_text())["status"] == "failed"
     assert rows["fine"]["verdict"] == "infeasible" and proofs.check_file(tmp_path / "fine.cert").ok
+
+
+def test_short_jobs_run_in_chunks_and_a_killer_inside_a_chunk_is_found_alone():
+    """400 instant jobs run in chunks; the job that kills its worker in the middle of a chunk is found
+    by running that chunk's jobs alone, and fails after 3 tries; every other job is reported once,
+    with its own answer."""
+    tasks = [({"id": "boom" if k == 300 else f"j{k}", "x": k}, "unused") for k in range(400)]
+    reports = []
+    interrupted, _ = local.run_local(tasks, square_or_die, 2, lambda i, v: reports.append((i, v)))
+    assert not interrupted and sorted(i for i, _ in reports) == list(range(400))
+    values = dict(reports)
+    assert isinstance(values[300], local.Died) and values[300].attempts == 3 and "died 3 times" in values[300].reason
+    assert all(values[k] == {"id": f"j{k}", "square": k * k} for k in range(400) if k != 300)
+
+
+def test_chunks_last_about_chunk_seconds_and_suspects_run_alone():
+    q = local.TaskQueue(1000)
+    assert q.chunk(2) == [0]                                     # nothing timed yet: one job
+    q.jobs, q.seconds = 10, 10 * local.CHUNK_SECONDS / 8         # 8 jobs fill a chunk
+    assert q.chunk(2) == list(range(1, 9))
+    q.seconds = 1e-6                                             # instant jobs: the largest chunk
+    assert len(q.chunk(2)) == local.MAX_CHUNK
+    q.again([3, 4, 5], alone=True)
+    assert [q.chunk(2), q.chunk(2), q.chunk(2)] == [[3], [4], [5]]
+    assert len(q.chunk(2)) == local.MAX_CHUNK
+    tail = local.TaskQueue(6)
+    tail.jobs, tail.seconds = 10, 1e-6
+    assert [len(tail.chunk(2)) for _ in range(6)] == [1] * 6      # the last jobs spread over the workers
 
 
 def test_on_a_dask_cluster_a_job_that_kills_its_worker_is_failed_after_the_allowed_failures(tmp_path):

@@ -8,7 +8,8 @@ from hypothesis import given, settings, strategies as st
 
 from intervals import Interval
 from intervals.autodiff import Dual
-from intervals.compiler import CHUNK, compile_exprs
+from intervals.compiler import compile_exprs
+from intervals.evaluator import CHUNK
 
 x, y, z, a, b = sp.symbols("x y z a b", real=True)
 EXPRS = [

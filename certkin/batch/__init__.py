@@ -20,10 +20,12 @@ from .results import FAILED, row, summarise, write_error, write_summary
 PENDING = "pending"          # verdict of a job an interrupt kept from running
 
 
-def run_batch(jobs: list, out, work, workers: int = 1, scheduler: str | None = None, on_row=None) -> dict:
+def run_batch(jobs: list, out, work, workers: int = 1, scheduler: str | None = None, on_row=None,
+              preload=()) -> dict:
     """Answer every job into ``out`` with ``work(job, out)`` (which returns the job's summary row,
     skipping a job already done there); write and return ``summary.json``.  ``on_row(row)`` is
-    called as each job ends.  Jobs that could not be read are answered here with their error."""
+    called as each job ends.  Jobs that could not be read are answered here with their error.
+    ``preload``: modules the local workers import once, before the first job (in their fork server)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     t0, c0 = time.perf_counter(), time.process_time()
@@ -50,7 +52,7 @@ def run_batch(jobs: list, out, work, workers: int = 1, scheduler: str | None = N
     if scheduler:
         interrupted, workers_cpu = run_dask(tasks, work, scheduler, report), None
     else:
-        interrupted, workers_cpu = run_local(tasks, work, workers, report) if tasks else (False, 0.0)
+        interrupted, workers_cpu = run_local(tasks, work, workers, report, preload=preload) if tasks else (False, 0.0)
     for i, r in enumerate(rows):
         if r is None:
             rows[i] = row(jobs[i], PENDING, 0.0, 0)

@@ -1,12 +1,17 @@
 """Jobs on a local process pool (``concurrent.futures``), resistant to workers that die.
 
 Each worker is a one-process ``ProcessPoolExecutor``, so when a worker dies (killed, out of memory)
-the job it was running is known: the oldest of the (at most ``IN_FLIGHT``) tasks handed to it that
-has not returned.  That job is tried again, at most ``RETRIES`` times, then reported as ``Died``;
-the other tasks of that worker go back to the queue uncharged, and a fresh worker takes its place.
-Workers are started by a fork server that has imported ``PRELOAD`` once, so a new worker costs no
-start-up; robots are loaded once per worker by the work function's own cache.  Workers ignore
-Ctrl-C (the parent decides what an interrupt means) and exit when the parent process goes away.
+the task it was running is known: the oldest of the (at most ``IN_FLIGHT``) tasks handed to it that
+has not returned.  A task is a *chunk* of consecutive jobs, sized so that it runs for about
+``CHUNK_SECONDS`` (one job at first, then from the mean time per job so far, at most ``MAX_CHUNK``):
+short jobs then cost one round trip per chunk, not per job.  When a worker dies in a chunk of
+several jobs, they go back to the queue uncharged, each to run alone (the jobs it had finished are
+found done on disk and skipped); a job that runs alone and kills its worker is tried again, at
+most ``RETRIES`` times, then reported as ``Died``.  The other tasks of that worker go back to the
+queue uncharged, and a fresh worker takes its place.  Workers are started by a fork server that has
+imported the work function's module (and ``preload``) once, so a new worker costs no start-up;
+robots are loaded once per worker by the work function's own cache.  Workers ignore Ctrl-C (the parent decides what
+an interrupt means) and exit when the parent process goes away.
 """
 from __future__ import annotations
 
@@ -21,8 +26,9 @@ import threading
 import time
 
 RETRIES = 2             # a job whose worker dies is tried again at most this many times
-IN_FLIGHT = 2           # tasks handed to a worker at once: the next one is ready when a job ends
-PRELOAD = ["certkin.cli"]
+IN_FLIGHT = 2           # tasks handed to a worker at once: the next one is ready when a task ends
+CHUNK_SECONDS = 0.25    # wanted run time of a chunk of jobs
+MAX_CHUNK = 32          # jobs per chunk at most
 
 
 @dataclass
@@ -66,23 +72,63 @@ class _Worker:
         self.executor.shutdown(wait=False, cancel_futures=True)
 
 
-def run_local(tasks: list, work, workers: int, report, retries: int = RETRIES) -> tuple[bool, float | None]:
+def run_chunk(work, tasks: list) -> tuple[list, float]:
+    """In a worker: ``work(*task)`` for each task of a chunk; (their values, wall seconds).  A task
+    that raises (a bug in ``work``, which answers every job) is reported as ``Died``."""
+    t0, values = time.perf_counter(), []
+    for task in tasks:
+        try:
+            values.append(work(*task))
+        except Exception as exc:
+            values.append(Died(1, f"the job raised {type(exc).__name__}: {exc}"))
+    return values, time.perf_counter() - t0
+
+
+class TaskQueue:
+    """The tasks not yet handed out, in order, and the chunks they are handed out in."""
+
+    def __init__(self, n: int):
+        self.todo, self.alone = deque(range(n)), set()
+        self.jobs, self.seconds = 0, 0.0          # jobs run in chunks so far, and their wall time
+
+    def __bool__(self):
+        return bool(self.todo)
+
+    def chunk(self, workers: int) -> list:
+        """The next chunk: one job that must run alone, or consecutive jobs for ``CHUNK_SECONDS``."""
+        size = 1 if not self.jobs else int(CHUNK_SECONDS * self.jobs / max(self.seconds, 1e-9))
+        size = max(1, min(size, MAX_CHUNK, len(self.todo) // (IN_FLIGHT * workers)))
+        out = [self.todo.popleft()]
+        while len(out) < size and self.todo and out[0] not in self.alone and self.todo[0] not in self.alone:
+            out.append(self.todo.popleft())
+        return out
+
+    def again(self, indices, alone: bool = False) -> None:
+        """Put tasks back at the front of the queue (``alone``: each to run in a chunk of its own)."""
+        self.todo.extendleft(reversed(indices))
+        if alone:
+            self.alone.update(indices)
+
+
+def run_local(tasks: list, work, workers: int, report, retries: int = RETRIES,
+              preload=()) -> tuple[bool, float | None]:
     """Run ``work(*tasks[i])`` for every i on ``workers`` processes; ``report(i, value)`` in this
-    process as each ends (``value``: what ``work`` returned, or ``Died``).  Returns (interrupted,
+    process as each chunk ends (``value``: what ``work`` returned, or ``Died``).  Returns (interrupted,
     CPU seconds of the workers): interrupted is True when Ctrl-C stopped the run (unreported tasks
     were not run; the CPU is then None); the CPU is that of the workers alive at the end (a worker
-    that died took its own count with it)."""
+    that died took its own count with it).  ``preload``: modules to import in the fork server, besides
+    the work function's."""
     context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload(PRELOAD)
-    queue = deque(range(len(tasks)))
+    context.set_forkserver_preload([work.__module__, *preload])
+    queue = TaskQueue(len(tasks))
     attempts = [0] * len(tasks)
     pool = [_Worker(context) for _ in range(max(1, min(workers, len(tasks))))]
     try:
         while queue or any(w.tasks for w in pool):
             for w in pool:
                 while queue and len(w.tasks) < IN_FLIGHT:
-                    i = queue.popleft()
-                    w.tasks.append((i, w.executor.submit(work, *tasks[i])))
+                    chunk = queue.chunk(len(pool))
+                    w.tasks.append((chunk, w.executor.submit(run_chunk, work, [tasks[i] for i in chunk])))
             wait([f for w in pool for _, f in w.tasks], return_when=FIRST_COMPLETED)
             for k, w in enumerate(pool):
                 if _collect(w, report, queue, attempts, retries):
@@ -107,31 +153,36 @@ def _cpu(future) -> float:
 
 
 def _collect(worker, report, queue, attempts, retries) -> bool:
-    """Report the finished tasks of a worker; True when the worker died (its tasks are requeued,
-    the one it was running charged with an attempt)."""
+    """Report the finished chunks of a worker; True when the worker died (its chunks are requeued:
+    the jobs of the one it was running each to run alone, or that job charged with an attempt when
+    it ran alone)."""
     while worker.tasks and worker.tasks[0][1].done():
-        i, f = worker.tasks[0]
+        chunk, f = worker.tasks[0]
         try:
-            value = f.result()
+            values, seconds = f.result()
         except BrokenProcessPool:
             break
-        except Exception as exc:        # the work function answers every job; this is a bug in it
-            value = Died(1, f"the job raised {type(exc).__name__}: {exc}")
         worker.tasks.popleft()
-        if attempts[i] and isinstance(value, dict):
-            value["attempts"] = attempts[i] + 1
-        report(i, value)
+        queue.jobs, queue.seconds = queue.jobs + len(chunk), queue.seconds + seconds
+        for i, value in zip(chunk, values):
+            if attempts[i] and isinstance(value, dict):
+                value["attempts"] = attempts[i] + 1
+            report(i, value)
     if not worker.tasks or not isinstance(worker.tasks[0][1].exception() if worker.tasks[0][1].done() else None,
                                           BrokenProcessPool):
         return False
     running, _ = worker.tasks.popleft()
-    attempts[running] += 1
-    waiting = [i for i, _ in worker.tasks]
+    waiting = [i for chunk, _ in worker.tasks for i in chunk]
     worker.tasks.clear()
-    queue.extendleft(reversed(waiting))
-    if attempts[running] > retries:
-        report(running, Died(attempts[running], f"its worker process died {attempts[running]} times while "
-                                                "running it (killed, or out of memory)"))
+    queue.again(waiting)
+    if len(running) > 1:                    # which of its jobs killed the worker is not known
+        queue.again(running, alone=True)
+        return True
+    (i,) = running
+    attempts[i] += 1
+    if attempts[i] > retries:
+        report(i, Died(attempts[i], f"its worker process died {attempts[i]} times while running it (killed, or out "
+                                    "of memory)"))
     else:
-        queue.appendleft(running)
+        queue.again([i], alone=True)
     return True

@@ -15,6 +15,7 @@ from __future__ import annotations
 from contextlib import contextmanager
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import lru_cache
 import hashlib
 import json
 import os
@@ -30,6 +31,7 @@ VERSION = 2
 CHUNK = 1 << 16          # rows per chunk when streaming the engine's arrays
 LEVEL = 1                # deflate level: the body is mostly floats; level 1 is fast and nearly as small
 SAMPLE = 1 << 18         # bytes of an array's first chunk compressed to decide whether to deflate it
+KEEP = 1 << 22           # bytes of a body kept in memory between hashing and writing (larger ones are produced twice)
 
 
 @dataclass
@@ -58,18 +60,25 @@ class Document:
         self._arrays = None
 
     def _entries(self):
-        entries, total, self._stored = {}, hashlib.sha256(), set()
+        """The header; the chunks of a small body are kept (``self._kept``) for ``write``, which
+        then does not produce them twice."""
+        entries, total, self._stored, kept, size = {}, hashlib.sha256(), set(), {}, 0
         for a in self.body:
-            h, rows = hashlib.sha256(), 0
+            h, rows, kept[a.name] = hashlib.sha256(), 0, []
             for n, raw in a._raw():
                 if not rows and len(zlib.compress(raw[:SAMPLE], LEVEL)) > 0.9 * len(raw[:SAMPLE]):
                     self._stored.add(a.name)        # nearly incompressible (matrices of floats): stored
                 h.update(raw)
                 total.update(raw)
                 rows += n
+                size += len(raw)
+                if size <= KEEP:
+                    kept[a.name].append(raw)
             entries[a.name] = {"dtype": np.dtype(a.dtype).newbyteorder("<").str, "shape": [rows, *a.tail],
                                "sha256": h.hexdigest()}
-        return {**self.header_fields, "geometry_sha256": geometry_sha256(self.header_fields["robot"]),
+        self._kept = kept if size <= KEEP else None
+        robot = self.header_fields["robot"]
+        return {**self.header_fields, "geometry_sha256": _geometry_sha256(json.dumps(robot, sort_keys=True, default=str)),
                 "arrays": entries, "body_sha256": total.hexdigest()}
 
     @property
@@ -100,7 +109,7 @@ class Document:
                         info = zipfile.ZipInfo(info)
                         info.compress_type = zipfile.ZIP_STORED
                     with z.open(info, "w", force_zip64=True) as fh:
-                        for _, raw in a._raw():
+                        for raw in self._kept[a.name] if self._kept is not None else (r for _, r in a._raw()):
                             fh.write(raw)
 
 
@@ -154,6 +163,13 @@ def canonical_decimal(value) -> str:
         d, rest = divmod(rest, q.denominator)
         digits += str(d)
     return sign + str(whole) + ("." + digits if digits else "") + suffix
+
+
+@lru_cache(maxsize=64)
+def _geometry_sha256(robot_json: str) -> str:
+    """``geometry_sha256`` of a robot given as JSON (computed once per robot: a batch writes many
+    certificates of one robot)."""
+    return geometry_sha256(json.loads(robot_json))
 
 
 def geometry_sha256(robot: dict) -> str:

@@ -9,6 +9,8 @@ robots are loaded once per worker.  The pool, the cluster, resuming and the summ
 """
 from __future__ import annotations
 
+import hashlib
+import importlib
 import importlib.util
 import json
 import os
@@ -23,10 +25,11 @@ from ..batch.results import ERROR, certificate_path, done, file_facts, row, writ
 from ..errors import InputError
 from ..report import batch_report
 from ..robots import load_robot, robot_from_dict
-from . import fk, plan, singular, trajectory, workspace
+from ..robots.files import MAX_FILE_BYTES
+from . import COMMANDS as CLI_COMMANDS
 from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, write_certificate
 
-COMMANDS = {"fk": fk, "singular": singular, "trajectory": trajectory, "plan": plan, "workspace": workspace}
+COMMANDS = ("fk", "singular", "trajectory", "plan", "workspace")
 OUTPUTS = ("json", "certificate", "report", "plot", "progress")   # the batch writes a job's outputs itself
 FIXED = ("id", "command", "robot")
 
@@ -47,10 +50,22 @@ def parse_job(job: dict):
     command = job.get("command")
     if command not in COMMANDS:
         raise InputError("command", "", f"expected one of {', '.join(COMMANDS)}, got {command!r}")
+    module = command_module(command)
     if command not in _PARSERS:
         _PARSERS[command] = JobParser(prog=f"certkin {command}")
-        COMMANDS[command].add_arguments(_PARSERS[command])
-    return COMMANDS[command], _PARSERS[command].parse_args(job_argv(job))
+        module.add_arguments(_PARSERS[command])
+    return module, _PARSERS[command].parse_args(job_argv(job))
+
+
+def command_module(command: str):
+    """The module of a command, imported when a job of it runs (``certkin.cli.COMMANDS``): the batch
+    process itself imports none, its workers' fork server those of the batch's jobs (``preload``)."""
+    return importlib.import_module(CLI_COMMANDS[command][0])
+
+
+def preload(jobs: list) -> list[str]:
+    """The modules a worker needs for these jobs, to import once in the fork server."""
+    return sorted({CLI_COMMANDS[j["command"]][0] for j in jobs if j.get("command") in COMMANDS})
 
 
 def job_argv(job: dict) -> list[str]:
@@ -83,10 +98,14 @@ def _text(value) -> str:
 
 
 def robot_of(job: dict):
-    """The job's robot, loaded once per worker process (a file path, or an inline robot table)."""
+    """The job's robot, loaded once per worker process and content: a file path (keyed by the
+    SHA-256 of the file's bytes, so a worker that outlives an edit of the file loads it again), or
+    an inline robot table."""
     robot = job.get("robot")
     if isinstance(robot, str):
-        key = ("file", robot)
+        key = ("file", robot, _content_sha256(robot))
+        if key[2] is None:                  # unreadable: load_robot gives the command line's message
+            return load_robot(robot)
     elif isinstance(robot, dict):
         key = ("table", json.dumps(robot, sort_keys=True, default=str))
     else:
@@ -99,6 +118,16 @@ def robot_of(job: dict):
     if isinstance(_ROBOTS[key], InputError):
         raise _ROBOTS[key]
     return _ROBOTS[key]
+
+
+def _content_sha256(path: str) -> str | None:
+    """SHA-256 of a robot file's first ``MAX_FILE_BYTES`` + 1 bytes (what ``load_robot`` reads), or
+    None when it cannot be read."""
+    try:
+        with open(path, "rb") as fh:
+            return hashlib.sha256(fh.read(MAX_FILE_BYTES + 1)).hexdigest()
+    except (OSError, ValueError):
+        return None
 
 
 def verdict(command, document: dict) -> str:
@@ -182,7 +211,7 @@ def run(args):
     _check(args, jobs)
     bar = tqdm(total=len(jobs), desc="jobs", unit="job", file=sys.stderr, leave=False) if args.progress else None
     summary = run_batch(jobs, args.out, run_job, args.workers, args.scheduler,
-                        (lambda r: bar.update(1)) if bar else None)
+                        (lambda r: bar.update(1)) if bar else None, preload(jobs))
     if bar:
         bar.close()
     if args.report:

@@ -3,10 +3,11 @@
 A model is written once with sympy (``robots.symbolic``: leg vectors,
 Jacobians A and B in the seed 003 form A ṫ + B ρ̇ = 0, det(A)) with the
 geometry as *symbols*; the expressions are compiled once per kind by
-``intervals.compiler`` and then evaluated on batches of boxes with the
-robot's exact geometry enclosed as parameter intervals.  The symbolic
-module is loaded on first use (``symbolic()``): reading a robot file,
-forward kinematics and poses do not import sympy.
+``intervals.compiler`` (kept on disk, ``robots.models``) and then
+evaluated on batches of boxes with the robot's exact geometry enclosed as
+parameter intervals.  The symbolic module is loaded on first use
+(``models.symbolic()``): reading a robot file, forward kinematics, poses and
+a compiled model found on disk do not import sympy.
 
 The float helpers (``leg_lengths_float``, ``jacobian_float``,
 ``rotation_float``) are plain numpy formulas of each kind, for guesses,
@@ -17,20 +18,14 @@ from __future__ import annotations
 
 from fractions import Fraction
 from functools import cached_property
-import importlib
 
 import numpy as np
 
 from intervals import Interval, linalg, sqrt
 from intervals.autodiff import Dual
 
+from . import models
 from .poses import parse_number
-
-
-def symbolic():
-    """The module of symbolic models (``robots.symbolic``), imported on first use: it imports sympy
-    (about half a second), which only det(A), trajectories and workspaces need."""
-    return importlib.import_module("certkin.robots.symbolic")
 
 
 class Robot:
@@ -68,13 +63,13 @@ class Robot:
     @classmethod
     def symbols(cls):
         """(pose symbols, geometry symbols) of the symbolic model of this kind."""
-        return symbolic().symbols(cls)
+        return models.symbolic().symbols(cls)
 
     @classmethod
     def symbolic_model(cls) -> dict:
         """Sympy expressions: ``legs`` (leg vectors), ``A``, ``B`` (matrices), ``points`` (world B_i),
         ``det`` and ``R`` where the kind has them."""
-        return symbolic().model(cls)
+        return models.symbolic().model(cls)
 
     # ----- exact data ------------------------------------------------------
     def geometry_texts(self) -> list[str]:
@@ -101,13 +96,20 @@ class Robot:
 
     @classmethod
     def compiled(cls, what: str):
-        """The compiled interval evaluator of ``what``: det, A, legs_sq, R, points, leg_vectors."""
-        return symbolic().compiled(cls, what)
+        """The compiled interval evaluator of ``what``: det, A, legs_sq, R, points, leg_vectors
+        (``robots.models``: compiled once, then kept on disk)."""
+        return models.compiled(cls, what)
+
+    @classmethod
+    def model_parts(cls) -> frozenset:
+        """The names of the parts of the symbolic model (``symbolic_model()``'s keys), without sympy
+        when they are on disk (``robots.models``)."""
+        return models.parts(cls)
 
     @classmethod
     def rigid_legs(cls) -> bool:
-        """Whether the model's leg vectors are l_i = C + R b_i − a_i (checked symbolically)."""
-        return symbolic().rigid_legs(cls)
+        """Whether the model's leg vectors are l_i = C + R b_i − a_i (checked symbolically once)."""
+        return models.rigid_legs(cls)
 
     def _box(self, boxes) -> Interval:
         b = boxes if isinstance(boxes, Interval) else Interval(np.asarray(boxes, dtype=np.float64))

@@ -8,7 +8,7 @@ evaluated on batches of boxes with the robot's exact geometry enclosed as
 parameter intervals (``Robot.det_enclosure`` and the others).
 
 This is the only module of ``robots`` that imports sympy.  ``Robot`` loads it
-on first use (``robots.base.symbolic``): reading robot files, forward
+on first use (``robots.models.symbolic``): reading robot files, forward
 kinematics and poses never need it, and importing sympy costs about half a
 second per process.
 """

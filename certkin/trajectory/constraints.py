@@ -83,7 +83,7 @@ class Constraints:
         self.instances: list[Instance] = []
         self.families = []
         self.vectors = robot.compiled("leg_vectors")
-        self.with_R = "R" in robot.symbolic_model()
+        self.with_R = "R" in robot.model_parts()
         self.base = cached(robot, "base", lambda: [enclose_all([Interval(p[k]) if k < robot.dim else Interval(0)
                                                                    for p in robot.base]) for k in range(3)])
         self.platform = cached(robot, "platform", lambda: [enclose_all([Interval(p[k]) for p in robot.platform])

@@ -98,10 +98,9 @@ class Determinant(Family):
 
     def __init__(self, robot, base):
         """``base``: the base points A_i as three (n,) enclosures (for the Gough-Stewart rows)."""
-        model = robot.symbolic_model()
         self.robot = robot
         self.base = base
-        self.laplace = "det" not in model
+        self.laplace = "det" not in robot.model_parts()
         self.compiled = robot.compiled("A" if self.laplace else "det")
         self.n, self.d = robot.n_legs, len(robot.pose_names)
         self.instances = [Instance("singularity", tuple(range(1, self.n + 1)))]

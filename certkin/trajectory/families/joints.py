@@ -94,7 +94,7 @@ def joint_data(robot):
         for i, table in enumerate(robot.limits.get(side, [])):
             field = f"limits.{side}[{i}]"
             where = side[:-7]
-            if where == "platform" and "R" not in robot.symbolic_model():
+            if where == "platform" and "R" not in robot.model_parts():
                 raise InputError(robot.source, field, f"platform joint limits are not modelled for {robot.kind} robots")
             for k, normal in enumerate(table.get("normals", [])):
                 vec = [parse_number(c, robot.source, f"{field}.normals[{k}]")[0] for c in normal]
