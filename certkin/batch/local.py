@@ -5,8 +5,8 @@ the task it was running is known: the oldest of the (at most ``IN_FLIGHT``) task
 has not returned.  A task is a *chunk* of consecutive jobs, sized so that it runs for about
 ``CHUNK_SECONDS`` (one job at first, then from the mean time per job so far, at most ``MAX_CHUNK``):
 short jobs then cost one round trip per chunk, not per job.  When a worker dies in a chunk of
-several jobs, they go back to the queue uncharged, each to run alone (the jobs it had finished are
-found done on disk and skipped); a job that runs alone and kills its worker is tried again, at
+several jobs, they go back to the queue uncharged (but reported as retried), each to run alone (the
+jobs it had finished are found done on disk and skipped); a job that runs alone and kills its worker is tried again, at
 most ``RETRIES`` times, then reported as ``Died``.  The other tasks of that worker go back to the
 queue uncharged, and a fresh worker takes its place.  Workers are started by a fork server that has
 imported the work function's module (and ``preload``) once, so a new worker costs no start-up;
@@ -89,6 +89,7 @@ class TaskQueue:
 
     def __init__(self, n: int):
         self.todo, self.alone = deque(range(n)), set()
+        self.requeued = {}                         # job -> times its chunk's worker died (not charged)
         self.jobs, self.seconds = 0, 0.0          # jobs run in chunks so far, and their wall time
 
     def __bool__(self):
@@ -165,8 +166,9 @@ def _collect(worker, report, queue, attempts, retries) -> bool:
         worker.tasks.popleft()
         queue.jobs, queue.seconds = queue.jobs + len(chunk), queue.seconds + seconds
         for i, value in zip(chunk, values):
-            if attempts[i] and isinstance(value, dict):
-                value["attempts"] = attempts[i] + 1
+            again = attempts[i] + queue.requeued.get(i, 0)
+            if again and isinstance(value, dict) and not value.get("resumed"):
+                value["attempts"] = again + 1          # run again after a worker died: "retried"
             report(i, value)
     if not worker.tasks or not isinstance(worker.tasks[0][1].exception() if worker.tasks[0][1].done() else None,
                                           BrokenProcessPool):
@@ -177,6 +179,8 @@ def _collect(worker, report, queue, attempts, retries) -> bool:
     queue.again(waiting)
     if len(running) > 1:                    # which of its jobs killed the worker is not known
         queue.again(running, alone=True)
+        for i in running:
+            queue.requeued[i] = queue.requeued.get(i, 0) + 1
         return True
     (i,) = running
     attempts[i] += 1

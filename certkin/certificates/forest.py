@@ -61,11 +61,16 @@ class Forest:
             else:
                 self.roots.append((tree, np.atleast_1d(node).tolist(), rules))
         self.levels = [levels(tree, nodes) for tree, nodes, _ in self.roots]
+        parts = []                           # per part: every level's (ids, kinds, codes), computed at once
+        for (tree, _, rules), lv in zip(self.roots, self.levels):
+            ids = np.concatenate(lv) if lv else np.zeros(0, np.int64)
+            cut = np.cumsum([len(x) for x in lv])[:-1]
+            parts.append(list(zip(lv, np.split(self._kind(tree, ids), cut), np.split(self._code(tree, rules, ids), cut))))
         self.runs = []                       # (part, ids, kinds, codes) in breadth-first order
         for k in range(max((len(lv) for lv in self.levels), default=0)):
-            for p, ((tree, _, rules), lv) in enumerate(zip(self.roots, self.levels)):
-                if k < len(lv):
-                    seg = (p, lv[k], self._kind(tree, lv[k]), self._code(tree, rules, lv[k]))
+            for p, part in enumerate(parts):
+                if k < len(part):
+                    seg = (p, *part[k])
                     if self.runs and self.runs[-1][0] == p:     # one part: one run for all levels
                         last = self.runs.pop()
                         seg = (p, *(np.concatenate([a, b]) for a, b in zip(last[1:], seg[1:])))
