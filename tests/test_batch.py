@@ -173,14 +173,17 @@ def test_a_job_that_kills_its_worker_is_tried_three_times_then_failed(tmp_path):
 def test_short_jobs_run_in_chunks_and_a_killer_inside_a_chunk_is_found_alone():
     """400 instant jobs run in chunks; the job that kills its worker in the middle of a chunk is found
     by running that chunk's jobs alone, and fails after 3 tries; every other job is reported once,
-    with its own answer."""
+    with its own answer (its chunk-mates with ``attempts`` 2: they ran again)."""
     tasks = [({"id": "boom" if k == 300 else f"j{k}", "x": k}, "unused") for k in range(400)]
     reports = []
     interrupted, _ = local.run_local(tasks, square_or_die, 2, lambda i, v: reports.append((i, v)))
     assert not interrupted and sorted(i for i, _ in reports) == list(range(400))
     values = dict(reports)
     assert isinstance(values[300], local.Died) and values[300].attempts == 3 and "died 3 times" in values[300].reason
+    again = sorted(k for k in range(400) if k != 300 and values[k].pop("attempts", 1) == 2)
     assert all(values[k] == {"id": f"j{k}", "square": k * k} for k in range(400) if k != 300)
+    chunk = sorted(again + [300])                # its chunk-mates ran again, alone, and say so
+    assert again and chunk == list(range(chunk[0], chunk[-1] + 1)) and len(chunk) <= local.MAX_CHUNK
 
 
 def test_chunks_last_about_chunk_seconds_and_suspects_run_alone():
