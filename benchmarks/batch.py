@@ -32,6 +32,7 @@ from __future__ import annotations
 import argparse
 from concurrent.futures import ThreadPoolExecutor
 import json
+import os
 from pathlib import Path
 import resource
 import shutil
@@ -83,6 +84,27 @@ def api(robot, jobs, out: Path | None):
             r.certificate().write(out / f"{job['id']}.cert")
             write_json(out / f"{job['id']}.json", r.to_json())
     return time.perf_counter() - w, time.process_time() - c
+
+
+def api_parallel(robot, jobs, workers: int):
+    """Wall and CPU seconds of the API answering only in ``workers`` forked processes at once (job k
+    in process k mod workers), after a first call in this process (inherited, so not repeated): the
+    in-process API on the same core count as a batch of ``workers`` workers."""
+    solve(robot, jobs[0])
+    c, w = children_cpu(), time.perf_counter()
+    pids = []
+    for k in range(workers):
+        pid = os.fork()
+        if pid == 0:
+            try:
+                for job in jobs[k::workers]:
+                    solve(robot, job)
+            finally:
+                os._exit(0)
+        pids.append(pid)
+    for pid in pids:
+        os.waitpid(pid, 0)
+    return time.perf_counter() - w, children_cpu() - c, workers
 
 
 class TreeCPU:
@@ -174,6 +196,9 @@ def main():
             runs = {}
             for _ in range(args.repeat):
                 runs.setdefault("API, 1 process, answers only", []).append(api(robot, jobs, None))
+                if args.workers > 1:
+                    runs.setdefault(f"API, {args.workers} processes at once", []).append(
+                        api_parallel(robot, jobs, args.workers))
                 (d / "api").mkdir(exist_ok=True)
                 runs.setdefault("API + files, 1 process", []).append(api(robot, jobs, d / "api"))
                 for w in sorted({1, args.workers}):
@@ -202,6 +227,13 @@ def main():
         print(f"{name:22s} {method:32s} {count:5d} {wall:8.2f} {1e3 * wall / count:11.2f} {1e3 * cpu / count:10.2f} "
               f"{api_wall / per_core_wall:17.2f} {files_wall / per_core_wall:12.2f} "
               f"{api_cpu * count / cpu:16.2f} {files_cpu * count / cpu:12.2f}")
+    same = {(name, method): (wall, cpu) for name, method, count, wall, cpu, cores, base, n in rows}
+    for name in dict.fromkeys(r[0] for r in rows):
+        a = same.get((name, f"API, {args.workers} processes at once"))
+        b = same.get((name, f"certkin batch, {args.workers} workers"))
+        if a and b:
+            print(f"{name}: certkin batch, {args.workers} workers / API, {args.workers} processes at once (the same "
+                  f"core count): wall ratio {a[0] / b[0]:.2f}, CPU ratio {a[1] / b[1]:.2f}")
     print("wall ratio: (jobs per second per core of the method) / (jobs per second of the in-process API on one core); "
           "target >= 0.8 against the API answering only; meaningful on a quiet machine only.\n"
           "CPU ratio: (CPU per job of the API) / (CPU per job of the method); batch rows: every process of the batch "
