@@ -41,18 +41,14 @@ class StoreOnce(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
-class FlagOnce(argparse.Action):
+class FlagOnce(StoreOnce):
     """A flag (``--json``, argparse's ``store_true``): given twice, it is an error, as every repeated option."""
 
     def __init__(self, option_strings, dest, default=False, required=False, help=None):
         super().__init__(option_strings, dest, nargs=0, const=True, default=default, required=required, help=help)
 
     def __call__(self, parser, namespace, values, option_string=None):
-        given = namespace.__dict__.setdefault("given_options", set())
-        if self.dest in given:
-            parser.error(f"argument {option_string or self.dest}: given twice")
-        given.add(self.dest)
-        setattr(namespace, self.dest, True)
+        super().__call__(parser, namespace, True, option_string)
 
 
 class Parser(argparse.ArgumentParser):
