@@ -29,7 +29,6 @@ from __future__ import annotations
 from functools import lru_cache
 import hashlib
 import importlib
-import importlib.metadata
 import importlib.util
 import inspect
 import json
@@ -71,6 +70,7 @@ def sources(cls) -> list[Path]:
 @lru_cache(maxsize=None)
 def key(cls) -> str:
     """SHA-256 of everything a compiled model of ``cls`` depends on."""
+    import importlib.metadata     # 25 ms of start-up, for the models' key only
     h = hashlib.sha256(FORMAT.encode())
     h.update(importlib.metadata.version("sympy").encode())
     for path in sources(cls):
