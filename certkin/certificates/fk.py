@@ -86,11 +86,15 @@ def _rules(tree, proved, n, cluster_of=None):
         p = kind == PROVED
         out[p] = proved.code[proved.at(ids[p])] if p.any() else []
         u = kind == UNDECIDED
-        out[u] = np.where(np.isin(ids[u], in_cluster), IN_CLUSTER, UNDECIDED_LEAF)
+        if len(in_cluster) and u.any():
+            out[u] = np.where(np.isin(ids[u], in_cluster), IN_CLUSTER, UNDECIDED_LEAF)
         return out
 
     def leaves(t, ids, c, *codes):
-        return (t.kind[ids] != CONTRACTED) & (t.kind[ids] != SPLIT) & np.isin(c, codes)
+        wanted = np.zeros(256, bool)             # codes are below 256 (written as bytes)
+        wanted[list(codes)] = True
+        kind = t.kind[ids]
+        return (kind != CONTRACTED) & (kind != SPLIT) & wanted[c]
 
     def rows(counts, dtype, tail):
         first = np.cumsum(counts) - counts

@@ -61,20 +61,20 @@ class Forest:
             else:
                 self.roots.append((tree, np.atleast_1d(node).tolist(), rules))
         self.levels = [levels(tree, nodes) for tree, nodes, _ in self.roots]
-        parts = []                           # per part: every level's (ids, kinds, codes), computed at once
+        parts = []                           # per part: (ids, kinds, codes) of all its levels, and where each level starts
         for (tree, _, rules), lv in zip(self.roots, self.levels):
             ids = np.concatenate(lv) if lv else np.zeros(0, np.int64)
-            cut = np.cumsum([len(x) for x in lv])[:-1]
-            parts.append(list(zip(lv, np.split(self._kind(tree, ids), cut), np.split(self._code(tree, rules, ids), cut))))
-        self.runs = []                       # (part, ids, kinds, codes) in breadth-first order
+            starts = np.cumsum([0] + [len(x) for x in lv]).tolist()
+            parts.append((ids, self._kind(tree, ids), self._code(tree, rules, ids), starts))
+        pieces = []                          # [part, start, stop] in breadth-first order, a part's consecutive levels joined
         for k in range(max((len(lv) for lv in self.levels), default=0)):
-            for p, part in enumerate(parts):
-                if k < len(part):
-                    seg = (p, *part[k])
-                    if self.runs and self.runs[-1][0] == p:     # one part: one run for all levels
-                        last = self.runs.pop()
-                        seg = (p, *(np.concatenate([a, b]) for a, b in zip(last[1:], seg[1:])))
-                    self.runs.append(seg)
+            for p, (_, _, _, starts) in enumerate(parts):
+                if k + 1 < len(starts):
+                    if pieces and pieces[-1][0] == p and pieces[-1][2] == starts[k]:
+                        pieces[-1][2] = starts[k + 1]
+                    else:
+                        pieces.append([p, starts[k], starts[k + 1]])
+        self.runs = [(p, *(x[a:b] for x in parts[p][:3])) for p, a, b in pieces]   # (part, ids, kinds, codes)
 
     def _chunks(self):
         """(tree, rules, ids, kinds, codes) in breadth-first order over the forest, a chunk at a time."""

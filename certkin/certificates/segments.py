@@ -49,7 +49,7 @@ class Segments:
 
     def __init__(self, d: int, rules, kept=None):
         self.d, self.rules, self.kept = d, rules, kept
-        self.dir = tempfile.TemporaryDirectory(prefix="certkin-segments-")
+        self.dir = None                          # made when the first segment is written (most searches never stream)
         self.written = []                        # per segment: [(name, dtype, tail, path)]
         self.leaves = Counter()
 
@@ -57,6 +57,8 @@ class Segments:
         tree.continued = lambda ids: np.isin(tree.kind[ids], HELD)
         forest = Forest([(tree, roots, self.rules(tree))], self.d)
         k, files = len(self.written) + 1, []
+        if self.dir is None:
+            self.dir = tempfile.TemporaryDirectory(prefix="certkin-segments-")
         for a in [root_boxes(tree, roots, self.d)] + forest.arrays():
             path = os.path.join(self.dir.name, f"{k}.{a.name}")
             with open(path, "wb") as fh:

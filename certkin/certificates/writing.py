@@ -1,13 +1,14 @@
 """Writing certificates, format version 2 (``docs/certificates.md``): a ZIP archive whose first member is
 the JSON header (stored, readable with ``unzip -p FILE header.json``), then one member per
-body array (raw little-endian bytes; deflated, or stored when a sample of it does not compress), each
-listed in the header with its dtype, shape and SHA-256.
+body array (raw little-endian bytes; deflated, or stored when it is small or a sample of it does not
+compress), each listed in the header with its dtype, shape and SHA-256.
 
 A ``Document`` holds the header and the body arrays as *producers*: functions that yield an array
 chunk by chunk from the engine's own arrays.  ``Document.write`` streams them twice, once to hash
 them (the header, which lists the hashes, comes first in the file) and once to compress them into a
 temporary file renamed into place, so no second copy of a search tree is ever held in memory and
-nothing half-written is left behind.  ``Document.arrays`` gives them whole (in memory, for tests and
+nothing half-written is left behind.  A small body (at most ``KEEP`` bytes) is produced once and the
+archive assembled in memory, then written at once: a batch writes many small certificates.  ``Document.arrays`` gives them whole (in memory, for tests and
 for ``proofs.check(document)``).
 """
 from __future__ import annotations
@@ -17,6 +18,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
 import hashlib
+import io
 import json
 import os
 from pathlib import Path
@@ -32,6 +34,7 @@ CHUNK = 1 << 16          # rows per chunk when streaming the engine's arrays
 LEVEL = 1                # deflate level: the body is mostly floats; level 1 is fast and nearly as small
 SAMPLE = 1 << 18         # bytes of an array's first chunk compressed to decide whether to deflate it
 KEEP = 1 << 22           # bytes of a body kept in memory between hashing and writing (larger ones are produced twice)
+SMALL = 1 << 10          # an array of fewer bytes is stored: deflating it would save little and cost a compressor
 
 
 @dataclass
@@ -64,16 +67,20 @@ class Document:
         then does not produce them twice."""
         entries, total, self._stored, kept, size = {}, hashlib.sha256(), set(), {}, 0
         for a in self.body:
-            h, rows, kept[a.name] = hashlib.sha256(), 0, []
+            h, rows, nbytes, sample, kept[a.name] = hashlib.sha256(), 0, 0, [], []
             for n, raw in a._raw():
-                if not rows and len(zlib.compress(raw[:SAMPLE], LEVEL)) > 0.9 * len(raw[:SAMPLE]):
-                    self._stored.add(a.name)        # nearly incompressible (matrices of floats): stored
+                if nbytes < SAMPLE:
+                    sample.append(raw[:SAMPLE - nbytes])
                 h.update(raw)
                 total.update(raw)
                 rows += n
+                nbytes += len(raw)
                 size += len(raw)
                 if size <= KEEP:
                     kept[a.name].append(raw)
+            sample = b"".join(sample)
+            if nbytes < SMALL or _deflated_size(sample) > 0.9 * len(sample):
+                self._stored.add(a.name)            # small, or nearly incompressible (matrices of floats): stored
             entries[a.name] = {"dtype": np.dtype(a.dtype).newbyteorder("<").str, "shape": [rows, *a.tail],
                                "sha256": h.hexdigest()}
         self._kept = kept if size <= KEEP else None
@@ -100,17 +107,33 @@ class Document:
         """Write the archive atomically (a temporary file renamed into place)."""
         header = self._entries()
         with atomic_path(path) as tmp:
-            with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED, allowZip64=True, compresslevel=LEVEL) as z:
-                z.writestr(zipfile.ZipInfo("header.json"), json.dumps(header, separators=(",", ":"), ensure_ascii=False),
-                           compress_type=zipfile.ZIP_STORED)
-                for a in self.body:
-                    info = a.name + ".bin"                 # deflated at LEVEL (the archive's default)
-                    if a.name in self._stored:
-                        info = zipfile.ZipInfo(info)
-                        info.compress_type = zipfile.ZIP_STORED
-                    with z.open(info, "w", force_zip64=True) as fh:
-                        for raw in self._kept[a.name] if self._kept is not None else (r for _, r in a._raw()):
-                            fh.write(raw)
+            if self._kept is None:                     # a large body: streamed to the file, produced again
+                self._zip(tmp, header)
+            else:                                      # a small one: assembled in memory, written at once
+                buffer = io.BytesIO()
+                self._zip(buffer, header)
+                Path(tmp).write_bytes(buffer.getbuffer())
+
+    def _zip(self, target, header) -> None:
+        with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED, allowZip64=True, compresslevel=LEVEL) as z:
+            z.writestr(zipfile.ZipInfo("header.json"), json.dumps(header, separators=(",", ":"), ensure_ascii=False),
+                       compress_type=zipfile.ZIP_STORED)
+            for a in self.body:
+                info = a.name + ".bin"                 # deflated at LEVEL (the archive's default)
+                if a.name in self._stored:
+                    info = zipfile.ZipInfo(info)
+                    info.compress_type = zipfile.ZIP_STORED
+                with z.open(info, "w", force_zip64=True) as fh:
+                    for raw in self._kept[a.name] if self._kept is not None else (r for _, r in a._raw()):
+                        fh.write(raw)
+
+
+def _deflated_size(raw: bytes) -> int:
+    """Bytes of ``raw`` deflated at ``LEVEL`` with a 4 KiB window and small hash tables: close enough
+    to the archive's own deflate to decide whether an array compresses, and set up in microseconds
+    (the default tables cost about 50 us, more than a small array's deflate)."""
+    c = zlib.compressobj(LEVEL, zlib.DEFLATED, -12, 4)
+    return len(c.compress(raw)) + len(c.flush())
 
 
 def _umask() -> int:
