@@ -32,18 +32,27 @@ class Rules:
 
 
 def levels(tree, roots) -> list:
-    """Node ids of the subtrees at ``roots`` (in order), breadth-first, one array per level."""
+    """Node ids of the subtrees at ``roots`` (in order), breadth-first, one array per level.  A small
+    tree's children are tabled first (three numpy operations a level, then); a large one's are
+    looked up level by level (the walk then costs its subtrees, not the whole tree)."""
     out, ids = [], np.asarray(roots, dtype=np.int64)
+    table = _children(tree.kind, tree.first_child) if len(tree.kind) <= TABLE_NODES else None
     while len(ids):
         out.append(ids)
-        kind = tree.kind[ids]
-        first = tree.first_child[ids].astype(np.int64)
-        split = kind == SPLIT
-        kids = np.full((len(ids), 2), -1, dtype=np.int64)
-        kids[split, 0], kids[split, 1] = first[split], first[split] + 1
-        kids[kind == CONTRACTED, 0] = first[kind == CONTRACTED]
+        kids = table[ids] if table is not None else _children(tree.kind[ids], tree.first_child[ids])
         ids = kids[kids >= 0]                        # row-major: each node's children, in node order
     return out
+
+
+TABLE_NODES = 1 << 16
+
+
+def _children(kind, first) -> np.ndarray:
+    """(k, 2) children of nodes of these kinds and first children: a split's two, a contraction's one,
+    then -1."""
+    first = first.astype(np.int64)
+    split = kind == SPLIT
+    return np.stack([np.where(split | (kind == CONTRACTED), first, -1), np.where(split, first + 1, -1)], 1)
 
 
 class Forest:

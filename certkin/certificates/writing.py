@@ -32,7 +32,7 @@ FORMAT = "certkin-certificate"
 VERSION = 2
 CHUNK = 1 << 16          # rows per chunk when streaming the engine's arrays
 LEVEL = 1                # deflate level: the body is mostly floats; level 1 is fast and nearly as small
-SAMPLE = 1 << 18         # bytes of an array's first chunk compressed to decide whether to deflate it
+SAMPLE = 1 << 12         # bytes at the start of an array compressed to decide whether to deflate it
 KEEP = 1 << 22           # bytes of a body kept in memory between hashing and writing (larger ones are produced twice)
 SMALL = 1 << 10          # an array of fewer bytes is stored: deflating it would save little and cost a compressor
 
