@@ -79,7 +79,7 @@ class Document:
                 if size <= KEEP:
                     kept[a.name].append(raw)
             sample = b"".join(sample)
-            if nbytes < SMALL or _deflated_size(sample) > 0.9 * len(sample):
+            if nbytes < SMALL or len(zlib.compress(sample, LEVEL)) > 0.9 * len(sample):
                 self._stored.add(a.name)            # small, or nearly incompressible (matrices of floats): stored
             entries[a.name] = {"dtype": np.dtype(a.dtype).newbyteorder("<").str, "shape": [rows, *a.tail],
                                "sha256": h.hexdigest()}
@@ -126,14 +126,6 @@ class Document:
                 with z.open(info, "w", force_zip64=True) as fh:
                     for raw in self._kept[a.name] if self._kept is not None else (r for _, r in a._raw()):
                         fh.write(raw)
-
-
-def _deflated_size(raw: bytes) -> int:
-    """Bytes of ``raw`` deflated at ``LEVEL`` with a 4 KiB window and small hash tables: close enough
-    to the archive's own deflate to decide whether an array compresses, and set up in microseconds
-    (the default tables cost about 50 us, more than a small array's deflate)."""
-    c = zlib.compressobj(LEVEL, zlib.DEFLATED, -12, 4)
-    return len(c.compress(raw)) + len(c.flush())
 
 
 def _umask() -> int:
