@@ -29,6 +29,7 @@ RETRIES = 2             # a job whose worker dies is tried again at most this ma
 IN_FLIGHT = 2           # tasks handed to a worker at once: the next one is ready when a task ends
 CHUNK_SECONDS = 0.25    # wanted run time of a chunk of jobs
 MAX_CHUNK = 32          # jobs per chunk at most
+HOLD_SECONDS = 0.25     # computing whose answers a worker holds before it writes them (``run_chunk``)
 
 
 @dataclass
@@ -74,14 +75,35 @@ class _Worker:
 
 def run_chunk(work, tasks: list) -> tuple[list, float]:
     """In a worker: ``work(*task)`` for each task of a chunk; (their values, wall seconds).  A task
-    that raises (a bug in ``work``, which answers every job) is reported as ``Died``."""
-    t0, values = time.perf_counter(), []
-    for task in tasks:
+    that raises (a bug in ``work``, which answers every job) is reported as ``Died``.
+
+    A work function with ``phased`` (``work.phased(*task)`` computes a task's answer and returns a
+    function that completes it: writes its files, gives its value) has the answers of consecutive
+    tasks computed first, then completed together once ``HOLD_SECONDS`` of computing has passed or
+    the chunk ends: the writing code then runs warm (about 0.7 ms less per small planar FK job).
+    What is held meanwhile is at most the answers of that much computing (a few MB)."""
+    t0, values, phased = time.perf_counter(), [None] * len(tasks), getattr(work, "phased", None)
+    held, since = [], time.perf_counter()
+    for k, task in enumerate(tasks):
         try:
-            values.append(work(*task))
+            if phased is None:
+                values[k] = work(*task)
+            else:
+                held.append((k, phased(*task)))
         except Exception as exc:
-            values.append(Died(1, f"the job raised {type(exc).__name__}: {exc}"))
+            values[k] = _raised(exc)
+        if held and (k == len(tasks) - 1 or time.perf_counter() - since >= HOLD_SECONDS):
+            for j, complete in held:
+                try:
+                    values[j] = complete()
+                except Exception as exc:
+                    values[j] = _raised(exc)
+            held, since = [], time.perf_counter()
     return values, time.perf_counter() - t0
+
+
+def _raised(exc: Exception) -> Died:
+    return Died(1, f"the job raised {type(exc).__name__}: {exc}")
 
 
 class TaskQueue:

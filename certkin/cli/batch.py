@@ -9,6 +9,7 @@ robots are loaded once per worker.  The pool, the cluster, resuming and the summ
 """
 from __future__ import annotations
 
+from functools import partial
 import hashlib
 import importlib
 import importlib.util
@@ -146,30 +147,52 @@ def run_job(job: dict, out: str) -> dict:
 
     Bad input becomes an ``error`` result with the command line's message; a budget that runs out
     is an answer (``undecided``/``incomplete``)."""
+    return answer_job(job, out)()
+
+
+def answer_job(job: dict, out: str):
+    """``run_job`` in two phases (``run_job.phased``, see ``certkin.batch.local.run_chunk``): the job's
+    answer computed now; returned, a function that writes its files and gives its summary row."""
     previous = done(out, job, verdict)
     if previous is not None:
-        return previous
+        return lambda: previous
     t0, c0 = time.perf_counter(), time.process_time()
     try:
         module, args = parse_job(job)
         path = certificate_path(out, job["id"])
         args.certificate = str(path)         # as ``--certificate``: a search keeps what its certificate needs
         answer = module.compute(args, robot_of(job))
-        facts = None
-        if answer.certificate is not None:
-            write_certificate(path, answer.certificate())
-            facts = file_facts(path)
-        else:
-            path.unlink(missing_ok=True)
-        write_document(out, job, answer.document)
-        return row(job, verdict(job["command"], answer.document), time.perf_counter() - t0, 1, facts,
-                   cpu_seconds=time.process_time() - c0)
-    except InputError as exc:
-        return write_error(out, job, ERROR, str(exc), time.perf_counter() - t0)
-    except MemoryError:
-        return write_error(out, job, ERROR, "out of memory", time.perf_counter() - t0)
-    except Exception as exc:                       # a bug: recorded, and the batch carries on
-        return write_error(out, job, ERROR, f"internal error: {type(exc).__name__}: {exc}", time.perf_counter() - t0)
+    except Exception as exc:
+        return partial(write_error, out, job, ERROR, _message(exc), time.perf_counter() - t0)
+    seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
+
+    def finish():
+        t1, c1 = time.perf_counter(), time.process_time()
+        try:
+            facts = None
+            if answer.certificate is not None:
+                write_certificate(path, answer.certificate())
+                facts = file_facts(path)
+            else:
+                path.unlink(missing_ok=True)
+            write_document(out, job, answer.document)
+            return row(job, verdict(job["command"], answer.document), seconds + time.perf_counter() - t1, 1, facts,
+                       cpu_seconds=cpu + time.process_time() - c1)
+        except Exception as exc:
+            return write_error(out, job, ERROR, _message(exc), seconds + time.perf_counter() - t1)
+    return finish
+
+
+run_job.phased = answer_job
+
+
+def _message(exc: Exception) -> str:
+    """The error result of a job that raised: bad input, memory, or a bug (recorded; the batch carries on)."""
+    if isinstance(exc, InputError):
+        return str(exc)
+    if isinstance(exc, MemoryError):
+        return "out of memory"
+    return f"internal error: {type(exc).__name__}: {exc}"
 
 
 def add_arguments(b):
