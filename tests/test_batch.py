@@ -201,6 +201,39 @@ def test_chunks_last_about_chunk_seconds_and_suspects_run_alone():
     assert [len(tail.chunk(2)) for _ in range(6)] == [1] * 6      # the last jobs spread over the workers
 
 
+def test_a_phased_chunk_writes_after_computing_and_a_raising_phase_fails_only_its_job(monkeypatch):
+    """``run_chunk`` with a ``phased`` work function: every answer of the chunk is computed before any
+    is completed (while under ``HOLD_SECONDS``), values come back in task order, and a task that raises
+    in either phase is ``Died`` alone."""
+    events = []
+
+    def answer(job):
+        events.append(("answer", job))
+        if job == "bad answer":
+            raise ValueError("no answer")
+
+        def complete():
+            events.append(("complete", job))
+            if job == "bad write":
+                raise OSError("disk full")
+            return job.upper()
+        return complete
+
+    def work(job):                               # the one-phase form, unused when ``phased`` exists
+        raise AssertionError("not called")
+    work.phased = answer
+    tasks = [("a",), ("bad answer",), ("bad write",), ("b",)]
+    values, _ = local.run_chunk(work, tasks)
+    assert values[0] == "A" and values[3] == "B"
+    assert isinstance(values[1], local.Died) and "ValueError: no answer" in values[1].reason
+    assert isinstance(values[2], local.Died) and "OSError: disk full" in values[2].reason
+    assert [e[0] for e in events] == ["answer"] * 4 + ["complete"] * 3      # computed first, then written
+    events.clear()
+    monkeypatch.setattr(local, "HOLD_SECONDS", 0.0)                         # nothing held: one at a time
+    assert local.run_chunk(work, [("a",), ("b",)])[0] == ["A", "B"]
+    assert [e[0] for e in events] == ["answer", "complete", "answer", "complete"]
+
+
 def test_on_a_dask_cluster_a_job_that_kills_its_worker_is_failed_after_the_allowed_failures(tmp_path):
     distributed = pytest.importorskip("dask.distributed", reason="the dask extra is not installed")
     import dask

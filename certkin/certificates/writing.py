@@ -7,9 +7,9 @@ A ``Document`` holds the header and the body arrays as *producers*: functions th
 chunk by chunk from the engine's own arrays.  ``Document.write`` streams them twice, once to hash
 them (the header, which lists the hashes, comes first in the file) and once to compress them into a
 temporary file renamed into place, so no second copy of a search tree is ever held in memory and
-nothing half-written is left behind.  A small body (at most ``KEEP`` bytes) is produced once and the
-archive assembled in memory, then written at once: a batch writes many small certificates.  ``Document.arrays`` gives them whole (in memory, for tests and
-for ``proofs.check(document)``).
+nothing half-written is left behind.  A small body (at most ``KEEP`` bytes) is produced once and its
+archive assembled in memory, then written at once (a batch writes many small certificates).
+``Document.arrays`` gives the arrays whole (in memory, for tests and for ``proofs.check(document)``).
 """
 from __future__ import annotations
 
