@@ -63,6 +63,18 @@ class _Proved:
         return np.searchsorted(self.node, ids)
 
 
+class _Wanted(dict):
+    """``_WANTED[codes]``: a table of 256 booleans, true at these rule codes (codes are bytes)."""
+
+    def __missing__(self, codes):
+        table = self[codes] = np.zeros(256, bool)
+        table[list(codes)] = True
+        return table
+
+
+_WANTED = _Wanted()
+
+
 def _rules(tree, proved, n, cluster_of=None):
     """The rules of a tree: the engine's (``proved``: its ``_Proved``; ``cluster_of``: undecided
     leaf -> its cluster in the claim), or a ``_Leaf``'s."""
@@ -91,10 +103,8 @@ def _rules(tree, proved, n, cluster_of=None):
         return out
 
     def leaves(t, ids, c, *codes):
-        wanted = np.zeros(256, bool)             # codes are below 256 (written as bytes)
-        wanted[list(codes)] = True
         kind = t.kind[ids]
-        return (kind != CONTRACTED) & (kind != SPLIT) & wanted[c]
+        return (kind != CONTRACTED) & (kind != SPLIT) & _WANTED[codes][c]
 
     def rows(counts, dtype, tail):
         first = np.cumsum(counts) - counts

@@ -35,6 +35,7 @@ LEVEL = 1                # deflate level: the body is mostly floats; level 1 is 
 SAMPLE = 1 << 12         # bytes at the start of an array compressed to decide whether to deflate it
 KEEP = 1 << 22           # bytes of a body kept in memory between hashing and writing (larger ones are produced twice)
 SMALL = 1 << 10          # an array of fewer bytes is stored: deflating it would save little and cost a compressor
+SAMPLED = 1 << 16        # an array of more bytes is stored when its SAMPLE does not deflate; a smaller one is deflated
 
 
 @dataclass
@@ -79,8 +80,8 @@ class Document:
                 if size <= KEEP:
                     kept[a.name].append(raw)
             sample = b"".join(sample)
-            if nbytes < SMALL or len(zlib.compress(sample, LEVEL)) > 0.9 * len(sample):
-                self._stored.add(a.name)            # small, or nearly incompressible (matrices of floats): stored
+            if nbytes < SMALL or nbytes > SAMPLED and len(zlib.compress(sample, LEVEL)) > 0.9 * len(sample):
+                self._stored.add(a.name)            # small, or large and nearly incompressible (floats): stored
             entries[a.name] = {"dtype": np.dtype(a.dtype).newbyteorder("<").str, "shape": [rows, *a.tail],
                                "sha256": h.hexdigest()}
         self._kept = kept if size <= KEEP else None
@@ -106,13 +107,13 @@ class Document:
     def write(self, path) -> None:
         """Write the archive atomically (a temporary file renamed into place)."""
         header = self._entries()
-        with atomic_path(path) as tmp:
+        with atomic_file(path) as fh:
             if self._kept is None:                     # a large body: streamed to the file, produced again
-                self._zip(tmp, header)
+                self._zip(fh, header)
             else:                                      # a small one: assembled in memory, written at once
                 buffer = io.BytesIO()
                 self._zip(buffer, header)
-                Path(tmp).write_bytes(buffer.getbuffer())
+                fh.write(buffer.getbuffer())
 
     def _zip(self, target, header) -> None:
         with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED, allowZip64=True, compresslevel=LEVEL) as z:
@@ -135,9 +136,9 @@ def _umask() -> int:
 
 
 def write_text(path, text: str) -> None:
-    """Write a text file atomically (a temporary file renamed into place)."""
-    with atomic_path(path) as tmp:
-        Path(tmp).write_text(text)
+    """Write a text file (UTF-8) atomically (a temporary file renamed into place)."""
+    with atomic_file(path) as fh:
+        fh.write(text.encode())
 
 
 @contextmanager
@@ -146,11 +147,31 @@ def atomic_path(path):
     the name still can), renamed onto ``path`` when the block ends without error and removed
     otherwise: nothing half-written is left.  The file gets the permissions of a file created
     normally (0666 less the umask); a missing directory is an error, never created."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp" + path.suffix)
+    fd, tmp = _temporary(path)
     os.close(fd)
-    try:
+    with _renamed(tmp, path):
         yield tmp
+
+
+@contextmanager
+def atomic_file(path):
+    """``atomic_path``'s file, open for writing bytes (the block writes to it; it is closed, then
+    renamed onto ``path``)."""
+    fd, tmp = _temporary(path)
+    with _renamed(tmp, path):
+        with open(fd, "wb") as fh:
+            yield fh
+
+
+def _temporary(path):
+    path = Path(path)
+    return tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp" + path.suffix)
+
+
+@contextmanager
+def _renamed(tmp, path):
+    try:
+        yield
         os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
