@@ -298,7 +298,8 @@ def test_a_killed_worker_loses_no_result_and_its_job_is_retried(reference, jobs_
                       for c in (t / "children").read_text().split())
     workers = [p for p in _descendants(process.pid) if p not in parent_kids]     # the fork server's children
     assert workers
-    os.kill(workers[0], signal.SIGKILL)
+    for worker in workers:          # every worker, so that one killed is surely running a job
+        os.kill(worker, signal.SIGKILL)
     stdout, stderr = process.communicate(timeout=300)
     assert process.returncode == 0, stderr
     summary = json.loads((out / "summary.json").read_text())
