@@ -620,7 +620,7 @@ def test_centred_rotated_points_enclose_exact_values():
     w = rng.uniform(0.001, 0.05, (N, 7))
     X = Interval.from_bounds(c - w, c + w)
     T = s.rotated_centred(X)
-    natural = s.rotated(s.rotation(X))
+    natural = s.rotated_box(X)      # the natural enclosure T is met with (the machine-code one)
     assert np.all(T.lo >= natural.lo) and np.all(T.hi <= natural.hi)
     legs = slice(2, 5)   # the platform points with several nonzero coordinates (the others: exact anyway)
     assert np.median((T.hi - T.lo)[:, legs] / (natural.hi - natural.lo)[:, legs]) < 0.9
@@ -642,6 +642,46 @@ def test_centred_rotated_points_enclose_exact_values():
     assert np.all(np.abs(T2.lo - T.lo) <= 2.0 ** -48 * (1 + np.abs(T.lo)))
     # an empty batch (every box of a batch emptied by HC4) has empty enclosures
     E = s.rotated_centred(Interval.from_bounds(np.zeros((0, 7)), np.zeros((0, 7))))
+    assert E.shape == (0, 6, 3)
+
+
+def test_native_rotated_points_enclose_exact_values_and_match_numpy():
+    """R b_i over quaternion boxes by the machine-code kernel (``FKSystem.rotated_box``) and by numpy
+    (``rotated(rotation(X))``): the same bounds to a few ulps (only the float sums of the midpoint-radius
+    products are taken in another order), the same infinite entries; the kernel's holds the exact
+    R(q) b_i (Fractions) at random points, ordinary and tiny; ∩ a form it is ``np.fmax``/``np.fmin``."""
+    from certkin import load_robot
+    from certkin.fk.system import FKSystem
+    from intervals import Interval
+    robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
+    s = FKSystem(robot)
+    b = [[Fraction(t) for t in p] for p in robot.to_dict()["platform"]]
+    rng = np.random.default_rng(23)
+    N = 3000
+    c = rng.uniform(-1.2, 1.2, (N, 7))
+    w = rng.uniform(0, 1, (N, 7)) * 10.0 ** rng.uniform(-12, 0, (N, 1))
+    c[:20, 3:] *= 1e-160                     # products underflow
+    lo, hi = c - w, c + w
+    lo[20:25, 4], hi[25:30, 6] = -np.inf, np.inf
+    X = Interval.from_bounds(lo, hi)
+    fast, ref = s.rotated_box(X), s.rotated(s.rotation(X))
+    for a, r in ((fast.lo, ref.lo), (fast.hi, ref.hi)):
+        assert np.array_equal(np.isfinite(a), np.isfinite(r))
+        ok = np.isfinite(r)
+        assert np.all(np.abs(a[ok] - r[ok]) <= 2.0 ** -48 * (1.0 + np.abs(r[ok])))
+    for n in list(range(0, 20, 5)) + list(range(40, N, 150)):
+        for _ in range(2):
+            q = [Fraction(float(v)) for v in X.lo[n, 3:] + rng.random(4) * (X.hi[n, 3:] - X.lo[n, 3:])]
+            R = _exact_rotation(*q)
+            for i in range(6):
+                for k in range(3):
+                    v = sum(R[k][j] * b[i][j] for j in range(3))
+                    assert Fraction(fast.lo[n, i, k]) <= v <= Fraction(fast.hi[n, i, k])
+    flo, fhi = s.centred_form(X)[:2]
+    met = s.rotated_box(X, form=(flo, fhi))
+    with np.errstate(invalid="ignore"):
+        assert np.array_equal(met.lo, np.fmax(fast.lo, flo)) and np.array_equal(met.hi, np.fmin(fast.hi, fhi))
+    E = s.rotated_box(Interval.from_bounds(np.zeros((0, 7)), np.zeros((0, 7))))
     assert E.shape == (0, 6, 3)
 
 

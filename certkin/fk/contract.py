@@ -420,7 +420,7 @@ def gap_splits(system, lo, hi, L: Interval, at_least: float):
             g = np.sqrt(np.maximum(t, 0.0))[:, None]
             consider(k, -g, g, t[:, None])
         if p:
-            m = system.rotated(system.rotation(X)) - system.a[None]
+            m = system.rotated_box(X) - system.a[None]
             e2 = sqr(m + X[:, None, :p]).hi
             for k in range(p):
                 t = L.lo - (e2.sum(axis=-1) - e2[..., k])

@@ -11,6 +11,9 @@
 - ``position_gauss_seidel``: ``step.contract_position`` for a spatial robot (the
   difference equations, P [D | g] in midpoint-radius form, one Gauss-Seidel
   sweep), with the same operations and bounds.
+- ``rotated_quaternion``: R b_i over boxes, the natural enclosure (R as in step 2 of
+  ``hc4_quaternion``, R b_i in midpoint-radius form), ∩ a centred form
+  (``FKSystem.rotated_box``).
 
 Each step intersects a variable with a set that holds its value at every root
 of the box (``docs/soundness.md`` §8), so no root is lost; ``tests/test_fk_hc4.py``
@@ -560,3 +563,56 @@ def position_gauss_seidel(xlo, xhi, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi):
             for k in range(3):
                 plo[b, k], phi[b, k] = ylo[k], yhi[k]
     return plo, phi, empty, Pout
+
+
+@njit(cache=True)
+def rotated_quaternion(lo, hi, p, bm, inner, outer, entries, flo, fhi, with_form):
+    """R b_i over the boxes [lo, hi] (N, p + 4) of a quaternion system, (lo, hi) (N, legs, 3): the
+    natural enclosure ``FKSystem.rotated(FKSystem.rotation(X))`` — R over the box as
+    ``_rotation_entries`` (the interval operations of ``FKSystem.rotation``), then R b_i in
+    midpoint-radius form as HC4's step 2 (``rotated_midrad``'s bound; its float sums in another order
+    than numpy's matrix product, which the bound allows) — intersected, when ``with_form``, with
+    [flo, fhi] (N, legs, 3), the centred form (as ``np.fmax``/``np.fmin``: a NaN bound is ignored).
+    ``bm``/``inner``/``outer`` (3, ≥ legs; the first legs columns): ``b_midrad``.  Rows with a
+    non-finite rotation side: the entire line (∩ the form)."""
+    N, n = lo.shape
+    legs = flo.shape[1] if with_form else bm.shape[1] // 4
+    olo = np.empty((N, legs, 3))
+    ohi = np.empty((N, legs, 3))
+    zlo = np.empty(n)
+    zhi = np.empty(n)
+    slo = np.empty(n)
+    shi = np.empty(n)
+    Rlo = np.empty((3, 3))
+    Rhi = np.empty((3, 3))
+    Rm = np.empty((3, 3))
+    Rr = np.empty((3, 3))
+    K = 4 * 3 + 4
+    for box in range(N):
+        finite = True
+        for k in range(p, n):
+            zlo[k], zhi[k] = lo[box, k], hi[box, k]
+            finite &= np.isfinite(zlo[k]) and np.isfinite(zhi[k])
+        if finite:
+            for k in range(p, n):
+                slo[k], shi[k] = sqr(zlo[k], zhi[k])
+            _rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr)
+        for i in range(legs):
+            for k in range(3):
+                ul, uh = -INF, INF
+                if finite:
+                    sm = (Rm[k, 0] * bm[0, i] + Rm[k, 1] * bm[1, i]) + Rm[k, 2] * bm[2, i]
+                    sr = ((abs(Rm[k, 0]) * inner[0, i] + Rr[k, 0] * outer[0, i])
+                          + (abs(Rm[k, 1]) * inner[1, i] + Rr[k, 1] * outer[1, i])) \
+                        + (abs(Rm[k, 2]) * inner[2, i] + Rr[k, 2] * outer[2, i])
+                    sr = upper(sr, K) + 3 * 2.0 ** -1022
+                    if np.isfinite(sm) and np.isfinite(sr):
+                        ul, uh = down(sm - sr), up(sm + sr)
+                if with_form:
+                    fl, fh = flo[box, i, k], fhi[box, i, k]
+                    if fl == fl:
+                        ul = max(ul, fl)
+                    if fh == fh:
+                        uh = min(uh, fh)
+                olo[box, i, k], ohi[box, i, k] = ul, uh
+    return olo, ohi

@@ -138,19 +138,35 @@ class RotatedPoints:
         (midpoints and radii, (N, 4, legs, dim) each), which ``slope`` at the same c reuses (they
         depend only on the rotation part of X and c).  ``form``: ``centred_form(X)``, if known
         (c = X.mid())."""
-        if rb is None:
-            rb = self.rotated(self.rotation(X))
         if self.kind == "planar-3rpr":
-            return rb
+            return self.rotated(self.rotation(X)) if rb is None else rb
         if c is None:
             lo, hi, cm, cr, Dm, Dr = self.centred_form(X) if form is None else form
         else:
             lo, hi, cm, cr, Dm, Dr = self._centred_form_at(X, c)
-        with np.errstate(invalid="ignore"):
-            out = Interval.from_bounds(np.fmax(rb.lo, lo), np.fmin(rb.hi, hi))   # NaN (non-finite input): natural
+        if rb is None:      # the natural enclosure ∩ the form in one machine-code pass
+            out = self.rotated_box(X, form=(lo, hi))
+        else:
+            with np.errstate(invalid="ignore"):
+                out = Interval.from_bounds(np.fmax(rb.lo, lo), np.fmin(rb.hi, hi))   # NaN (non-finite input): natural
         if not parts:
             return out
         return out, from_midrad(cm, cr), (Dm, Dr)
+
+    def rotated_box(self, X: Interval, form: tuple | None = None) -> Interval:
+        """R b_i over the boxes X (N, legs, dim), the natural enclosure ``rotated(rotation(X))``; for a
+        quaternion by the machine-code ``kernels.rotated_quaternion`` (the same interval operations
+        for R, the same bound for R b_i, its float sums in another order), intersected with the
+        bounds (lo, hi) ``form`` of a centred form if given (a NaN bound there is ignored)."""
+        if self.kind == "planar-3rpr":
+            return self.rotated(self.rotation(X))
+        from .kernels import TABLES, rotated_quaternion      # (kernels imports this module)
+        bm, inner, outer = self.b_midrad()
+        f64 = np.ascontiguousarray
+        flo, fhi = (f64(v, dtype=np.float64) for v in form) if form is not None else (np.empty((0, self.legs, 3)),) * 2
+        lo, hi = rotated_quaternion(f64(X.lo, dtype=np.float64), f64(X.hi, dtype=np.float64), self.n_pos, bm, inner,
+                                    outer, TABLES[0], flo, fhi, form is not None)
+        return Interval.from_bounds(lo, hi)
 
     def centred_form(self, X: Interval, native: bool = True):
         """Quaternion: (lo, hi, cm, cr, Dm, Dr): the centred form of R b_i over the boxes X around
