@@ -13,7 +13,8 @@
   sweep), with the same operations and bounds.
 - ``rotated_quaternion``: R b_i over boxes, the natural enclosure (R as in step 2 of
   ``hc4_quaternion``, R b_i in midpoint-radius form), ∩ a centred form
-  (``FKSystem.rotated_box``).
+  (``FKSystem.rotated_box``);
+- ``gap_splits_quaternion``: ``contract.gap_splits``, the same floats.
 
 Each step intersects a variable with a set that holds its value at every root
 of the box (``docs/soundness.md`` §8), so no root is lost; ``tests/test_fk_hc4.py``
@@ -616,3 +617,71 @@ def rotated_quaternion(lo, hi, p, bm, inner, outer, entries, flo, fhi, with_form
                         uh = min(uh, fh)
                 olo[box, i, k], ohi[box, i, k] = ul, uh
     return olo, ohi
+
+
+@njit(cache=True)
+def _np_max(a, b):
+    """``np.maximum`` for two floats (a NaN operand gives NaN)."""
+    return a if (a >= b or a != a) else b
+
+
+@njit(cache=True)
+def _np_min(a, b):
+    """``np.minimum`` for two floats (a NaN operand gives NaN)."""
+    return a if (a <= b or a != a) else b
+
+
+@njit(cache=True)
+def gap_splits_quaternion(lo, hi, Llo, rblo, rbhi, alo, ahi, p, at_least):
+    """``contract.gap_splits`` box by box: (dim, at) for the boxes [lo, hi] (N, p + 4) of a quaternion
+    system, the lower squared leg lengths ``Llo`` (N, legs), R b_i over the boxes (``rb``, (N, legs, 3):
+    ``FKSystem.rotated_box``) and a (legs, 3) — the same float operations in the same order as the
+    numpy version (``tests/test_fk_hc4.py`` compares them bit for bit).  Only a split point."""
+    N, n = lo.shape
+    legs = Llo.shape[1]
+    dim = np.full(N, -1, dtype=np.int64)
+    at = np.full(N, np.nan)
+    sq = np.empty(4)
+    mlo = np.empty((legs, 3))
+    mhi = np.empty((legs, 3))
+    e2 = np.empty((legs, 3))
+    for b in range(N):
+        best = 0.0
+        bd = -1
+        ba = np.nan
+        for r in range(4):
+            sq[r] = sqr(lo[b, p + r], hi[b, p + r])[1]
+        total = ((sq[0] + sq[1]) + sq[2]) + sq[3]
+        for k in range(p, n):       # the norm equation: r_k ∉ (−√t, √t)
+            t = 1.0 - (total - sq[k - p])
+            g = np.sqrt(_np_max(t, 0.0))
+            glo, ghi = _np_max(-g, lo[b, k]), _np_min(g, hi[b, k])
+            frac = (ghi - glo) / _np_max(hi[b, k] - lo[b, k], 1e-300) if t > 0 else 0.0
+            if not np.isfinite(frac):
+                frac = 0.0
+            if frac > best:
+                best, bd, ba = frac, k, 0.5 * (glo + ghi)
+        if p:
+            for i in range(legs):
+                for k in range(3):
+                    ml, mh = down_sum(rblo[b, i, k] - ahi[i, k]), up_sum(rbhi[b, i, k] - alo[i, k])
+                    mlo[i, k], mhi[i, k] = ml, mh
+                    e2[i, k] = sqr(down_sum(ml + lo[b, k]), up_sum(mh + hi[b, k]))[1]
+            for k in range(p):      # leg i: p_k ∉ (−√t − m̲_ik, √t − m̄_ik)
+                width = _np_max(hi[b, k] - lo[b, k], 1e-300)
+                fbest = 0.0
+                fat = 0.0
+                for i in range(legs):
+                    t = Llo[b, i] - (((e2[i, 0] + e2[i, 1]) + e2[i, 2]) - e2[i, k])
+                    g = np.sqrt(_np_max(t, 0.0))
+                    glo, ghi = _np_max(-g - mlo[i, k], lo[b, k]), _np_min(g - mhi[i, k], hi[b, k])
+                    frac = (ghi - glo) / width if t > 0 else 0.0
+                    if not np.isfinite(frac):
+                        frac = 0.0
+                    if i == 0 or frac > fbest:      # np.argmax: the first largest
+                        fbest, fat = frac, 0.5 * (glo + ghi)
+                if fbest > best:
+                    best, bd, ba = fbest, k, fat
+        if best >= at_least:
+            dim[b], at[b] = bd, ba
+    return dim, at
