@@ -28,7 +28,7 @@ _U = 2.0 ** -53
 _ETA = 2.0 ** -1022
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rotation_at_point(q, Rm, Rr):
     """``rotation_at_points`` for one quaternion q: R(q) in [Rm ± Rr] (the expressions of
     ``FKSystem.float_rotation``, the Σ|terms| bound with 6 roundings)."""
@@ -44,7 +44,7 @@ def _rotation_at_point(q, Rm, Rr):
             Rr[k, j] = upper(4.0 * _U * mags[k][j], 6) + 3 * _ETA
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def centred_form_quaternion(lo, hi, p, bm, inner, outer, Gm, Ginner, Gouter):
     """(lo, hi, cm, cr, Dm, Dr) of ``centred_form`` over the boxes [lo, hi] (N, p + 4): the form
     (N, legs, 3), R b_i at the midpoints in [cm ± cr] (N, legs, 3), the derivatives in [Dm ± Dr]
@@ -64,6 +64,9 @@ def centred_form_quaternion(lo, hi, p, bm, inner, outer, Gm, Ginner, Gouter):
     yr = np.empty(4)
     Rm = np.empty((3, 3))
     Rr = np.empty((3, 3))
+    T = 4 * legs * 3
+    dm = np.empty(T)
+    dr = np.empty(T)
     for box in range(N):
         for r in range(4):
             l, u = lo[box, p + r], hi[box, p + r]
@@ -72,6 +75,22 @@ def centred_form_quaternion(lo, hi, p, bm, inner, outer, Gm, Ginner, Gouter):
             ym[r], yr[r] = midrad(down(0.5 * down_sum(l + c[r])), up(0.5 * up_sum(u + c[r])))   # Y ∋ (x + c)/2
             h[r] = max(up_sum(c[r] - l), up_sum(u - c[r]))
         _rotation_at_point(c, Rm, Rr)
+        # ∂(R b_i)_k/∂q_r over Y, t = (r, i, k): product_midrad, each sum over s in increasing order
+        # (the loops over t are independent: the same floats, several at a time)
+        for t in range(T):
+            dm[t] = 0.0
+            dr[t] = 0.0
+        for s in range(4):
+            a, b = ym[s], yr[s]
+            for t in range(T):
+                dm[t] += a * Gm[s, t]
+                dr[t] += abs(a) * Ginner[s, t] + b * Gouter[s, t]
+        for t in range(T):
+            v = upper(dr[t], 20) + 4 * _ETA
+            if np.isfinite(dm[t]) and np.isfinite(v):
+                dr[t] = v
+            else:
+                dm[t], dr[t] = 0.0, INF
         for i in range(legs):
             for k in range(3):
                 sm = 0.0
@@ -83,26 +102,17 @@ def centred_form_quaternion(lo, hi, p, bm, inner, outer, Gm, Ginner, Gouter):
                 if not (np.isfinite(sm) and np.isfinite(sr)):
                     sm, sr = 0.0, INF
                 cm[box, i, k], cr[box, i, k] = sm, sr
-                col = (i * 3 + k)
                 acc = 0.0
-                for r in range(4):            # ∂(R b_i)_k/∂q_r over Y: product_midrad
-                    t = r * legs * 3 + col
-                    dm = 0.0
-                    dr = 0.0
-                    for s in range(4):
-                        dm += ym[s] * Gm[s, t]
-                        dr += abs(ym[s]) * Ginner[s, t] + yr[s] * Gouter[s, t]
-                    dr = upper(dr, 20) + 4 * _ETA
-                    if not (np.isfinite(dm) and np.isfinite(dr)):
-                        dm, dr = 0.0, INF
-                    Dm[box, r, i, k], Dr[box, r, i, k] = dm, dr
-                    acc += (abs(dm) + dr) * h[r]
+                for r in range(4):
+                    t = r * legs * 3 + i * 3 + k
+                    Dm[box, r, i, k], Dr[box, r, i, k] = dm[t], dr[t]
+                    acc += (abs(dm[t]) + dr[t]) * h[r]
                 rad = upper(sr + acc, 8)
                 flo[box, i, k], fhi[box, i, k] = down(sm - rad), up(sm + rad)
     return flo, fhi, cm, cr, Dm, Dr
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def slope_quaternion(xlo, xhi, c, rblo, rbhi, rclo, rchi, Dm, Dr, alo, ahi, Llo, Lhi, p):
     """(S lo, S hi, f lo, f hi): ``FKSystem.slope`` (N, n, n) at the points c (N, n) over the boxes x, and
     ``FKSystem.equations`` at c (N, n), from R b_i over x (``rb``) and at c (``rc``), (N, legs, 3), and the
