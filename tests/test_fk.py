@@ -685,6 +685,38 @@ def test_native_rotated_points_enclose_exact_values_and_match_numpy():
     assert E.shape == (0, 6, 3)
 
 
+def test_native_equations_give_the_numpy_floats():
+    """The machine-code enclosure of the equations over boxes (``kernels.equations_quaternion``, the
+    search's exclusion test) and ``FKSystem.equations`` / its stacked twin with the same R b_i: the same
+    floats, bit for bit, on boxes around roots and all over the domain (Gough and spherical robots);
+    a row with a non-finite input is the entire line."""
+    from certkin import load_robot
+    from certkin.fk.kernels import equations_quaternion
+    from certkin.fk.stacked import StackedFKSystem
+    from certkin.fk.system import FKSystem
+    from intervals import Interval, sqr
+    for robot, lengths in [(robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]),
+                           (load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml"),
+                            "1.093,2.280,2.031,2.524,3.136,1.845".split(","))]:
+        s = FKSystem(robot)
+        rng = np.random.default_rng(31)
+        N = 1500
+        rlo, rhi = root_boxes(robot, lengths, N, rng)
+        w = rng.uniform(0, 1, (N, s.n)) * 10.0 ** rng.uniform(-8, 0, (N, 1))
+        lo, hi = rlo - w * rng.uniform(0, 1, (N, s.n)), rhi + w * rng.uniform(0, 1, (N, s.n))
+        lo[-5:, 0] = -np.inf
+        X = Interval.from_bounds(lo, hi)
+        rho = [Interval(v) for v in lengths]
+        L = sqr(Interval.from_bounds(np.tile([float(r.lo) for r in rho], (N, 1)), np.tile([float(r.hi) for r in rho], (N, 1))))
+        rb = s.rotated_box(X)
+        flo, fhi = equations_quaternion(lo, hi, rb.lo, rb.hi, s.a.lo, s.a.hi, L.lo, L.hi, s.n_pos)
+        assert np.all(np.isneginf(flo[-5:])) and np.all(np.isposinf(fhi[-5:]))
+        for sys_ in (s, StackedFKSystem.of(s)):
+            F = sys_.equations(Interval.from_bounds(lo[:-5], hi[:-5]), L[:-5], rb=rb[:-5])
+            assert np.array_equal(flo[:-5], F.lo) and np.array_equal(fhi[:-5], F.hi)
+        assert not np.any((flo[:N // 2] > 0) | (fhi[:N // 2] < 0))      # the roots are kept
+
+
 def test_tampered_slope_evidence_is_rejected():
     """The spherical 8-mode search excludes and contracts boxes by the Hansen-Sengupta step with slope
     matrices (``slope-gs-empty``, ``slope-gs``); the checker rebuilds their C (codes + 64) and accepts

@@ -15,6 +15,7 @@
   ``hc4_quaternion``, R b_i in midpoint-radius form), ∩ a centred form
   (``FKSystem.rotated_box``);
 - ``gap_splits_quaternion``: ``contract.gap_splits``, the same floats.
+- ``equations_quaternion``: ``FKSystem.equations`` over boxes from a known R b_i, the same floats.
 
 Each step intersects a variable with a set that holds its value at every root
 of the box (``docs/soundness.md`` §8), so no root is lost; ``tests/test_fk_hc4.py``
@@ -685,3 +686,50 @@ def gap_splits_quaternion(lo, hi, Llo, rblo, rbhi, alo, ahi, p, at_least):
         if best >= at_least:
             dim[b], at[b] = bd, ba
     return dim, at
+
+
+@njit(cache=True, error_model="numpy")
+def equations_quaternion(xlo, xhi, rblo, rbhi, alo, ahi, Llo, Lhi, p):
+    """(lo, hi) (N, n): ``FKSystem.equations`` over the boxes x (N, p + 4) of a quaternion system from
+    R b_i over them (``rb``, (N, legs, 3)) — the same interval operations in the same order:
+    ell_i = (R b_i − a_i) + p, Σ_k sqr(ell_ik) left to right, − L_i; the norm Σ_r sqr(q_r) − 1.  Rows
+    with a non-finite input: the entire line."""
+    N, n = xlo.shape
+    legs = rblo.shape[1]
+    flo = np.empty((N, n))
+    fhi = np.empty((N, n))
+    for b in range(N):
+        finite = True
+        for k in range(n):
+            finite &= np.isfinite(xlo[b, k]) and np.isfinite(xhi[b, k])
+        for i in range(legs):
+            finite &= np.isfinite(Llo[b, i]) and np.isfinite(Lhi[b, i])
+            for k in range(3):
+                finite &= np.isfinite(rblo[b, i, k]) and np.isfinite(rbhi[b, i, k])
+        if not finite:
+            for k in range(n):
+                flo[b, k], fhi[b, k] = -INF, INF
+            continue
+        for i in range(legs):
+            glo = 0.0
+            ghi = 0.0
+            for k in range(3):
+                el, eh = down_sum(rblo[b, i, k] - ahi[i, k]), up_sum(rbhi[b, i, k] - alo[i, k])
+                if p:
+                    el, eh = down_sum(el + xlo[b, k]), up_sum(eh + xhi[b, k])
+                ql, qh = sqr(el, eh)
+                if k == 0:
+                    glo, ghi = ql, qh
+                else:
+                    glo, ghi = down_sum(glo + ql), up_sum(ghi + qh)
+            flo[b, i], fhi[b, i] = down_sum(glo - Lhi[b, i]), up_sum(ghi - Llo[b, i])
+        glo = 0.0
+        ghi = 0.0
+        for k in range(p, n):
+            ql, qh = sqr(xlo[b, k], xhi[b, k])
+            if k == p:
+                glo, ghi = ql, qh
+            else:
+                glo, ghi = down_sum(glo + ql), up_sum(ghi + qh)
+        flo[b, legs], fhi[b, legs] = down_sum(glo - 1.0), up_sum(ghi - 1.0)
+    return flo, fhi

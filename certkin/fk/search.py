@@ -47,6 +47,7 @@ from intervals import Interval, linalg
 
 from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
 from .contract import gap_splits, hc4
+from .kernels import equations_quaternion
 from .step import SMALL_BATCH, WIDEN, contract_position, for_batch, krawczyk_boxes, shrink, slope_boxes, unique_in
 
 SHRINK = 0.05            # a contraction is kept when some side shrinks by this fraction
@@ -272,7 +273,13 @@ class FKProblem:
     def _equations(self, system, b: _Batch, live, Ll, rbl, pempty, P):
         """Step 2: a box where the enclosure of one equation misses 0 holds no solution."""
         N, n = b.lo.shape
-        Fl = system.equations(Interval.from_bounds(b.lo[live], b.hi[live]), Ll, rb=rbl)
+        if self.slopes:     # a quaternion: the machine-code twin (the same floats)
+            f64 = np.ascontiguousarray
+            Fl = Interval.from_bounds(*equations_quaternion(
+                f64(b.lo[live]), f64(b.hi[live]), f64(rbl.lo), f64(rbl.hi), system.a.lo, system.a.hi,
+                f64(Ll.lo, dtype=np.float64), f64(Ll.hi, dtype=np.float64), system.n_pos))
+        else:
+            Fl = system.equations(Interval.from_bounds(b.lo[live], b.hi[live]), Ll, rb=rbl)
         out = np.zeros((N, n), dtype=bool)
         out[live] = (Fl.lo > 0) | (Fl.hi < 0)
         excluded = out.any(axis=1) & (b.status == OPEN)
