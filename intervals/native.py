@@ -122,6 +122,12 @@ def sqr(lo, hi):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def scale(lo, hi, k):
+    """``x * k`` for a float k > 0 (``interval.mul`` with the point [k, k])."""
+    return down(lo * k), up(hi * k)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def mul(alo, ahi, blo, bhi):
     """``interval.mul`` for finite operands: the hull of the four corner products, rounded outward."""
     p1 = alo * blo

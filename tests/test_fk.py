@@ -691,7 +691,7 @@ def test_native_equations_give_the_numpy_floats():
     floats, bit for bit, on boxes around roots and all over the domain (Gough and spherical robots);
     a row with a non-finite input is the entire line."""
     from certkin import load_robot
-    from certkin.fk.kernels import equations_quaternion
+    from certkin.fk.centred import equations_quaternion
     from certkin.fk.stacked import StackedFKSystem
     from certkin.fk.system import FKSystem
     from intervals import Interval, sqr

@@ -53,8 +53,8 @@ from intervals.interval import div
 from intervals.midrad import U, upper
 from intervals.rounding import down, up, up_sum
 
-from .kernels import TABLES, gap_splits_quaternion, hc4_quaternion
-from .rotation import DIAGONAL, OFF_DIAGONAL, from_midrad   # R(q)'s entries as products of q's
+from .kernels import gap_splits_quaternion, hc4_quaternion
+from .rotation import DIAGONAL, OFF_DIAGONAL, TABLES, from_midrad   # R(q)'s entries as products of q's
 
 
 PAIR_ROUNDS = 2     # rounds of the leg-pair step (step 3) for a Gough-Stewart robot

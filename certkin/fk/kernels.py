@@ -7,15 +7,12 @@
   be taken in another order, which their error bound allows (Higham 2002,
   eq. 3.5).  The centred form of R b_i (step 2) is computed by
   ``FKSystem.centred_form`` and passed in.
-- (``slope_quaternion``, beside the centred form of R b_i: ``fk.centred``);
+- (``slope_quaternion``, ``rotated_quaternion``, ``equations_quaternion``, beside the centred form
+  of R b_i and R over the box of step 2: ``fk.centred``);
 - ``position_gauss_seidel``: ``step.contract_position`` for a spatial robot (the
   difference equations, P [D | g] in midpoint-radius form, one Gauss-Seidel
   sweep), with the same operations and bounds.
-- ``rotated_quaternion``: R b_i over boxes, the natural enclosure (R as in step 2 of
-  ``hc4_quaternion``, R b_i in midpoint-radius form), ∩ a centred form
-  (``FKSystem.rotated_box``);
 - ``gap_splits_quaternion``: ``contract.gap_splits``, the same floats.
-- ``equations_quaternion``: ``FKSystem.equations`` over boxes from a known R b_i, the same floats.
 
 Each step intersects a variable with a set that holds its value at every root
 of the box (``docs/soundness.md`` §8), so no root is lost; ``tests/test_fk_hc4.py``
@@ -28,28 +25,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from intervals.native import INF, MAX, div_regular, down, down_sum, gauss_jordan, gs_update, midrad, mul, sqr, up, up_sum, upper
+from intervals.native import INF, MAX, div_regular, down, down_sum, gauss_jordan, gs_update, midrad, mul, scale, sqr, up, up_sum, upper
 
-from .rotation import DIAGONAL, OFF_DIAGONAL
+from .centred import rotation_entries
+from .rotation import TABLES
 
 
 _U = 2.0 ** -53
-
-
-def _tables():
-    """R(q)'s entries as integer tables (from ``system.DIAGONAL`` / ``OFF_DIAGONAL``): entries
-    (3, 3, 5) rows (kind, a, b, c, d), kind 0 for 1 − 2(q_a² + q_b²), kind σ = ±1 for
-    2(q_a q_b + σ q_c q_d); off (6, 7) rows (k, j, a, b, c, d, σ) in the order of step 7."""
-    entries = np.zeros((3, 3, 5), dtype=np.int64)
-    for k, a, b in DIAGONAL:
-        entries[k, k] = (0, a, b, 0, 0)
-    for (k, j), (a, b), (c, d), sigma in OFF_DIAGONAL:
-        entries[k, j] = (sigma, a, b, c, d)
-    off = np.array([(k, j, a, b, c, d, sigma) for (k, j), (a, b), (c, d), sigma in OFF_DIAGONAL], dtype=np.int64)
-    return entries, off
-
-
-TABLES = _tables()
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -67,12 +49,6 @@ def _root(xlo, xhi, tlo, thi):
     lo = nlo if neg else (plo if pos else INF)
     hi = phi if pos else (nhi if neg else -INF)
     return lo, hi
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _scale(lo, hi, k):
-    """``x * k`` for a float k > 0 (``interval.mul`` with the point [k, k])."""
-    return down(lo * k), up(hi * k)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -120,32 +96,6 @@ def _norm_equation(zlo, zhi, slo, shi, p, n):
             return True
         slo[k], shi[k] = sqr(zlo[k], zhi[k])
     return False
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr):
-    """Step 2, first part: R over the box (``FKSystem.rotation``) into [Rlo, Rhi], and in
-    midpoint-radius form [Rm ± Rr]."""
-    for k in range(3):
-        for j in range(3):
-            kind = entries[k, j, 0]
-            a, b_, c, d = entries[k, j, 1], entries[k, j, 2], entries[k, j, 3], entries[k, j, 4]
-            if kind == 0:
-                tlo, thi = down_sum(slo[p + a] + slo[p + b_]), up_sum(shi[p + a] + shi[p + b_])
-                tlo, thi = _scale(tlo, thi, 2.0)
-                vlo, vhi = down_sum(1.0 - thi), up_sum(1.0 - tlo)
-            else:
-                xlo, xhi = mul(zlo[p + a], zhi[p + a], zlo[p + b_], zhi[p + b_])
-                ylo, yhi = mul(zlo[p + c], zhi[p + c], zlo[p + d], zhi[p + d])
-                if kind > 0:
-                    tlo, thi = down_sum(xlo + ylo), up_sum(xhi + yhi)
-                else:
-                    tlo, thi = down_sum(xlo - yhi), up_sum(xhi - ylo)
-                vlo, vhi = _scale(tlo, thi, 2.0)
-            Rlo[k, j], Rhi[k, j] = vlo, vhi
-            m = 0.5 * vlo + 0.5 * vhi
-            Rm[k, j] = m
-            Rr[k, j] = up(max(vhi - m, m - vlo))
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -226,7 +176,7 @@ def _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):
     for k in range(3):
         a, b_ = entries[k, k, 1], entries[k, k, 2]
         tlo, thi = down_sum(1.0 - R2hi[k, k]), up_sum(1.0 - R2lo[k, k])
-        tlo, thi = _scale(tlo, thi, 0.5)
+        tlo, thi = scale(tlo, thi, 0.5)
         sl, sh = sqr(zlo[p + b_], zhi[p + b_])
         zlo[p + a], zhi[p + a] = _root(zlo[p + a], zhi[p + a], down_sum(tlo - sh), up_sum(thi - sl))
         if zlo[p + a] > zhi[p + a]:
@@ -239,7 +189,7 @@ def _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):
         k, j = off[e, 0], off[e, 1]
         ia, ib, ic, id_ = p + off[e, 2], p + off[e, 3], p + off[e, 4], p + off[e, 5]
         sigma = off[e, 6]
-        hlo, hhi = _scale(R2lo[k, j], R2hi[k, j], 0.5)
+        hlo, hhi = scale(R2lo[k, j], R2hi[k, j], 0.5)
         clo, chi = mul(zlo[ic], zhi[ic], zlo[id_], zhi[id_])
         if sigma > 0:
             glo, ghi = down_sum(hlo - chi), up_sum(hhi - clo)
@@ -377,7 +327,7 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, cm, cr, Dm, Dr, alo, ahi, bm, inn
         if _norm_equation(zlo, zhi, slo, shi, p, n):                                  # 1.
             empty[box] = True
             continue
-        _rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr)           # 2.
+        rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr)           # 2.
         _rotated_points(box, zlo, zhi, p, Rm, Rr, bm, inner, outer, flo, fhi, alo, ahi, tm, te,
                         ulo, uhi, Pm, Pr, elo, ehi)
         # 3. each leg equation, then (a position) ``rounds`` times the leg pairs, each leg's roots after its pairs
@@ -451,9 +401,9 @@ def _difference_equations(b, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi, slo, shi,
             t1l, t1h = down_sum(rblo[b, i, k] - rbhi[b, 0, k]), up_sum(rbhi[b, i, k] - rblo[b, 0, k])
             t2l, t2h = down_sum(alo[i, k] - ahi[0, k]), up_sum(ahi[i, k] - alo[0, k])
             t3l, t3h = down_sum(t1l - t2h), up_sum(t1h - t2l)
-            Dlo[i - 1, k], Dhi[i - 1, k] = _scale(t3l, t3h, 2.0)
+            Dlo[i - 1, k], Dhi[i - 1, k] = scale(t3l, t3h, 2.0)
         ul, uh = down_sum(slo[i] - shi[0]), up_sum(shi[i] - slo[0])
-        ul, uh = _scale(ul, uh, 2.0)
+        ul, uh = scale(ul, uh, 2.0)
         cl, ch = down_sum(klo[i] - khi[0]), up_sum(khi[i] - klo[0])
         ul, uh = down_sum(ul - ch), up_sum(uh - cl)
         dl, dh = down_sum(Llo[b, i] - Lhi[b, 0]), up_sum(Lhi[b, i] - Llo[b, 0])
@@ -568,59 +518,6 @@ def position_gauss_seidel(xlo, xhi, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi):
 
 
 @njit(cache=True, error_model="numpy")
-def rotated_quaternion(lo, hi, p, bm, inner, outer, entries, flo, fhi, with_form):
-    """R b_i over the boxes [lo, hi] (N, p + 4) of a quaternion system, (lo, hi) (N, legs, 3): the
-    natural enclosure ``FKSystem.rotated(FKSystem.rotation(X))`` — R over the box as
-    ``_rotation_entries`` (the interval operations of ``FKSystem.rotation``), then R b_i in
-    midpoint-radius form as HC4's step 2 (``rotated_midrad``'s bound; its float sums in another order
-    than numpy's matrix product, which the bound allows) — intersected, when ``with_form``, with
-    [flo, fhi] (N, legs, 3), the centred form (as ``np.fmax``/``np.fmin``: a NaN bound is ignored).
-    ``bm``/``inner``/``outer`` (3, ≥ legs; the first legs columns): ``b_midrad``.  Rows with a
-    non-finite rotation side: the entire line (∩ the form)."""
-    N, n = lo.shape
-    legs = flo.shape[1] if with_form else bm.shape[1] // 4
-    olo = np.empty((N, legs, 3))
-    ohi = np.empty((N, legs, 3))
-    zlo = np.empty(n)
-    zhi = np.empty(n)
-    slo = np.empty(n)
-    shi = np.empty(n)
-    Rlo = np.empty((3, 3))
-    Rhi = np.empty((3, 3))
-    Rm = np.empty((3, 3))
-    Rr = np.empty((3, 3))
-    K = 4 * 3 + 4
-    for box in range(N):
-        finite = True
-        for k in range(p, n):
-            zlo[k], zhi[k] = lo[box, k], hi[box, k]
-            finite &= np.isfinite(zlo[k]) and np.isfinite(zhi[k])
-        if finite:
-            for k in range(p, n):
-                slo[k], shi[k] = sqr(zlo[k], zhi[k])
-            _rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr)
-        for i in range(legs):
-            for k in range(3):
-                ul, uh = -INF, INF
-                if finite:
-                    sm = (Rm[k, 0] * bm[0, i] + Rm[k, 1] * bm[1, i]) + Rm[k, 2] * bm[2, i]
-                    sr = ((abs(Rm[k, 0]) * inner[0, i] + Rr[k, 0] * outer[0, i])
-                          + (abs(Rm[k, 1]) * inner[1, i] + Rr[k, 1] * outer[1, i])) \
-                        + (abs(Rm[k, 2]) * inner[2, i] + Rr[k, 2] * outer[2, i])
-                    sr = upper(sr, K) + 3 * 2.0 ** -1022
-                    if np.isfinite(sm) and np.isfinite(sr):
-                        ul, uh = down(sm - sr), up(sm + sr)
-                if with_form:
-                    fl, fh = flo[box, i, k], fhi[box, i, k]
-                    if fl == fl:
-                        ul = max(ul, fl)
-                    if fh == fh:
-                        uh = min(uh, fh)
-                olo[box, i, k], ohi[box, i, k] = ul, uh
-    return olo, ohi
-
-
-@njit(cache=True, error_model="numpy")
 def _np_max(a, b):
     """``np.maximum`` for two floats (a NaN operand gives NaN)."""
     return a if (a >= b or a != a) else b
@@ -686,50 +583,3 @@ def gap_splits_quaternion(lo, hi, Llo, rblo, rbhi, alo, ahi, p, at_least):
         if best >= at_least:
             dim[b], at[b] = bd, ba
     return dim, at
-
-
-@njit(cache=True, error_model="numpy")
-def equations_quaternion(xlo, xhi, rblo, rbhi, alo, ahi, Llo, Lhi, p):
-    """(lo, hi) (N, n): ``FKSystem.equations`` over the boxes x (N, p + 4) of a quaternion system from
-    R b_i over them (``rb``, (N, legs, 3)) — the same interval operations in the same order:
-    ell_i = (R b_i − a_i) + p, Σ_k sqr(ell_ik) left to right, − L_i; the norm Σ_r sqr(q_r) − 1.  Rows
-    with a non-finite input: the entire line."""
-    N, n = xlo.shape
-    legs = rblo.shape[1]
-    flo = np.empty((N, n))
-    fhi = np.empty((N, n))
-    for b in range(N):
-        finite = True
-        for k in range(n):
-            finite &= np.isfinite(xlo[b, k]) and np.isfinite(xhi[b, k])
-        for i in range(legs):
-            finite &= np.isfinite(Llo[b, i]) and np.isfinite(Lhi[b, i])
-            for k in range(3):
-                finite &= np.isfinite(rblo[b, i, k]) and np.isfinite(rbhi[b, i, k])
-        if not finite:
-            for k in range(n):
-                flo[b, k], fhi[b, k] = -INF, INF
-            continue
-        for i in range(legs):
-            glo = 0.0
-            ghi = 0.0
-            for k in range(3):
-                el, eh = down_sum(rblo[b, i, k] - ahi[i, k]), up_sum(rbhi[b, i, k] - alo[i, k])
-                if p:
-                    el, eh = down_sum(el + xlo[b, k]), up_sum(eh + xhi[b, k])
-                ql, qh = sqr(el, eh)
-                if k == 0:
-                    glo, ghi = ql, qh
-                else:
-                    glo, ghi = down_sum(glo + ql), up_sum(ghi + qh)
-            flo[b, i], fhi[b, i] = down_sum(glo - Lhi[b, i]), up_sum(ghi - Llo[b, i])
-        glo = 0.0
-        ghi = 0.0
-        for k in range(p, n):
-            ql, qh = sqr(xlo[b, k], xhi[b, k])
-            if k == p:
-                glo, ghi = ql, qh
-            else:
-                glo, ghi = down_sum(glo + ql), up_sum(ghi + qh)
-        flo[b, legs], fhi[b, legs] = down_sum(glo - 1.0), up_sum(ghi - 1.0)
-    return flo, fhi

@@ -21,7 +21,7 @@ from intervals import Interval
 from intervals.midrad import ETA, U, midrad, product_midrad, upper
 from intervals.rounding import down, down_sum, up, up_sum
 
-from .centred import centred_form_quaternion
+from .centred import centred_form_quaternion, rotated_quaternion
 
 # dR/dq_r of the quaternion rotation (see FKSystem.rotation_derivatives) as indices into
 # [0, 2q0..2q3, -2q0..-2q3, -4q0..-4q3]
@@ -37,6 +37,22 @@ OFF_DIAGONAL = (((0, 1), (1, 2), (0, 3), -1), ((1, 0), (1, 2), (0, 3), 1),
                 ((1, 2), (2, 3), (0, 1), -1), ((2, 1), (2, 3), (0, 1), 1))
 
 DIAGONAL = ((0, 2, 3), (1, 1, 3), (2, 1, 2))     # R_kk = 1 − 2(q_a² + q_b²): (k, a, b)
+
+
+def _tables():
+    """R(q)'s entries as integer tables for the kernels (from ``DIAGONAL`` / ``OFF_DIAGONAL``): entries
+    (3, 3, 5) rows (kind, a, b, c, d), kind 0 for 1 − 2(q_a² + q_b²), kind σ = ±1 for
+    2(q_a q_b + σ q_c q_d); off (6, 7) rows (k, j, a, b, c, d, σ) in the order of HC4's step 7."""
+    entries = np.zeros((3, 3, 5), dtype=np.int64)
+    for k, a, b in DIAGONAL:
+        entries[k, k] = (0, a, b, 0, 0)
+    for (k, j), (a, b), (c, d), sigma in OFF_DIAGONAL:
+        entries[k, j] = (sigma, a, b, c, d)
+    off = np.array([(k, j, a, b, c, d, sigma) for (k, j), (a, b), (c, d), sigma in OFF_DIAGONAL], dtype=np.int64)
+    return entries, off
+
+
+TABLES = _tables()
 
 
 def from_midrad(m, r) -> Interval:
@@ -160,7 +176,6 @@ class RotatedPoints:
         bounds (lo, hi) ``form`` of a centred form if given (a NaN bound there is ignored)."""
         if self.kind == "planar-3rpr":
             return self.rotated(self.rotation(X))
-        from .kernels import TABLES, rotated_quaternion      # (kernels imports this module)
         bm, inner, outer = self.b_midrad()
         f64 = np.ascontiguousarray
         flo, fhi = (f64(v, dtype=np.float64) for v in form) if form is not None else (np.empty((0, self.legs, 3)),) * 2

@@ -46,8 +46,8 @@ import numpy as np
 from intervals import Interval, linalg
 
 from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
+from .centred import equations_quaternion
 from .contract import gap_splits, hc4
-from .kernels import equations_quaternion
 from .step import SMALL_BATCH, WIDEN, contract_position, for_batch, krawczyk_boxes, shrink, slope_boxes, unique_in
 
 SHRINK = 0.05            # a contraction is kept when some side shrinks by this fraction
