@@ -15,7 +15,12 @@ empty): a sound answer, which the numpy reference gives as well up to its own
 NaN conventions.  ``tests/test_native.py`` compares every kernel with its
 numpy reference on random inputs.
 
-Kernels are compiled on first use and cached on disk (``cache=True``).
+Kernels are compiled on first use and cached on disk (``cache=True``), with numba's ``numpy``
+error model: a float division by zero gives inf or NaN instead of raising, so no test of the
+divisor is compiled in (every division here has a divisor proved nonzero, or tested first).
+The small primitives are inlined into their callers (``inline="always"``, numba's own IR
+inlining: the same operations in the same order), which lets the compiler keep a box's
+values in registers across them; the kernels take longer to compile, once.
 """
 from __future__ import annotations
 
@@ -31,7 +36,7 @@ INF = np.inf
 
 
 # ----------------------------------------------------------------- rounding (intervals.rounding)
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def up(c):
     """``rounding.up``: an upper bound of every real within half a spacing of ``c``."""
     if c < -MAX:
@@ -39,7 +44,7 @@ def up(c):
     return c + (abs(c) * _REL + _ABS)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def down(c):
     """``rounding.down``."""
     if c > MAX:
@@ -47,7 +52,7 @@ def down(c):
     return c - (abs(c) * _REL + _ABS)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def up_sum(c):
     """``rounding.up_sum``: ``up`` for the result of a sum or difference."""
     if c < -MAX:
@@ -55,7 +60,7 @@ def up_sum(c):
     return c + abs(c) * _REL
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def down_sum(c):
     """``rounding.down_sum``."""
     if c > MAX:
@@ -63,14 +68,14 @@ def down_sum(c):
     return c - abs(c) * _REL
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def upper(x, k):
     """``midrad.upper``: a bound of a non-negative exact value whose float evaluation with at most
     ``k`` roundings gave ``x``."""
     return (x + k * _ETA) * (1.0 + (2 * k + 6) * _U)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def midrad(lo, hi):
     """``midrad.midrad``: (m, r) with [lo, hi] ⊆ [m − r, m + r]."""
     m = 0.5 * lo + 0.5 * hi
@@ -82,7 +87,7 @@ EXACT_LOW = 2.0 ** -800
 EXACT_HIGH = 2.0 ** 800
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def square_exact(a, p):
     """``rounding.square_exact``: a = 0, or a has at most 26 significant bits (Veltkamp's split leaves
     no low part: the same verdict as the fraction-bit test for such p) and EXACT_LOW ≤ p ≤ MAX."""
@@ -94,20 +99,20 @@ def square_exact(a, p):
     return a - (t - (t - a)) == 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def up_square(a, p):
     """``rounding.up_square``: p where a² = p exactly, else ``up(p)``."""
     return p if square_exact(a, p) else up(p)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def down_square(a, p):
     """``rounding.down_square``."""
     return p if square_exact(a, p) else down(p)
 
 
 # ----------------------------------------------------------------- interval operations on (lo, hi)
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def sqr(lo, hi):
     """``interval.sqr``: [max(down(mig²), 0), up(mag²)], a bound not widened where its square is
     exact (``up_square``)."""
@@ -116,7 +121,13 @@ def sqr(lo, hi):
     return max(down_square(mig, mig * mig), 0.0), up_square(mag, mag * mag)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
+def scale(lo, hi, k):
+    """``x * k`` for a float k > 0 (``interval.mul`` with the point [k, k])."""
+    return down(lo * k), up(hi * k)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def mul(alo, ahi, blo, bhi):
     """``interval.mul`` for finite operands: the hull of the four corner products, rounded outward."""
     p1 = alo * blo
@@ -126,7 +137,7 @@ def mul(alo, ahi, blo, bhi):
     return down(min(min(p1, p2), min(p3, p4))), up(max(max(p1, p2), max(p3, p4)))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def div_regular(alo, ahi, blo, bhi):
     """``interval.div`` for finite operands and a divisor without 0."""
     q1 = alo / blo
@@ -136,7 +147,7 @@ def div_regular(alo, ahi, blo, bhi):
     return down(min(min(q1, q2), min(q3, q4))), up(max(max(q1, q2), max(q3, q4)))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def gs_update(nlo, nhi, dlo, dhi, xlo, xhi):
     """``linalg._gs_update`` for finite operands: [xlo, xhi] ∩ {t : d t = v, d ∈ [dlo, dhi],
     v ∈ [nlo, nhi]} (extended division when 0 ∈ d; Hansen & Sengupta 1981).  Empty: lo > hi."""
@@ -166,7 +177,7 @@ def gs_update(nlo, nhi, dlo, dhi, xlo, xhi):
 
 
 # ----------------------------------------------------------------- float linear algebra (preconditioners)
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def gauss_jordan(A, n):
     """Reduce the augmented matrix A (n, n + k) in place, with partial pivoting, so that its first n
     columns become the identity and its last k the solution of the system; False where a pivot is 0
@@ -196,7 +207,7 @@ def gauss_jordan(A, n):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def float_inverse(Mlo, Mhi, compact):
     """(C, failed): the float inverse of each midpoint matrix 0.5 lo + 0.5 hi (N, n, n) by Gauss-Jordan
     elimination with partial pivoting, rounded to float32 values where ``compact``; the identity where
@@ -232,7 +243,7 @@ def float_inverse(Mlo, Mhi, compact):
 
 
 # ----------------------------------------------------------------- Hansen-Sengupta (linalg.hansen_sengupta)
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def hansen_sengupta(flo, fhi, Jlo, Jhi, xlo, xhi, c, C):
     """``linalg.hansen_sengupta`` box by box: (lo, hi, empty) for f (N, n), J (N, n, n), x (N, n),
     c (N, n), C (N, n, n).  The same midpoint-radius bounds (Higham 2002, eq. 3.5, any order of

@@ -620,7 +620,7 @@ def test_centred_rotated_points_enclose_exact_values():
     w = rng.uniform(0.001, 0.05, (N, 7))
     X = Interval.from_bounds(c - w, c + w)
     T = s.rotated_centred(X)
-    natural = s.rotated(s.rotation(X))
+    natural = s.rotated_box(X)      # the natural enclosure T is met with (the machine-code one)
     assert np.all(T.lo >= natural.lo) and np.all(T.hi <= natural.hi)
     legs = slice(2, 5)   # the platform points with several nonzero coordinates (the others: exact anyway)
     assert np.median((T.hi - T.lo)[:, legs] / (natural.hi - natural.lo)[:, legs]) < 0.9
@@ -643,6 +643,78 @@ def test_centred_rotated_points_enclose_exact_values():
     # an empty batch (every box of a batch emptied by HC4) has empty enclosures
     E = s.rotated_centred(Interval.from_bounds(np.zeros((0, 7)), np.zeros((0, 7))))
     assert E.shape == (0, 6, 3)
+
+
+def test_native_rotated_points_enclose_exact_values_and_match_numpy():
+    """R b_i over quaternion boxes by the machine-code kernel (``FKSystem.rotated_box``) and by numpy
+    (``rotated(rotation(X))``): the same bounds to a few ulps (only the float sums of the midpoint-radius
+    products are taken in another order), the same infinite entries; the kernel's holds the exact
+    R(q) b_i (Fractions) at random points, ordinary and tiny; ∩ a form it is ``np.fmax``/``np.fmin``."""
+    from certkin import load_robot
+    from certkin.fk.system import FKSystem
+    from intervals import Interval
+    robot = load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml")
+    s = FKSystem(robot)
+    b = [[Fraction(t) for t in p] for p in robot.to_dict()["platform"]]
+    rng = np.random.default_rng(23)
+    N = 3000
+    c = rng.uniform(-1.2, 1.2, (N, 7))
+    w = rng.uniform(0, 1, (N, 7)) * 10.0 ** rng.uniform(-12, 0, (N, 1))
+    c[:20, 3:] *= 1e-160                     # products underflow
+    lo, hi = c - w, c + w
+    lo[20:25, 4], hi[25:30, 6] = -np.inf, np.inf
+    X = Interval.from_bounds(lo, hi)
+    fast, ref = s.rotated_box(X), s.rotated(s.rotation(X))
+    for a, r in ((fast.lo, ref.lo), (fast.hi, ref.hi)):
+        assert np.array_equal(np.isfinite(a), np.isfinite(r))
+        ok = np.isfinite(r)
+        assert np.all(np.abs(a[ok] - r[ok]) <= 2.0 ** -48 * (1.0 + np.abs(r[ok])))
+    for n in list(range(0, 20, 5)) + list(range(40, N, 150)):
+        for _ in range(2):
+            q = [Fraction(float(v)) for v in X.lo[n, 3:] + rng.random(4) * (X.hi[n, 3:] - X.lo[n, 3:])]
+            R = _exact_rotation(*q)
+            for i in range(6):
+                for k in range(3):
+                    v = sum(R[k][j] * b[i][j] for j in range(3))
+                    assert Fraction(fast.lo[n, i, k]) <= v <= Fraction(fast.hi[n, i, k])
+    flo, fhi = s.centred_form(X)[:2]
+    met = s.rotated_box(X, form=(flo, fhi))
+    with np.errstate(invalid="ignore"):
+        assert np.array_equal(met.lo, np.fmax(fast.lo, flo)) and np.array_equal(met.hi, np.fmin(fast.hi, fhi))
+    E = s.rotated_box(Interval.from_bounds(np.zeros((0, 7)), np.zeros((0, 7))))
+    assert E.shape == (0, 6, 3)
+
+
+def test_native_equations_give_the_numpy_floats():
+    """The machine-code enclosure of the equations over boxes (``kernels.equations_quaternion``, the
+    search's exclusion test) and ``FKSystem.equations`` / its stacked twin with the same R b_i: the same
+    floats, bit for bit, on boxes around roots and all over the domain (Gough and spherical robots);
+    a row with a non-finite input is the entire line."""
+    from certkin import load_robot
+    from certkin.fk.centred import equations_quaternion
+    from certkin.fk.stacked import StackedFKSystem
+    from certkin.fk.system import FKSystem
+    from intervals import Interval, sqr
+    for robot, lengths in [(robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]),
+                           (load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml"),
+                            "1.093,2.280,2.031,2.524,3.136,1.845".split(","))]:
+        s = FKSystem(robot)
+        rng = np.random.default_rng(31)
+        N = 1500
+        rlo, rhi = root_boxes(robot, lengths, N, rng)
+        w = rng.uniform(0, 1, (N, s.n)) * 10.0 ** rng.uniform(-8, 0, (N, 1))
+        lo, hi = rlo - w * rng.uniform(0, 1, (N, s.n)), rhi + w * rng.uniform(0, 1, (N, s.n))
+        lo[-5:, 0] = -np.inf
+        X = Interval.from_bounds(lo, hi)
+        rho = [Interval(v) for v in lengths]
+        L = sqr(Interval.from_bounds(np.tile([float(r.lo) for r in rho], (N, 1)), np.tile([float(r.hi) for r in rho], (N, 1))))
+        rb = s.rotated_box(X)
+        flo, fhi = equations_quaternion(lo, hi, rb.lo, rb.hi, s.a.lo, s.a.hi, L.lo, L.hi, s.n_pos)
+        assert np.all(np.isneginf(flo[-5:])) and np.all(np.isposinf(fhi[-5:]))
+        for sys_ in (s, StackedFKSystem.of(s)):
+            F = sys_.equations(Interval.from_bounds(lo[:-5], hi[:-5]), L[:-5], rb=rb[:-5])
+            assert np.array_equal(flo[:-5], F.lo) and np.array_equal(fhi[:-5], F.hi)
+        assert not np.any((flo[:N // 2] > 0) | (fhi[:N // 2] < 0))      # the roots are kept
 
 
 def test_tampered_slope_evidence_is_rejected():

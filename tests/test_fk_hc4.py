@@ -218,6 +218,35 @@ def test_native_quaternion_pass_matches_numpy(which, gough_case):
     assert np.all((fast[0][:3000] <= root_hi) & (root_lo <= fast[1][:3000]))   # the root's box is met
 
 
+@pytest.mark.parametrize("which", ["gough", "spherical"])
+def test_native_gap_splits_give_the_numpy_floats(which, gough_case):
+    """The machine-code split hints (``kernels.gap_splits_quaternion``) and the numpy ones
+    (``gap_splits(..., native=False)``), on boxes all over the domain, around roots, thin and with
+    infinite sides: the same dimensions and the same cut points, bit for bit; many boxes get one."""
+    from certkin.fk.contract import gap_splits
+    if which == "gough":
+        robot, lengths, _ = gough_case
+    else:
+        robot, lengths = robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]
+    system = FKSystem(robot)
+    rng = np.random.default_rng(29)
+    n = system.n
+    dlo, dhi = (np.atleast_2d(v)[0] for v in system.domain(_L(lengths, 1)))
+    N = 4000
+    c = rng.uniform(dlo, dhi, (N, n))
+    w = rng.uniform(0, 1, (N, n)) ** 2 * (dhi - dlo) * 10.0 ** rng.uniform(-6, 0, (N, 1))
+    lo, hi = np.maximum(c - w, dlo), np.minimum(c + w, dhi)
+    root_lo, root_hi = root_boxes(robot, lengths, 500, rng)
+    lo[:500] = np.minimum(lo[:500], root_lo)
+    hi[:500] = np.maximum(hi[:500], root_hi)
+    lo[500:505, 0], hi[505:510, -1], hi[510:515, 1] = -np.inf, np.inf, lo[510:515, 1]   # infinite, point sides
+    for at_least in (0.5, 0.0):
+        fast = gap_splits(system, lo, hi, _L(lengths, N), at_least)
+        ref = gap_splits(system, lo, hi, _L(lengths, N), at_least, native=False)
+        assert np.array_equal(fast[0], ref[0]) and np.array_equal(fast[1], ref[1], equal_nan=True)
+        assert 0.05 * N < np.count_nonzero(fast[0] >= 0) < N or at_least == 0.0
+
+
 def test_leg_pairs_rechecked_and_narrowed_child_rejected(monkeypatch):
     """Gough-Stewart HC4 contracts with the leg pairs too (e_i − e_j holds no p): the certificate of a
     search relies on them (a checker pass without them rejects it), the checker repeats them (accepts),

@@ -53,8 +53,8 @@ from intervals.interval import div
 from intervals.midrad import U, upper
 from intervals.rounding import down, up, up_sum
 
-from .kernels import TABLES, hc4_quaternion
-from .rotation import DIAGONAL, OFF_DIAGONAL, from_midrad   # R(q)'s entries as products of q's
+from .kernels import gap_splits_quaternion, hc4_quaternion
+from .rotation import DIAGONAL, OFF_DIAGONAL, TABLES, from_midrad   # R(q)'s entries as products of q's
 
 
 PAIR_ROUNDS = 2     # rounds of the leg-pair step (step 3) for a Gough-Stewart robot
@@ -381,7 +381,7 @@ def _hc4_planar(system, lo, hi, L: Interval):
     return nlo, nhi, empty
 
 
-def gap_splits(system, lo, hi, L: Interval, at_least: float):
+def gap_splits(system, lo, hi, L: Interval, at_least: float, native: bool = True):
     """(dim, at): for each box, the middle of the widest gap between the two branches of one of
     HC4's square roots (``root``), when that gap spans at least ``at_least`` of the side (dim −1,
     at NaN otherwise).
@@ -391,9 +391,22 @@ def gap_splits(system, lo, hi, L: Interval, at_least: float):
     ell_i = p + m_i, so p_k ∉ (−√t − m̲_ik, √t − m̄_ik).  ``root`` keeps the hull of the branches, so a
     box holding both (a robot's mirror postures z and −z, a rotation and its reverse) is never
     contracted there; cut in the gap, each part holds one branch.  Only a split point: any point
-    keeps the search sound (the checker recomputes nothing from it)."""
+    keeps the search sound (the checker recomputes nothing from it).  Sums of squares are taken left to
+    right; R b_i is ``FKSystem.rotated_box``; a quaternion system takes the machine-code twin
+    (``kernels.gap_splits_quaternion``, the same floats) unless ``native`` is false."""
     N, n = lo.shape
     p = system.n_pos
+    if system.kind != "planar-3rpr" and native:
+        f64 = np.ascontiguousarray
+        lo, hi = f64(lo, dtype=np.float64), f64(hi, dtype=np.float64)
+        if p:
+            rb = system.rotated_box(Interval.from_bounds(lo, hi))
+            rblo, rbhi, alo, ahi = rb.lo, rb.hi, system.a.lo, system.a.hi
+        else:
+            rblo = rbhi = np.empty((N, 0, 3))
+            alo = ahi = np.empty((0, 3))
+        return gap_splits_quaternion(lo, hi, f64(L.lo, dtype=np.float64), rblo, rbhi, f64(alo), f64(ahi), p,
+                                     float(at_least))
     best = np.zeros(N)
     dim = np.full(N, -1)
     at = np.full(N, np.nan)
@@ -414,16 +427,21 @@ def gap_splits(system, lo, hi, L: Interval, at_least: float):
     with np.errstate(all="ignore"):
         X = Interval.from_bounds(lo, hi)
         squares = sqr(X[:, p:]).hi
-        total = squares.sum(axis=1)
+        total = squares[:, 0]
+        for k in range(1, n - p):
+            total = total + squares[:, k]
         for k in range(p, n):
             t = 1.0 - (total - squares[:, k - p])
             g = np.sqrt(np.maximum(t, 0.0))[:, None]
             consider(k, -g, g, t[:, None])
         if p:
-            m = system.rotated(system.rotation(X)) - system.a[None]
+            m = system.rotated_box(X) - system.a[None]
             e2 = sqr(m + X[:, None, :p]).hi
+            esum = e2[..., 0]
+            for k in range(1, e2.shape[-1]):
+                esum = esum + e2[..., k]
             for k in range(p):
-                t = L.lo - (e2.sum(axis=-1) - e2[..., k])
+                t = L.lo - (esum - e2[..., k])
                 g = np.sqrt(np.maximum(t, 0.0))
                 consider(k, -g - m.lo[..., k], g - m.hi[..., k], t)
     use = best >= at_least

@@ -7,10 +7,12 @@
   be taken in another order, which their error bound allows (Higham 2002,
   eq. 3.5).  The centred form of R b_i (step 2) is computed by
   ``FKSystem.centred_form`` and passed in.
-- (``slope_quaternion``, beside the centred form of R b_i: ``fk.centred``);
+- (``slope_quaternion``, ``rotated_quaternion``, ``equations_quaternion``, beside the centred form
+  of R b_i and R over the box of step 2: ``fk.centred``);
 - ``position_gauss_seidel``: ``step.contract_position`` for a spatial robot (the
   difference equations, P [D | g] in midpoint-radius form, one Gauss-Seidel
   sweep), with the same operations and bounds.
+- ``gap_splits_quaternion``: ``contract.gap_splits``, the same floats.
 
 Each step intersects a variable with a set that holds its value at every root
 of the box (``docs/soundness.md`` §8), so no root is lost; ``tests/test_fk_hc4.py``
@@ -23,31 +25,16 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from intervals.native import INF, MAX, div_regular, down, down_sum, gauss_jordan, gs_update, midrad, mul, sqr, up, up_sum, upper
+from intervals.native import INF, MAX, div_regular, down, down_sum, gauss_jordan, gs_update, midrad, mul, scale, sqr, up, up_sum, upper
 
-from .rotation import DIAGONAL, OFF_DIAGONAL
+from .centred import rotation_entries
+from .rotation import TABLES
 
 
 _U = 2.0 ** -53
 
 
-def _tables():
-    """R(q)'s entries as integer tables (from ``system.DIAGONAL`` / ``OFF_DIAGONAL``): entries
-    (3, 3, 5) rows (kind, a, b, c, d), kind 0 for 1 − 2(q_a² + q_b²), kind σ = ±1 for
-    2(q_a q_b + σ q_c q_d); off (6, 7) rows (k, j, a, b, c, d, σ) in the order of step 7."""
-    entries = np.zeros((3, 3, 5), dtype=np.int64)
-    for k, a, b in DIAGONAL:
-        entries[k, k] = (0, a, b, 0, 0)
-    for (k, j), (a, b), (c, d), sigma in OFF_DIAGONAL:
-        entries[k, j] = (sigma, a, b, c, d)
-    off = np.array([(k, j, a, b, c, d, sigma) for (k, j), (a, b), (c, d), sigma in OFF_DIAGONAL], dtype=np.int64)
-    return entries, off
-
-
-TABLES = _tables()
-
-
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _root(xlo, xhi, tlo, thi):
     """``contract.root``: hull(x ∩ {y : y² ∈ t}); empty (lo > hi) if there is no such y; x itself
     if t is NaN (nothing known)."""
@@ -64,13 +51,7 @@ def _root(xlo, xhi, tlo, thi):
     return lo, hi
 
 
-@njit(cache=True)
-def _scale(lo, hi, k):
-    """``x * k`` for a float k > 0 (``interval.mul`` with the point [k, k])."""
-    return down(lo * k), up(hi * k)
-
-
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _divide_into(xlo, xhi, nlo, nhi, dlo, dhi):
     """``contract.divide_into``: x ∩ num / den where 0 ∉ den, x itself elsewhere."""
     if dlo > 0.0 or dhi < 0.0:
@@ -79,7 +60,7 @@ def _divide_into(xlo, xhi, nlo, nhi, dlo, dhi):
     return xlo, xhi
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _sum_others(vlo, vhi, start, stop, k):
     """Σ_{j ≠ k} v_j over start ≤ j < stop, interval sums from left to right (``Interval.__add__``)."""
     olo = 0.0
@@ -95,14 +76,14 @@ def _sum_others(vlo, vhi, start, stop, k):
     return olo, ohi
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _divide_at(zlo, zhi, t, glo, ghi, d):
     """z_t ← z_t ∩ g / z_d where 0 ∉ z_d (``_divide_into``), in place; True if z_t is now empty."""
     zlo[t], zhi[t] = _divide_into(zlo[t], zhi[t], glo, ghi, zlo[d], zhi[d])
     return zlo[t] > zhi[t]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _norm_equation(zlo, zhi, slo, shi, p, n):
     """Step 1: r_k ← root(r_k, 1 − Σ_{j≠k} r_j²) for the rotation unknowns r, j increasing
     (``slo``/``shi``: their squares); True if the box holds no root."""
@@ -117,33 +98,7 @@ def _norm_equation(zlo, zhi, slo, shi, p, n):
     return False
 
 
-@njit(cache=True)
-def _rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr):
-    """Step 2, first part: R over the box (``FKSystem.rotation``) into [Rlo, Rhi], and in
-    midpoint-radius form [Rm ± Rr]."""
-    for k in range(3):
-        for j in range(3):
-            kind = entries[k, j, 0]
-            a, b_, c, d = entries[k, j, 1], entries[k, j, 2], entries[k, j, 3], entries[k, j, 4]
-            if kind == 0:
-                tlo, thi = down_sum(slo[p + a] + slo[p + b_]), up_sum(shi[p + a] + shi[p + b_])
-                tlo, thi = _scale(tlo, thi, 2.0)
-                vlo, vhi = down_sum(1.0 - thi), up_sum(1.0 - tlo)
-            else:
-                xlo, xhi = mul(zlo[p + a], zhi[p + a], zlo[p + b_], zhi[p + b_])
-                ylo, yhi = mul(zlo[p + c], zhi[p + c], zlo[p + d], zhi[p + d])
-                if kind > 0:
-                    tlo, thi = down_sum(xlo + ylo), up_sum(xhi + yhi)
-                else:
-                    tlo, thi = down_sum(xlo - yhi), up_sum(xhi - ylo)
-                vlo, vhi = _scale(tlo, thi, 2.0)
-            Rlo[k, j], Rhi[k, j] = vlo, vhi
-            m = 0.5 * vlo + 0.5 * vhi
-            Rm[k, j] = m
-            Rr[k, j] = up(max(vhi - m, m - vlo))
-
-
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _rotated_points(box, zlo, zhi, p, Rm, Rr, bm, inner, outer, flo, fhi, alo, ahi, tm, te, ulo, uhi, Pm, Pr,
                     elo, ehi):
     """Step 2, second part: u_i = R b_i in midpoint-radius form (``rotated_midrad``, with the sums
@@ -188,7 +143,7 @@ def _rotated_points(box, zlo, zhi, p, Rm, Rr, bm, inner, outer, flo, fhi, alo, a
             elo[i, k], ehi[i, k] = vlo, vhi
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _entries_from_points(ulo, uhi, Pm, Pr, nonzero, invlo, invhi, Rlo, Rhi, R2lo, R2hi):
     """Step 6: R_kj ← R_kj ∩ (u_ik − Σ_{j'≠j} R_kj' b_ij') × (1/b_ij) for the legs with 0 ∉ b_ij, into
     [R2lo, R2hi]; True if an entry is empty."""
@@ -214,14 +169,14 @@ def _entries_from_points(ulo, uhi, Pm, Pr, nonzero, invlo, invhi, Rlo, Rhi, R2lo
     return dead
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):
     """Step 7: the quaternion from the entries of R, diagonal entries then off-diagonal ones
     (``rotation.DIAGONAL``, ``OFF_DIAGONAL``, as tables); True if the box holds no root."""
     for k in range(3):
         a, b_ = entries[k, k, 1], entries[k, k, 2]
         tlo, thi = down_sum(1.0 - R2hi[k, k]), up_sum(1.0 - R2lo[k, k])
-        tlo, thi = _scale(tlo, thi, 0.5)
+        tlo, thi = scale(tlo, thi, 0.5)
         sl, sh = sqr(zlo[p + b_], zhi[p + b_])
         zlo[p + a], zhi[p + a] = _root(zlo[p + a], zhi[p + a], down_sum(tlo - sh), up_sum(thi - sl))
         if zlo[p + a] > zhi[p + a]:
@@ -234,7 +189,7 @@ def _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):
         k, j = off[e, 0], off[e, 1]
         ia, ib, ic, id_ = p + off[e, 2], p + off[e, 3], p + off[e, 4], p + off[e, 5]
         sigma = off[e, 6]
-        hlo, hhi = _scale(R2lo[k, j], R2hi[k, j], 0.5)
+        hlo, hhi = scale(R2lo[k, j], R2hi[k, j], 0.5)
         clo, chi = mul(zlo[ic], zhi[ic], zlo[id_], zhi[id_])
         if sigma > 0:
             glo, ghi = down_sum(hlo - chi), up_sum(hhi - clo)
@@ -251,7 +206,7 @@ def _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _leg(elo, ehi, i, Llo, Lhi, eslo, eshi):
     """Step 3 for leg i: e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²), k = 0, 1, 2; True if one is empty."""
     dead = False
@@ -265,7 +220,7 @@ def _leg(elo, ehi, i, Llo, Lhi, eslo, eshi):
     return dead
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _pair_terms(box, lo, hi, p, Rlo, Rhi, cm, cr, Dm, Dr, dblo, dbhi, dalo, dahi, h, Dlo, Dhi):
     """d_ij = R (b_i − b_j) − (a_i − a_j) for i < j, R (b_i − b_j) enclosed as Σ_m R_km (b_i − b_j)_m (m
     increasing) ∩ its centred form over the given box: R b_i − R b_j at the midpoint c, in
@@ -298,7 +253,7 @@ def _pair_terms(box, lo, hi, p, Rlo, Rhi, cm, cr, Dm, Dr, dblo, dbhi, dalo, dahi
                 Dlo[j, i, k], Dhi[j, i, k] = -dhi, -dlo
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _pairs(elo, ehi, Dlo, Dhi, Llo, Lhi, eslo, eshi):
     """Step 3, leg pairs, leg after leg: e_i ← e_i ∩ ⋂_{j≠i} (e_j + d_ij) (``_pair_terms``), then leg i's
     roots (``_leg``); True if one is empty."""
@@ -316,7 +271,7 @@ def _pairs(elo, ehi, Dlo, Dhi, Llo, Lhi, eslo, eshi):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, cm, cr, Dm, Dr, alo, ahi, bm, inner, outer, nonzero, invlo, invhi, dblo, dbhi, dalo, dahi,
                    rounds, p, entries, off):
     """One HC4 pass (``fk.contract``) over the boxes [lo, hi] (N, p + 4) of a quaternion system.
@@ -372,7 +327,7 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, cm, cr, Dm, Dr, alo, ahi, bm, inn
         if _norm_equation(zlo, zhi, slo, shi, p, n):                                  # 1.
             empty[box] = True
             continue
-        _rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr)           # 2.
+        rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr)           # 2.
         _rotated_points(box, zlo, zhi, p, Rm, Rr, bm, inner, outer, flo, fhi, alo, ahi, tm, te,
                         ulo, uhi, Pm, Pr, elo, ehi)
         # 3. each leg equation, then (a position) ``rounds`` times the leg pairs, each leg's roots after its pairs
@@ -426,7 +381,7 @@ def hc4_quaternion(lo, hi, Llo, Lhi, flo, fhi, cm, cr, Dm, Dr, alo, ahi, bm, inn
     return nlo_out, nhi_out, empty
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _difference_equations(b, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi, slo, shi, Dlo, Dhi):
     """The differences of the leg equations of box ``b``, D p = g into [Dlo, Dhi] (columns 0-2: D,
     column 3: g), as ``FKSystem.position_system`` (``slo``/``shi``: scratch for a_i · R b_i)."""
@@ -446,16 +401,16 @@ def _difference_equations(b, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi, slo, shi,
             t1l, t1h = down_sum(rblo[b, i, k] - rbhi[b, 0, k]), up_sum(rbhi[b, i, k] - rblo[b, 0, k])
             t2l, t2h = down_sum(alo[i, k] - ahi[0, k]), up_sum(ahi[i, k] - alo[0, k])
             t3l, t3h = down_sum(t1l - t2h), up_sum(t1h - t2l)
-            Dlo[i - 1, k], Dhi[i - 1, k] = _scale(t3l, t3h, 2.0)
+            Dlo[i - 1, k], Dhi[i - 1, k] = scale(t3l, t3h, 2.0)
         ul, uh = down_sum(slo[i] - shi[0]), up_sum(shi[i] - slo[0])
-        ul, uh = _scale(ul, uh, 2.0)
+        ul, uh = scale(ul, uh, 2.0)
         cl, ch = down_sum(klo[i] - khi[0]), up_sum(khi[i] - klo[0])
         ul, uh = down_sum(ul - ch), up_sum(uh - cl)
         dl, dh = down_sum(Llo[b, i] - Lhi[b, 0]), up_sum(Lhi[b, i] - Llo[b, 0])
         Dlo[i - 1, 3], Dhi[i - 1, 3] = down_sum(ul + dl), up_sum(uh + dh)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _sweep(Alo, Ahi, xlo, xhi, ylo, yhi):
     """One interval Gauss-Seidel sweep on [A | g] p = g over the position x (into y), as
     ``linalg.gauss_seidel`` with ``C=False``; True if the position is proved empty."""
@@ -479,7 +434,7 @@ def _sweep(Alo, Ahi, xlo, xhi, ylo, yhi):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def position_gauss_seidel(xlo, xhi, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi):
     """``step.contract_position`` for a spatial robot (position p = x[:, :3]): (lo, hi, empty, P).
 
@@ -560,3 +515,71 @@ def position_gauss_seidel(xlo, xhi, rblo, rbhi, alo, ahi, klo, khi, Llo, Lhi):
             for k in range(3):
                 plo[b, k], phi[b, k] = ylo[k], yhi[k]
     return plo, phi, empty, Pout
+
+
+@njit(cache=True, error_model="numpy")
+def _np_max(a, b):
+    """``np.maximum`` for two floats (a NaN operand gives NaN)."""
+    return a if (a >= b or a != a) else b
+
+
+@njit(cache=True, error_model="numpy")
+def _np_min(a, b):
+    """``np.minimum`` for two floats (a NaN operand gives NaN)."""
+    return a if (a <= b or a != a) else b
+
+
+@njit(cache=True, error_model="numpy")
+def gap_splits_quaternion(lo, hi, Llo, rblo, rbhi, alo, ahi, p, at_least):
+    """``contract.gap_splits`` box by box: (dim, at) for the boxes [lo, hi] (N, p + 4) of a quaternion
+    system, the lower squared leg lengths ``Llo`` (N, legs), R b_i over the boxes (``rb``, (N, legs, 3):
+    ``FKSystem.rotated_box``) and a (legs, 3) — the same float operations in the same order as the
+    numpy version (``tests/test_fk_hc4.py`` compares them bit for bit).  Only a split point."""
+    N, n = lo.shape
+    legs = Llo.shape[1]
+    dim = np.full(N, -1, dtype=np.int64)
+    at = np.full(N, np.nan)
+    sq = np.empty(4)
+    mlo = np.empty((legs, 3))
+    mhi = np.empty((legs, 3))
+    e2 = np.empty((legs, 3))
+    for b in range(N):
+        best = 0.0
+        bd = -1
+        ba = np.nan
+        for r in range(4):
+            sq[r] = sqr(lo[b, p + r], hi[b, p + r])[1]
+        total = ((sq[0] + sq[1]) + sq[2]) + sq[3]
+        for k in range(p, n):       # the norm equation: r_k ∉ (−√t, √t)
+            t = 1.0 - (total - sq[k - p])
+            g = np.sqrt(_np_max(t, 0.0))
+            glo, ghi = _np_max(-g, lo[b, k]), _np_min(g, hi[b, k])
+            frac = (ghi - glo) / _np_max(hi[b, k] - lo[b, k], 1e-300) if t > 0 else 0.0
+            if not np.isfinite(frac):
+                frac = 0.0
+            if frac > best:
+                best, bd, ba = frac, k, 0.5 * (glo + ghi)
+        if p:
+            for i in range(legs):
+                for k in range(3):
+                    ml, mh = down_sum(rblo[b, i, k] - ahi[i, k]), up_sum(rbhi[b, i, k] - alo[i, k])
+                    mlo[i, k], mhi[i, k] = ml, mh
+                    e2[i, k] = sqr(down_sum(ml + lo[b, k]), up_sum(mh + hi[b, k]))[1]
+            for k in range(p):      # leg i: p_k ∉ (−√t − m̲_ik, √t − m̄_ik)
+                width = _np_max(hi[b, k] - lo[b, k], 1e-300)
+                fbest = 0.0
+                fat = 0.0
+                for i in range(legs):
+                    t = Llo[b, i] - (((e2[i, 0] + e2[i, 1]) + e2[i, 2]) - e2[i, k])
+                    g = np.sqrt(_np_max(t, 0.0))
+                    glo, ghi = _np_max(-g - mlo[i, k], lo[b, k]), _np_min(g - mhi[i, k], hi[b, k])
+                    frac = (ghi - glo) / width if t > 0 else 0.0
+                    if not np.isfinite(frac):
+                        frac = 0.0
+                    if i == 0 or frac > fbest:      # np.argmax: the first largest
+                        fbest, fat = frac, 0.5 * (glo + ghi)
+                if fbest > best:
+                    best, bd, ba = fbest, k, fat
+        if best >= at_least:
+            dim[b], at[b] = bd, ba
+    return dim, at

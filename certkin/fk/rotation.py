@@ -21,7 +21,7 @@ from intervals import Interval
 from intervals.midrad import ETA, U, midrad, product_midrad, upper
 from intervals.rounding import down, down_sum, up, up_sum
 
-from .centred import centred_form_quaternion
+from .centred import centred_form_quaternion, rotated_quaternion
 
 # dR/dq_r of the quaternion rotation (see FKSystem.rotation_derivatives) as indices into
 # [0, 2q0..2q3, -2q0..-2q3, -4q0..-4q3]
@@ -37,6 +37,22 @@ OFF_DIAGONAL = (((0, 1), (1, 2), (0, 3), -1), ((1, 0), (1, 2), (0, 3), 1),
                 ((1, 2), (2, 3), (0, 1), -1), ((2, 1), (2, 3), (0, 1), 1))
 
 DIAGONAL = ((0, 2, 3), (1, 1, 3), (2, 1, 2))     # R_kk = 1 − 2(q_a² + q_b²): (k, a, b)
+
+
+def _tables():
+    """R(q)'s entries as integer tables for the kernels (from ``DIAGONAL`` / ``OFF_DIAGONAL``): entries
+    (3, 3, 5) rows (kind, a, b, c, d), kind 0 for 1 − 2(q_a² + q_b²), kind σ = ±1 for
+    2(q_a q_b + σ q_c q_d); off (6, 7) rows (k, j, a, b, c, d, σ) in the order of HC4's step 7."""
+    entries = np.zeros((3, 3, 5), dtype=np.int64)
+    for k, a, b in DIAGONAL:
+        entries[k, k] = (0, a, b, 0, 0)
+    for (k, j), (a, b), (c, d), sigma in OFF_DIAGONAL:
+        entries[k, j] = (sigma, a, b, c, d)
+    off = np.array([(k, j, a, b, c, d, sigma) for (k, j), (a, b), (c, d), sigma in OFF_DIAGONAL], dtype=np.int64)
+    return entries, off
+
+
+TABLES = _tables()
 
 
 def from_midrad(m, r) -> Interval:
@@ -138,19 +154,34 @@ class RotatedPoints:
         (midpoints and radii, (N, 4, legs, dim) each), which ``slope`` at the same c reuses (they
         depend only on the rotation part of X and c).  ``form``: ``centred_form(X)``, if known
         (c = X.mid())."""
-        if rb is None:
-            rb = self.rotated(self.rotation(X))
         if self.kind == "planar-3rpr":
-            return rb
+            return self.rotated(self.rotation(X)) if rb is None else rb
         if c is None:
             lo, hi, cm, cr, Dm, Dr = self.centred_form(X) if form is None else form
         else:
             lo, hi, cm, cr, Dm, Dr = self._centred_form_at(X, c)
-        with np.errstate(invalid="ignore"):
-            out = Interval.from_bounds(np.fmax(rb.lo, lo), np.fmin(rb.hi, hi))   # NaN (non-finite input): natural
+        if rb is None:      # the natural enclosure ∩ the form in one machine-code pass
+            out = self.rotated_box(X, form=(lo, hi))
+        else:
+            with np.errstate(invalid="ignore"):
+                out = Interval.from_bounds(np.fmax(rb.lo, lo), np.fmin(rb.hi, hi))   # NaN (non-finite input): natural
         if not parts:
             return out
         return out, from_midrad(cm, cr), (Dm, Dr)
+
+    def rotated_box(self, X: Interval, form: tuple | None = None) -> Interval:
+        """R b_i over the boxes X (N, legs, dim), the natural enclosure ``rotated(rotation(X))``; for a
+        quaternion by the machine-code ``kernels.rotated_quaternion`` (the same interval operations
+        for R, the same bound for R b_i, its float sums in another order), intersected with the
+        bounds (lo, hi) ``form`` of a centred form if given (a NaN bound there is ignored)."""
+        if self.kind == "planar-3rpr":
+            return self.rotated(self.rotation(X))
+        bm, inner, outer = self.b_midrad()
+        f64 = np.ascontiguousarray
+        flo, fhi = (f64(v, dtype=np.float64) for v in form) if form is not None else (np.empty((0, self.legs, 3)),) * 2
+        lo, hi = rotated_quaternion(f64(X.lo, dtype=np.float64), f64(X.hi, dtype=np.float64), self.n_pos, bm, inner,
+                                    outer, TABLES[0], flo, fhi, form is not None)
+        return Interval.from_bounds(lo, hi)
 
     def centred_form(self, X: Interval, native: bool = True):
         """Quaternion: (lo, hi, cm, cr, Dm, Dr): the centred form of R b_i over the boxes X around

@@ -46,6 +46,7 @@ import numpy as np
 from intervals import Interval, linalg
 
 from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
+from .centred import equations_quaternion
 from .contract import gap_splits, hc4
 from .step import SMALL_BATCH, WIDEN, contract_position, for_batch, krawczyk_boxes, shrink, slope_boxes, unique_in
 
@@ -161,11 +162,11 @@ class FKProblem:
         left open; every contraction is a stage of the tree with its reason and evidence."""
         system = self._system(len(lo))
         b = _Batch(lo, hi, self._L(roots))
-        form, hc4_moved = self._hc4(system, b)
+        kept, hc4_moved = self._hc4(system, b)
         # steps 1 and 2 evaluate only the boxes HC4 left (``live``): the others are decided
         live = np.nonzero(b.status == OPEN)[0]
         Xl, Ll = Interval.from_bounds(b.lo[live], b.hi[live]), Interval.from_bounds(b.L.lo[live], b.L.hi[live])
-        rb, rbl, parts = self._rotated(system, b, live, Xl, form, hc4_moved)
+        rb, rbl, parts = self._rotated(system, b, live, Xl, kept)
         pempty = P = None
         if system.n_pos:
             pempty, P = self._position(system, b, live, Xl, Ll, rbl, hc4_moved)
@@ -188,16 +189,26 @@ class FKProblem:
         empties are excluded, boxes it shrinks enough are replaced by the contraction, widened
         so that an independent re-computation still fits.  Slope systems: a box the pass shrank by
         ``HC4_AGAIN`` or more gets another pass on the contracted box (up to ``HC4_PASSES``), each
-        pass its own "hc4" stage of the tree.  Returns (the centred form of R b_i the first pass
-        computed, quaternion, or None; the mask of the boxes the passes moved)."""
+        pass its own "hc4" stage of the tree.  Returns (the centred form of R b_i each box's last
+        pass computed, quaternion, or None; the rotation sides (lo, hi) it was computed over; the
+        mask of the boxes the passes moved)."""
         lo, hi = b.lo, b.hi
-        kept = {}
+        p = system.n_pos
+        form = over = None
         rows = np.arange(len(lo))
         moved = np.zeros(len(lo), dtype=bool)
         for k in range(HC4_PASSES if self.slopes else 1):
             L = b.L if k == 0 else Interval.from_bounds(b.L.lo[rows], b.L.hi[rows])
             plo, phi = lo[rows], hi[rows]
-            hlo, hhi, hempty = hc4(system, plo, phi, L, keep=kept if k == 0 else None)
+            kept = {}
+            hlo, hhi, hempty = hc4(system, plo, phi, L, keep=kept)
+            if "form" in kept:      # the form over the pass's given box: depends on its rotation sides only
+                if form is None:
+                    form, over = list(kept["form"]), (plo[:, p:], phi[:, p:])
+                else:
+                    for v, w in zip(form, kept["form"]):
+                        v[rows] = w
+                    over[0][rows], over[1][rows] = plo[:, p:], phi[:, p:]
             b.status[rows[hempty]], b.reason[rows[hempty]] = EXCLUDED, 6
             w = (phi - plo) * WIDEN  # room for an independent re-computation
             hlo, hhi = np.maximum(plo, hlo - w), np.minimum(phi, hhi + w)
@@ -211,19 +222,22 @@ class FKProblem:
             if not len(rows):
                 break
         b.creason[moved] = 7
-        return kept.get("form"), moved
+        return (form, over), moved
 
-    def _rotated(self, system, b: _Batch, live, Xl, form, hc4_moved):
+    def _rotated(self, system, b: _Batch, live, Xl, kept):
         """R b_i over the boxes HC4 left, final for this batch (the rotation moves no more): for a
-        quaternion the natural enclosure ∩ the centred one (HC4's centred form over the given boxes
-        is the same for those it left unmoved), with its parts at the midpoints for the slope step.
+        quaternion the natural enclosure ∩ the centred one (the centred form an HC4 pass computed
+        over the same rotation sides is the same floats; it is computed again for the others), with
+        its parts at the midpoints for the slope step.
         Returns (R b_i for every box (zero rows where decided), R b_i of ``live``, the parts or None)."""
         N = len(b.lo)
         parts = None
         if self.slopes:
+            form, over = kept
             if form is not None:
+                p = system.n_pos
                 form = tuple(v[live] for v in form)
-                again = hc4_moved[live]
+                again = np.any((over[0][live] != Xl.lo[:, p:]) | (over[1][live] != Xl.hi[:, p:]), axis=1)
                 if again.any():
                     for v, w in zip(form, system.centred_form(Interval.from_bounds(Xl.lo[again], Xl.hi[again]))):
                         v[again] = w
@@ -259,7 +273,13 @@ class FKProblem:
     def _equations(self, system, b: _Batch, live, Ll, rbl, pempty, P):
         """Step 2: a box where the enclosure of one equation misses 0 holds no solution."""
         N, n = b.lo.shape
-        Fl = system.equations(Interval.from_bounds(b.lo[live], b.hi[live]), Ll, rb=rbl)
+        if self.slopes:     # a quaternion: the machine-code twin (the same floats)
+            f64 = np.ascontiguousarray
+            Fl = Interval.from_bounds(*equations_quaternion(
+                f64(b.lo[live]), f64(b.hi[live]), f64(rbl.lo), f64(rbl.hi), system.a.lo, system.a.hi,
+                f64(Ll.lo, dtype=np.float64), f64(Ll.hi, dtype=np.float64), system.n_pos))
+        else:
+            Fl = system.equations(Interval.from_bounds(b.lo[live], b.hi[live]), Ll, rb=rbl)
         out = np.zeros((N, n), dtype=bool)
         out[live] = (Fl.lo > 0) | (Fl.hi < 0)
         excluded = out.any(axis=1) & (b.status == OPEN)
