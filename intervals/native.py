@@ -18,9 +18,6 @@ numpy reference on random inputs.
 Kernels are compiled on first use and cached on disk (``cache=True``), with numba's ``numpy``
 error model: a float division by zero gives inf or NaN instead of raising, so no test of the
 divisor is compiled in (every division here has a divisor proved nonzero, or tested first).
-The small primitives are inlined into their callers (``inline="always"``, numba's own IR
-inlining: the same operations in the same order), which lets the compiler keep a box's
-values in registers across them; the kernels take longer to compile, once.
 """
 from __future__ import annotations
 
@@ -36,7 +33,7 @@ INF = np.inf
 
 
 # ----------------------------------------------------------------- rounding (intervals.rounding)
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def up(c):
     """``rounding.up``: an upper bound of every real within half a spacing of ``c``."""
     if c < -MAX:
@@ -44,7 +41,7 @@ def up(c):
     return c + (abs(c) * _REL + _ABS)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def down(c):
     """``rounding.down``."""
     if c > MAX:
@@ -52,7 +49,7 @@ def down(c):
     return c - (abs(c) * _REL + _ABS)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def up_sum(c):
     """``rounding.up_sum``: ``up`` for the result of a sum or difference."""
     if c < -MAX:
@@ -60,7 +57,7 @@ def up_sum(c):
     return c + abs(c) * _REL
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def down_sum(c):
     """``rounding.down_sum``."""
     if c > MAX:
@@ -68,14 +65,14 @@ def down_sum(c):
     return c - abs(c) * _REL
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def upper(x, k):
     """``midrad.upper``: a bound of a non-negative exact value whose float evaluation with at most
     ``k`` roundings gave ``x``."""
     return (x + k * _ETA) * (1.0 + (2 * k + 6) * _U)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def midrad(lo, hi):
     """``midrad.midrad``: (m, r) with [lo, hi] ⊆ [m − r, m + r]."""
     m = 0.5 * lo + 0.5 * hi
@@ -87,7 +84,7 @@ EXACT_LOW = 2.0 ** -800
 EXACT_HIGH = 2.0 ** 800
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def square_exact(a, p):
     """``rounding.square_exact``: a = 0, or a has at most 26 significant bits (Veltkamp's split leaves
     no low part: the same verdict as the fraction-bit test for such p) and EXACT_LOW ≤ p ≤ MAX."""
@@ -99,20 +96,20 @@ def square_exact(a, p):
     return a - (t - (t - a)) == 0.0
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def up_square(a, p):
     """``rounding.up_square``: p where a² = p exactly, else ``up(p)``."""
     return p if square_exact(a, p) else up(p)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def down_square(a, p):
     """``rounding.down_square``."""
     return p if square_exact(a, p) else down(p)
 
 
 # ----------------------------------------------------------------- interval operations on (lo, hi)
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def sqr(lo, hi):
     """``interval.sqr``: [max(down(mig²), 0), up(mag²)], a bound not widened where its square is
     exact (``up_square``)."""
@@ -121,13 +118,13 @@ def sqr(lo, hi):
     return max(down_square(mig, mig * mig), 0.0), up_square(mag, mag * mag)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def scale(lo, hi, k):
     """``x * k`` for a float k > 0 (``interval.mul`` with the point [k, k])."""
     return down(lo * k), up(hi * k)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def mul(alo, ahi, blo, bhi):
     """``interval.mul`` for finite operands: the hull of the four corner products, rounded outward."""
     p1 = alo * blo
@@ -137,7 +134,7 @@ def mul(alo, ahi, blo, bhi):
     return down(min(min(p1, p2), min(p3, p4))), up(max(max(p1, p2), max(p3, p4)))
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def div_regular(alo, ahi, blo, bhi):
     """``interval.div`` for finite operands and a divisor without 0."""
     q1 = alo / blo

@@ -1,6 +1,7 @@
 """``certkin fk``: every real assembly mode for given leg lengths, each proved unique."""
 from __future__ import annotations
 
+import importlib.util
 import os
 from pathlib import Path
 import sys
@@ -8,7 +9,7 @@ import sys
 from .. import display
 from ..certificates import fk_certificate
 from ..engine import budgets
-from ..fk import forward_kinematics, kernels
+from ..fk import forward_kinematics
 from ..report import fk_report
 from ..robots import load_robot
 from ..robots.poses import parse_pose
@@ -55,7 +56,7 @@ def run(args):
 def kernels_cached() -> bool:
     """Whether numba's disk cache holds the machine-code kernels of the spatial forward kinematics
     (``certkin/fk/kernels.py``): in ``__pycache__`` beside it, or under ``NUMBA_CACHE_DIR``."""
-    source = Path(kernels.__file__).resolve()
+    source = Path(importlib.util.find_spec("certkin.fk.kernels").origin).resolve()   # not imported: numba
     places = [source.parent / "__pycache__"]
     if os.environ.get("NUMBA_CACHE_DIR"):
         root = Path(os.environ["NUMBA_CACHE_DIR"])

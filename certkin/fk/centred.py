@@ -192,7 +192,7 @@ def slope_quaternion(xlo, xhi, c, rblo, rbhi, rclo, rchi, Dm, Dr, alo, ahi, Llo,
     return Slo, Shi, flo, fhi
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def rotation_entries(zlo, zhi, slo, shi, p, entries, Rlo, Rhi, Rm, Rr):
     """R over the box z (``FKSystem.rotation``: the same interval operations; ``slo``/``shi`` the
     squares of z) into [Rlo, Rhi], and in midpoint-radius form [Rm ± Rr] (``rotation.TABLES[0]``:

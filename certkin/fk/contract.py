@@ -53,7 +53,6 @@ from intervals.interval import div
 from intervals.midrad import U, upper
 from intervals.rounding import down, up, up_sum
 
-from .kernels import gap_splits_quaternion, hc4_quaternion
 from .rotation import DIAGONAL, OFF_DIAGONAL, TABLES, from_midrad   # R(q)'s entries as products of q's
 
 
@@ -305,6 +304,7 @@ def _rotation_unknowns(system, R: Interval, z: list, put):
 
 def _hc4_native(system, lo, hi, L: Interval, keep: dict | None):
     """``hc4`` for a quaternion system by ``kernels.hc4_quaternion`` (the same pass, box by box)."""
+    from .kernels import hc4_quaternion      # numba: imported by the spatial searches only
     lo, hi = np.ascontiguousarray(lo, dtype=np.float64), np.ascontiguousarray(hi, dtype=np.float64)
     form = system.centred_form(Interval.from_bounds(lo, hi))
     if keep is not None:
@@ -397,6 +397,7 @@ def gap_splits(system, lo, hi, L: Interval, at_least: float, native: bool = True
     N, n = lo.shape
     p = system.n_pos
     if system.kind != "planar-3rpr" and native:
+        from .kernels import gap_splits_quaternion      # numba: imported by the spatial searches only
         f64 = np.ascontiguousarray
         lo, hi = f64(lo, dtype=np.float64), f64(hi, dtype=np.float64)
         if p:

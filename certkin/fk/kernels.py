@@ -34,7 +34,7 @@ from .rotation import TABLES
 _U = 2.0 ** -53
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _root(xlo, xhi, tlo, thi):
     """``contract.root``: hull(x ∩ {y : y² ∈ t}); empty (lo > hi) if there is no such y; x itself
     if t is NaN (nothing known)."""
@@ -51,7 +51,7 @@ def _root(xlo, xhi, tlo, thi):
     return lo, hi
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _divide_into(xlo, xhi, nlo, nhi, dlo, dhi):
     """``contract.divide_into``: x ∩ num / den where 0 ∉ den, x itself elsewhere."""
     if dlo > 0.0 or dhi < 0.0:
@@ -60,7 +60,7 @@ def _divide_into(xlo, xhi, nlo, nhi, dlo, dhi):
     return xlo, xhi
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _sum_others(vlo, vhi, start, stop, k):
     """Σ_{j ≠ k} v_j over start ≤ j < stop, interval sums from left to right (``Interval.__add__``)."""
     olo = 0.0
@@ -76,14 +76,14 @@ def _sum_others(vlo, vhi, start, stop, k):
     return olo, ohi
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _divide_at(zlo, zhi, t, glo, ghi, d):
     """z_t ← z_t ∩ g / z_d where 0 ∉ z_d (``_divide_into``), in place; True if z_t is now empty."""
     zlo[t], zhi[t] = _divide_into(zlo[t], zhi[t], glo, ghi, zlo[d], zhi[d])
     return zlo[t] > zhi[t]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _norm_equation(zlo, zhi, slo, shi, p, n):
     """Step 1: r_k ← root(r_k, 1 − Σ_{j≠k} r_j²) for the rotation unknowns r, j increasing
     (``slo``/``shi``: their squares); True if the box holds no root."""
@@ -98,7 +98,7 @@ def _norm_equation(zlo, zhi, slo, shi, p, n):
     return False
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _rotated_points(box, zlo, zhi, p, Rm, Rr, bm, inner, outer, flo, fhi, alo, ahi, tm, te, ulo, uhi, Pm, Pr,
                     elo, ehi):
     """Step 2, second part: u_i = R b_i in midpoint-radius form (``rotated_midrad``, with the sums
@@ -143,7 +143,7 @@ def _rotated_points(box, zlo, zhi, p, Rm, Rr, bm, inner, outer, flo, fhi, alo, a
             elo[i, k], ehi[i, k] = vlo, vhi
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _entries_from_points(ulo, uhi, Pm, Pr, nonzero, invlo, invhi, Rlo, Rhi, R2lo, R2hi):
     """Step 6: R_kj ← R_kj ∩ (u_ik − Σ_{j'≠j} R_kj' b_ij') × (1/b_ij) for the legs with 0 ∉ b_ij, into
     [R2lo, R2hi]; True if an entry is empty."""
@@ -169,7 +169,7 @@ def _entries_from_points(ulo, uhi, Pm, Pr, nonzero, invlo, invhi, Rlo, Rhi, R2lo
     return dead
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):
     """Step 7: the quaternion from the entries of R, diagonal entries then off-diagonal ones
     (``rotation.DIAGONAL``, ``OFF_DIAGONAL``, as tables); True if the box holds no root."""
@@ -206,7 +206,7 @@ def _quaternion_from_entries(zlo, zhi, R2lo, R2hi, p, entries, off):
     return False
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _leg(elo, ehi, i, Llo, Lhi, eslo, eshi):
     """Step 3 for leg i: e_ik ← root(e_ik, ρ_i² − Σ_{k'≠k} e_ik'²), k = 0, 1, 2; True if one is empty."""
     dead = False
@@ -220,7 +220,7 @@ def _leg(elo, ehi, i, Llo, Lhi, eslo, eshi):
     return dead
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _pair_terms(box, lo, hi, p, Rlo, Rhi, cm, cr, Dm, Dr, dblo, dbhi, dalo, dahi, h, Dlo, Dhi):
     """d_ij = R (b_i − b_j) − (a_i − a_j) for i < j, R (b_i − b_j) enclosed as Σ_m R_km (b_i − b_j)_m (m
     increasing) ∩ its centred form over the given box: R b_i − R b_j at the midpoint c, in
@@ -253,7 +253,7 @@ def _pair_terms(box, lo, hi, p, Rlo, Rhi, cm, cr, Dm, Dr, dblo, dbhi, dalo, dahi
                 Dlo[j, i, k], Dhi[j, i, k] = -dhi, -dlo
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _pairs(elo, ehi, Dlo, Dhi, Llo, Lhi, eslo, eshi):
     """Step 3, leg pairs, leg after leg: e_i ← e_i ∩ ⋂_{j≠i} (e_j + d_ij) (``_pair_terms``), then leg i's
     roots (``_leg``); True if one is empty."""

@@ -21,7 +21,6 @@ from intervals import Interval
 from intervals.midrad import ETA, U, midrad, product_midrad, upper
 from intervals.rounding import down, down_sum, up, up_sum
 
-from .centred import centred_form_quaternion, rotated_quaternion
 
 # dR/dq_r of the quaternion rotation (see FKSystem.rotation_derivatives) as indices into
 # [0, 2q0..2q3, -2q0..-2q3, -4q0..-4q3]
@@ -176,6 +175,7 @@ class RotatedPoints:
         bounds (lo, hi) ``form`` of a centred form if given (a NaN bound there is ignored)."""
         if self.kind == "planar-3rpr":
             return self.rotated(self.rotation(X))
+        from .centred import rotated_quaternion      # numba: imported by the spatial searches only
         bm, inner, outer = self.b_midrad()
         f64 = np.ascontiguousarray
         flo, fhi = (f64(v, dtype=np.float64) for v in form) if form is not None else (np.empty((0, self.legs, 3)),) * 2
@@ -190,6 +190,7 @@ class RotatedPoints:
         machine-code twin (``fk.centred``) unless ``native`` is false."""
         p = self.n_pos
         if native:      # the same operations box by box (``fk.centred``)
+            from .centred import centred_form_quaternion      # numba: imported by the spatial searches only
             return centred_form_quaternion(np.ascontiguousarray(X.lo, dtype=np.float64),
                                            np.ascontiguousarray(X.hi, dtype=np.float64), p, *self._centred_tables())
         c = X.mid()

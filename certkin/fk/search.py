@@ -46,7 +46,6 @@ import numpy as np
 from intervals import Interval, linalg
 
 from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
-from .centred import equations_quaternion
 from .contract import gap_splits, hc4
 from .step import SMALL_BATCH, WIDEN, contract_position, for_batch, krawczyk_boxes, shrink, slope_boxes, unique_in
 
@@ -274,6 +273,7 @@ class FKProblem:
         """Step 2: a box where the enclosure of one equation misses 0 holds no solution."""
         N, n = b.lo.shape
         if self.slopes:     # a quaternion: the machine-code twin (the same floats)
+            from .centred import equations_quaternion      # numba: imported by the spatial searches only
             f64 = np.ascontiguousarray
             Fl = Interval.from_bounds(*equations_quaternion(
                 f64(b.lo[live]), f64(b.hi[live]), f64(rbl.lo), f64(rbl.hi), system.a.lo, system.a.hi,

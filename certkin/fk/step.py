@@ -22,11 +22,8 @@ from __future__ import annotations
 import numpy as np
 
 from intervals import Interval, linalg
-from intervals import native
 from intervals.rounding import down, down_sum, up, up_sum
 
-from .centred import slope_quaternion
-from .kernels import position_gauss_seidel
 from .stacked import StackedFKSystem
 
 MARGIN = 2.0 ** -30      # uniqueness requires K inside X shrunk by this relative margin
@@ -75,12 +72,13 @@ def slope_boxes(system, X: Interval, L: Interval, rb=None, compact=False, rbc=No
             with np.errstate(invalid="ignore", over="ignore"):
                 Y = Interval.from_bounds(down(0.5 * down_sum(X.lo + c)), up(0.5 * up_sum(X.hi + c)))   # ∋ (x + c)/2
             drbs = system.rotated_derivatives_midrad(Y)
+        from .centred import slope_quaternion     # numba: imported by the spatial searches only
         f64 = np.ascontiguousarray
         Slo, Shi, flo, fhi = slope_quaternion(f64(X.lo), f64(X.hi), f64(c), f64(rb.lo), f64(rb.hi), f64(rbc.lo),
                                               f64(rbc.hi), f64(drbs[0]), f64(drbs[1]), system.a.lo, system.a.hi,
                                               f64(L.lo, dtype=np.float64), f64(L.hi, dtype=np.float64), system.n_pos)
         S, fc = Interval.from_bounds(Slo, Shi), Interval.from_bounds(flo, fhi)
-        C, failed = native.float_inverse(Slo, Shi, compact)
+        C, failed = linalg.native().float_inverse(Slo, Shi, compact)
         if failed.any():
             Cf = linalg.mid_inverse(S[failed].mid())[0]
             C[failed] = to_float32(Cf) if compact else Cf
@@ -125,6 +123,7 @@ def contract_position(system, X: Interval, L: Interval, rb=None):
     """
     p = system.n_pos
     if p == 3 and rb is not None:     # spatial: the machine-code twin (kernels.position_gauss_seidel)
+        from .kernels import position_gauss_seidel      # numba: imported by the spatial searches only
         k = system.norm_ab2
         f64 = np.ascontiguousarray
         new_lo, new_hi, empty, P = position_gauss_seidel(

@@ -40,7 +40,7 @@ import time
 
 import numpy as np
 
-from intervals import Interval, linalg, native, sqr
+from intervals import Interval, linalg, sqr
 from intervals.rounding import enclose_plain
 
 from ..robots.poses import float_length_rows, parse_lengths, parse_pose
@@ -114,7 +114,7 @@ def _gauss_jordan(J, B):
     [J | B]); None if J is singular or the result is not finite.  An estimate, never a proof."""
     n = len(J)
     A = np.array([list(row) + list(extra) for row, extra in zip(J, B)], dtype=np.float64)
-    if not native.gauss_jordan(A, n):
+    if not linalg.native().gauss_jordan(A, n):
         return None
     out = A[:, n:]
     return out.tolist() if np.isfinite(out).all() else None
