@@ -56,8 +56,11 @@ def _text(d: Decimal) -> str:
 
 def exact(x) -> Decimal | Fraction | float:
     """The exact value of a real number: a ``Decimal`` when it has a finite decimal expansion
-    (floats, numpy floats of any width, ints, ``Decimal``, mpmath ``mpf``, dyadic fractions), else a
-    ``Fraction``; nan and infinities as floats.  Nothing is rounded on the way."""
+    (floats, numpy floats of any width or 0-d arrays of them, ints, ``Decimal``, mpmath ``mpf``,
+    dyadic fractions), else a ``Fraction``; nan and infinities as floats.  Nothing is rounded on the
+    way."""
+    if getattr(x, "ndim", None) == 0 and hasattr(x, "item"):
+        x = x[()]                                        # a 0-d numpy array: its scalar (never int(x))
     if isinstance(x, bool):
         return Decimal(int(x))
     if isinstance(x, Decimal):

@@ -120,6 +120,16 @@ def test_numpy_floats_and_long_doubles(x, digits):
         assert _exact_text(display.lower(v, digits)) <= q <= _exact_text(display.upper(v, digits))
 
 
+@given(st.floats(allow_nan=False, allow_infinity=False, min_value=-1e300, max_value=1e300), st.integers(1, 17))
+def test_zero_dimensional_arrays_are_bounded_exactly(x, digits):
+    """A 0-d numpy array (what indexing an ``Interval`` of one value can give) is the float it holds,
+    never truncated to an integer: the demo once printed det(A) = -0.256 as ``[0, 0]``."""
+    q = Fraction(*float(x).as_integer_ratio())
+    v = np.array(x)
+    assert _exact_text(display.lower(v, digits)) <= q <= _exact_text(display.upper(v, digits))
+    assert display.outward(np.array(-0.25), np.array(-0.125), 8) == "[-0.25, -0.125]"
+
+
 def test_points_and_integers():
     assert display.point(0.1) == "0.1" and display.point(np.float64(0.1)) == "0.1"
     assert display.point(Fraction(1, 4)) == "0.25" and display.point(Fraction(1, 3)) == "1/3"
