@@ -29,6 +29,7 @@ from __future__ import annotations
 from decimal import ROUND_CEILING, ROUND_FLOOR, Context, Decimal
 from fractions import Fraction
 import math
+import operator
 
 DIGITS = 10          # significant digits shown by default
 MAX_DIGITS = 40      # most significant digits shown (a thin inner interval of a Fraction needs more than 17)
@@ -70,7 +71,10 @@ def exact(x) -> Decimal | Fraction | float:
         k = den.bit_length() - 1
         return Decimal(f"{num * 5 ** k}E-{k}") if den == 1 << k else x     # dyadic: exact decimal
     if isinstance(x, int) or hasattr(x, "__index__") and not hasattr(x, "as_integer_ratio"):
-        return Decimal(int(x))
+        try:
+            return Decimal(operator.index(x))            # an integer type; an array of floats is refused
+        except TypeError:
+            raise TypeError(f"not a real number: {x!r}") from None
     if getattr(x, "_mpf_", None) is not None:
         return _mpf_exact(x._mpf_)
     try:

@@ -128,6 +128,8 @@ def test_zero_dimensional_arrays_are_bounded_exactly(x, digits):
     v = np.array(x)
     assert _exact_text(display.lower(v, digits)) <= q <= _exact_text(display.upper(v, digits))
     assert display.outward(np.array(-0.25), np.array(-0.125), 8) == "[-0.25, -0.125]"
+    with pytest.raises(TypeError):                   # an array of one float is not a number either
+        display.exact(np.array([-0.25]))
 
 
 def test_points_and_integers():
