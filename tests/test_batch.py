@@ -289,6 +289,23 @@ def _wait_for_documents(out: Path, n: int, process, limit=120.0):
         time.sleep(0.05)
 
 
+def test_temporary_files_a_killed_writer_left_are_removed_and_nothing_else(tmp_path):
+    """A worker killed between creating a document's or certificate's temporary file and renaming it
+    leaves that file behind; the batch removes those of its own jobs (and of its summary), and no
+    other file."""
+    out = tmp_path / "out"
+    out.mkdir()
+    job = {"id": "fk-a", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"}
+    stale = [out / ".fk-a.cert.abcd1234.tmp.cert", out / ".fk-a.json.x_y9z123.tmp.json",
+             out / ".summary.json.qwertyui.tmp.json"]
+    kept = [out / ".fk-b.cert.abcd1234.tmp.cert", out / ".fk-a.cert.abc.tmp.cert", out / ".notes", out / "fk-a.cert.bak"]
+    for p in stale + kept:
+        p.write_bytes(b"")
+    summary = run_batch([job], out, run_job)
+    assert summary["counts"] == {"fk complete": 1}
+    assert not any(p.exists() for p in stale) and all(p.exists() for p in kept)
+
+
 @pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs /proc to find the worker processes")
 def test_a_killed_worker_loses_no_result_and_its_job_is_retried(reference, jobs_file, tmp_path):
     out = tmp_path / "out"

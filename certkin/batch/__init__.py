@@ -15,7 +15,7 @@ import time
 from .cluster import run_dask
 from .jobs import ERROR, read_jobs
 from .local import Died, run_local
-from .results import FAILED, row, summarise, write_error, write_summary
+from .results import FAILED, remove_leftovers, row, summarise, write_error, write_summary
 
 PENDING = "pending"          # verdict of a job an interrupt kept from running
 
@@ -29,6 +29,8 @@ def run_batch(jobs: list, out, work, workers: int = 1, scheduler: str | None = N
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     t0, c0 = time.perf_counter(), time.process_time()
+    ids = [job["id"] for job in jobs]
+    remove_leftovers(out, ids)              # of an earlier run killed while writing
     rows = [None] * len(jobs)
 
     def record(i, value):
@@ -53,6 +55,8 @@ def run_batch(jobs: list, out, work, workers: int = 1, scheduler: str | None = N
         interrupted, workers_cpu = run_dask(tasks, work, scheduler, report), None
     else:
         interrupted, workers_cpu = run_local(tasks, work, workers, report, preload=preload) if tasks else (False, 0.0)
+    if not (scheduler and interrupted):     # (a cancelled Dask task may still be writing)
+        remove_leftovers(out, ids)          # of workers killed while writing: none is writing now
     for i, r in enumerate(rows):
         if r is None:
             rows[i] = row(jobs[i], PENDING, 0.0, 0)

@@ -11,11 +11,12 @@ from __future__ import annotations
 from datetime import datetime, timezone
 import hashlib
 import json
+import os
 from pathlib import Path
 
 
 from .. import __version__
-from ..certificates import write_text
+from ..certificates import temporary_of, write_text
 from .jobs import canonical
 
 SUMMARY = "summary.json"
@@ -47,6 +48,22 @@ def file_facts(path) -> dict:
     """Name, size and SHA-256 of a file (what a report shows of a certificate)."""
     data = Path(path).read_bytes()
     return {"file": Path(path).name, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+
+
+def remove_leftovers(out, ids) -> int:
+    """Remove the temporary files of these jobs' documents and certificates (and of the summary) that a
+    process killed while writing them left in ``out``; how many.  Only the batch's own files are
+    touched, and only when none of its workers is writing."""
+    names = {f"{i}{suffix}" for i in ids for suffix in (".json", ".cert")} | {SUMMARY}
+    removed = 0
+    for entry in os.scandir(out):
+        if temporary_of(entry.name) in names and entry.is_file(follow_symlinks=False):
+            try:
+                os.unlink(entry.path)
+                removed += 1
+            except FileNotFoundError:
+                pass
+    return removed
 
 
 def write_json(path, document: dict) -> None:

@@ -9,7 +9,8 @@ from .fk import fk_certificate
 from .singularity import singularity_claim, singularity_certificate
 from .trajectory import trajectory_certificate
 from .workspace import section_certificate, volume_certificate
-from .writing import FORMAT, VERSION, Document, geometry_sha256, header, write_text
+from .writing import FORMAT, VERSION, Document, geometry_sha256, header, temporary_of, write_text
 
-__all__ = ["FORMAT", "VERSION", "Document", "header", "geometry_sha256", "write_text", "fk_certificate", "singularity_claim",
+__all__ = ["FORMAT", "VERSION", "Document", "header", "geometry_sha256", "temporary_of", "write_text", "fk_certificate",
+           "singularity_claim",
            "singularity_certificate", "trajectory_certificate", "section_certificate", "volume_certificate"]

@@ -168,6 +168,19 @@ def _temporary(path):
     return tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp" + path.suffix)
 
 
+def temporary_of(name: str) -> str | None:
+    """The name of the file whose atomic write made the temporary file ``name`` (``.NAME.XXXXXXXX.tmp``
+    + NAME's suffix, beside it), or None if ``name`` is not such a file: what a process killed while
+    writing leaves behind (a finished write renames its temporary file, a failed one removes it)."""
+    if not name.startswith("."):
+        return None
+    head, sep, suffix = name.rpartition(".tmp")
+    target, dot, rand = head[1:].rpartition(".")
+    if not sep or not dot or len(rand) != 8 or not target.endswith(suffix):
+        return None
+    return target
+
+
 @contextmanager
 def _renamed(tmp, path):
     try:
