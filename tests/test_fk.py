@@ -497,6 +497,14 @@ def test_rotated_midrad_encloses_exact_products():
                         assert Fraction(float(rest.lo)) <= v <= Fraction(float(rest.hi))
 
 
+def quaternion_cases():
+    """The quaternion robots the machine-code kernels are compared on: the spherical 8-mode robot
+    and seed 002's 24-solution Gough-Stewart robot, each with its leg lengths."""
+    from certkin import load_robot
+    return [(robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]),
+            (load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml"), "1.093,2.280,2.031,2.524,3.136,1.845".split(","))]
+
+
 def root_boxes(robot, lengths, count, rng):
     """(lo, hi), (count, n) each: boxes proved to hold one root each, drawn at random among the
     solutions of ``forward_kinematics(robot, lengths)``."""
@@ -509,14 +517,11 @@ def test_native_slope_step_gives_the_numpy_slope():
     """``slope_boxes`` for a quaternion (machine-code slope, equations at c and float inverse) gives the
     slope matrices and f(c) of ``FKSystem.slope`` / ``FKSystem.equations`` bit for bit, a C close to
     the inverse of mid S, and a Hansen-Sengupta box that keeps the root of every box around one."""
-    from certkin import load_robot
     from certkin.fk.step import slope_boxes
     from certkin.fk.centred import slope_quaternion
     from certkin.fk.system import FKSystem
     from intervals import Interval, sqr
-    for robot, lengths in [(robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]),
-                           (load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml"),
-                            "1.093,2.280,2.031,2.524,3.136,1.845".split(","))]:
+    for robot, lengths in quaternion_cases():
         s = FKSystem(robot)
         rng = np.random.default_rng(17)
         N = 400
@@ -690,14 +695,11 @@ def test_native_equations_give_the_numpy_floats():
     search's exclusion test) and ``FKSystem.equations`` / its stacked twin with the same R b_i: the same
     floats, bit for bit, on boxes around roots and all over the domain (Gough and spherical robots);
     a row with a non-finite input is the entire line."""
-    from certkin import load_robot
     from certkin.fk.centred import equations_quaternion
     from certkin.fk.stacked import StackedFKSystem
     from certkin.fk.system import FKSystem
     from intervals import Interval, sqr
-    for robot, lengths in [(robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]),
-                           (load_robot(EXAMPLES / "seed002-general-6-6-24-solutions.toml"),
-                            "1.093,2.280,2.031,2.524,3.136,1.845".split(","))]:
+    for robot, lengths in quaternion_cases():
         s = FKSystem(robot)
         rng = np.random.default_rng(31)
         N = 1500

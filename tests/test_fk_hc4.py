@@ -21,7 +21,7 @@ from certkin.fk.system import FKSystem
 from intervals import Interval, sqr
 from proofs.fk_system import System
 
-from test_fk import EXAMPLES, SIX_MODES, SPHERICAL_8, _pose_from_points, planar, root_boxes, table_vi2
+from test_fk import EXAMPLES, SIX_MODES, SPHERICAL_8, _pose_from_points, planar, quaternion_cases, root_boxes, table_vi2
 
 GOUGH_LENGTHS = ["1.093", "2.280", "2.031", "2.524", "3.136", "1.845"]
 
@@ -191,10 +191,7 @@ def test_native_quaternion_pass_matches_numpy(which, gough_case):
     """The machine-code pass (``fk_native``) and the numpy one, on boxes around every root and
     on boxes all over the domain: the same empty boxes and, elsewhere, the same bounds to a few ulps
     (only the sums of R b_i may be taken in another order); every root is kept."""
-    if which == "gough":
-        robot, lengths, _ = gough_case
-    else:
-        robot, lengths = robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]
+    robot, lengths = gough_case[:2] if which == "gough" else quaternion_cases()[0]
     system = FKSystem(robot)
     rng = np.random.default_rng(13)
     n = system.n
@@ -224,10 +221,7 @@ def test_native_gap_splits_give_the_numpy_floats(which, gough_case):
     (``gap_splits(..., native=False)``), on boxes all over the domain, around roots, thin and with
     infinite sides: the same dimensions and the same cut points, bit for bit; many boxes get one."""
     from certkin.fk.contract import gap_splits
-    if which == "gough":
-        robot, lengths, _ = gough_case
-    else:
-        robot, lengths = robot_from_dict(SPHERICAL_8), ["2.277", "2.473", "1.902"]
+    robot, lengths = gough_case[:2] if which == "gough" else quaternion_cases()[0]
     system = FKSystem(robot)
     rng = np.random.default_rng(29)
     n = system.n
