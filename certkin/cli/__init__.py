@@ -10,6 +10,7 @@ renames the library's parameters to options in errors).
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 import warnings
 
@@ -66,3 +67,9 @@ def main(argv=None):
     except KeyboardInterrupt:
         sys.stderr.write("certkin: interrupted\n")
         return 130
+    except BrokenPipeError:               # the reader of stdout went away (`certkin ... | head`)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())    # so that the exit's flush is quiet
+        return PIPE_CLOSED
+
+
+PIPE_CLOSED = 141        # 128 + SIGPIPE, as a shell reports a command whose output pipe closed

@@ -1,10 +1,13 @@
 """``certkin jobs grid`` on hostile input (issue #18): counts, sizes, values and options checked,
 nothing printed for a refused grid, never a million-line surprise."""
 import json
+import os
+import subprocess
+import sys
 
 import pytest
 
-from conftest import R2, answered, refused
+from conftest import R2, ROOT, answered, refused
 
 G = ["jobs", "grid", R2]
 FK = G + ["--command", "fk", "--lengths", "L1=28:30:3,L2=13.66,L3=40.53"]
@@ -56,3 +59,15 @@ def test_a_grid_prints_checked_jobs(cli):
     assert [j["id"] for j in lines] == ["p-0", "p-1", "p-2"]
     assert [j["lengths"] for j in lines] == ["28,13.66,40.53", "29,13.66,40.53", "30,13.66,40.53"]
     assert all(j["max_seconds"] == "5" for j in lines)
+
+
+def test_a_reader_that_closes_the_pipe_early_gets_no_traceback():
+    """``certkin jobs grid ... | head -1``: exit 141 (the pipe closed), no traceback on stderr."""
+    argv = [sys.executable, "-m", "certkin", *G, "--command", "fk", "--lengths", "L1=28:29:50,L2=13:14:50,L3=40:41:20"]
+    p = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT,
+                         env={**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])})
+    first = p.stdout.readline()
+    p.stdout.close()                                  # 50 000 lines: far more than a pipe holds
+    err = p.stderr.read().decode()
+    assert json.loads(first)["id"] == "fk-00000"
+    assert p.wait(timeout=120) == 141 and err == "", err
