@@ -214,6 +214,31 @@ def test_certificate_option_writes_atomically_or_says_why(tmp_path):
     assert r.returncode == 1 and "REJECTED: robot: the certificate's geometry is not that of" in r.stdout
 
 
+def test_a_small_certificate_is_written_stored_with_its_hash_and_normal_permissions(tmp_path):
+    """A body of at most 64 KiB is stored (no deflate); ``Document.write`` gives the size and SHA-256 of
+    the bytes on disk; the file has the mode of a normally created file (0666 less the umask) and no
+    temporary file is left."""
+    import hashlib
+    import os
+    result = forward_kinematics(robot_from_dict(PLANAR), ["14.98", "15.38", "12"])
+    document = result.certificate()
+    path = tmp_path / "fk.cert"
+    for umask in (0o022, 0o077):
+        old = os.umask(umask)
+        try:
+            size, sha256 = document.write(path)
+        finally:
+            os.umask(old)
+        data = path.read_bytes()
+        assert (size, sha256) == (len(data), hashlib.sha256(data).hexdigest())
+        assert path.stat().st_mode & 0o777 == 0o666 & ~umask
+        with zipfile.ZipFile(path) as z:
+            assert {i.compress_type for i in z.infolist()} == {zipfile.ZIP_STORED}
+            assert sum(i.file_size for i in z.infolist() if i.filename != "header.json") <= 1 << 16
+    assert [p.name for p in tmp_path.iterdir()] == ["fk.cert"]
+    assert proofs.check(path).ok
+
+
 # ----- FK regions (X* a uniqueness box around each root, R its tight box) and in-region leaves ----------
 def regions_from_uniqueness_boxes(doc):
     """The planar certificate rewritten with regions X*_j = the uniqueness box of a krawczyk-unique leaf

@@ -44,10 +44,13 @@ def certificate_path(out, jid: str) -> Path:
     return Path(out) / f"{jid}.cert"
 
 
-def file_facts(path) -> dict:
-    """Name, size and SHA-256 of a file (what a report shows of a certificate)."""
-    data = Path(path).read_bytes()
-    return {"file": Path(path).name, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+def file_facts(path, known: tuple[int, str] | None = None) -> dict:
+    """Name, size and SHA-256 of a file (what a report shows of a certificate); ``known``: (size,
+    SHA-256) of the bytes just written there, else the file is read."""
+    if known is None:
+        data = Path(path).read_bytes()
+        known = len(data), hashlib.sha256(data).hexdigest()
+    return {"file": Path(path).name, "bytes": known[0], "sha256": known[1]}
 
 
 def remove_leftovers(out, ids) -> int:

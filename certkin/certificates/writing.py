@@ -1,7 +1,7 @@
 """Writing certificates, format version 2 (``docs/certificates.md``): a ZIP archive whose first member is
 the JSON header (stored, readable with ``unzip -p FILE header.json``), then one member per
-body array (raw little-endian bytes; deflated, or stored when it is small or a sample of it does not
-compress), each listed in the header with its dtype, shape and SHA-256.
+body array (raw little-endian bytes; deflated, or stored when it is small, a sample of it does not
+compress, or the whole body is small), each listed in the header with its dtype, shape and SHA-256.
 
 A ``Document`` holds the header and the body arrays as *producers*: functions that yield an array
 chunk by chunk from the engine's own arrays.  ``Document.write`` streams them twice, once to hash
@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 from dataclasses import dataclass
+import errno
 from fractions import Fraction
 from functools import lru_cache
 import hashlib
@@ -22,7 +23,7 @@ import io
 import json
 import os
 from pathlib import Path
-import tempfile
+import secrets
 import zipfile
 import zlib
 
@@ -36,6 +37,8 @@ SAMPLE = 1 << 12         # bytes at the start of an array compressed to decide w
 KEEP = 1 << 22           # bytes of a body kept in memory between hashing and writing (larger ones are produced twice)
 SMALL = 1 << 10          # an array of fewer bytes is stored: deflating it would save little and cost a compressor
 SAMPLED = 1 << 16        # an array of more bytes is stored when its SAMPLE does not deflate; a smaller one is deflated
+SMALL_BODY = 1 << 16     # a body of at most this many bytes is stored whole: deflating it would save a few KB and
+                         # cost as much as the rest of writing it (a batch writes many such certificates)
 
 
 @dataclass
@@ -85,6 +88,8 @@ class Document:
             entries[a.name] = {"dtype": np.dtype(a.dtype).newbyteorder("<").str, "shape": [rows, *a.tail],
                                "sha256": h.hexdigest()}
         self._kept = kept if size <= KEEP else None
+        if size <= SMALL_BODY:
+            self._stored = set(entries)
         robot = self.header_fields["robot"]
         return {**self.header_fields, "geometry_sha256": _geometry_sha256(json.dumps(robot, sort_keys=True, default=str)),
                 "arrays": entries, "body_sha256": total.hexdigest()}
@@ -104,16 +109,18 @@ class Document:
                 self._arrays[a.name] = flat.reshape((-1,) + tuple(a.tail))
         return self._arrays
 
-    def write(self, path) -> None:
-        """Write the archive atomically (a temporary file renamed into place)."""
+    def write(self, path) -> tuple[int, str] | None:
+        """Write the archive atomically (a temporary file renamed into place).  (size, SHA-256) of the
+        file written when it was assembled in memory (a small body), else None."""
         header = self._entries()
         with atomic_file(path) as fh:
             if self._kept is None:                     # a large body: streamed to the file, produced again
                 self._zip(fh, header)
-            else:                                      # a small one: assembled in memory, written at once
-                buffer = io.BytesIO()
-                self._zip(buffer, header)
-                fh.write(buffer.getbuffer())
+                return None
+            buffer = io.BytesIO()                      # a small one: assembled in memory, written at once
+            self._zip(buffer, header)
+            fh.write(buffer.getbuffer())
+        return buffer.getbuffer().nbytes, hashlib.sha256(buffer.getbuffer()).hexdigest()
 
     def _zip(self, target, header) -> None:
         with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED, allowZip64=True, compresslevel=LEVEL) as z:
@@ -129,12 +136,6 @@ class Document:
                         fh.write(raw)
 
 
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
 def write_text(path, text: str) -> None:
     """Write a text file (UTF-8) atomically (a temporary file renamed into place)."""
     with atomic_file(path) as fh:
@@ -145,8 +146,8 @@ def write_text(path, text: str) -> None:
 def atomic_path(path):
     """A temporary file name beside ``path`` (with its suffix, so a writer that reads the type from
     the name still can), renamed onto ``path`` when the block ends without error and removed
-    otherwise: nothing half-written is left.  The file gets the permissions of a file created
-    normally (0666 less the umask); a missing directory is an error, never created."""
+    otherwise: nothing half-written is left.  The file is created as a file created normally is (0666
+    less the umask, or the directory's default ACL); a missing directory is an error, never created."""
     fd, tmp = _temporary(path)
     os.close(fd)
     with _renamed(tmp, path):
@@ -164,8 +165,19 @@ def atomic_file(path):
 
 
 def _temporary(path):
+    """(descriptor, name) of a new file ``.NAME.XXXXXXXX.tmp`` + NAME's suffix beside ``path``, created
+    exclusively with the mode of a normal file (so no chmod follows: one metadata update less per file)."""
     path = Path(path)
-    return tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp" + path.suffix)
+    for _ in range(TRIES):
+        tmp = os.path.join(path.parent, f".{path.name}.{secrets.token_hex(4)}.tmp{path.suffix}")
+        try:
+            return os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666), tmp
+        except FileExistsError:
+            continue
+    raise FileExistsError(errno.EEXIST, f"no free temporary name beside {path}")
+
+
+TRIES = 100     # random temporary names tried (as tempfile.mkstemp)
 
 
 def temporary_of(name: str) -> str | None:
@@ -185,7 +197,6 @@ def temporary_of(name: str) -> str | None:
 def _renamed(tmp, path):
     try:
         yield
-        os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

@@ -171,8 +171,7 @@ def answer_job(job: dict, out: str):
         try:
             facts = None
             if answer.certificate is not None:
-                write_certificate(path, answer.certificate())
-                facts = file_facts(path)
+                facts = file_facts(path, write_certificate(path, answer.certificate()))
             else:
                 path.unlink(missing_ok=True)
             write_document(out, job, answer.document)

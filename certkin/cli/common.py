@@ -292,13 +292,13 @@ class Answer:
         return self.document_source
 
 
-def write_certificate(path, document) -> None:
+def write_certificate(path, document):
     """Write ``--certificate`` (atomically: nothing half-written); a directory or an unwritable path is
-    bad input (exit 2, one line)."""
+    bad input (exit 2, one line).  What ``Document.write`` returns: (size, SHA-256) of a small file."""
     if os.path.isdir(path):
         raise InputError("--certificate", "", f"{path} is a directory")
     try:
-        document.write(path)
+        return document.write(path)
     except OSError as exc:
         raise InputError("--certificate", "", f"cannot write {path}: {exc.strerror or exc}") from None
 
