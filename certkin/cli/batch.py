@@ -26,7 +26,7 @@ from ..batch.results import ERROR, certificate_path, done, file_facts, row, writ
 from ..errors import InputError
 from ..report import batch_report
 from ..robots import load_robot, robot_from_dict
-from ..robots.files import MAX_FILE_BYTES
+from ..robots.files import robot_file_bytes
 from . import COMMANDS as CLI_COMMANDS
 from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, write_certificate
 
@@ -122,11 +122,10 @@ def robot_of(job: dict):
 
 
 def _content_sha256(path: str) -> str | None:
-    """SHA-256 of a robot file's first ``MAX_FILE_BYTES`` + 1 bytes (what ``load_robot`` reads), or
+    """SHA-256 of a robot file's first ``robots.files.MAX_FILE_BYTES`` + 1 bytes (what ``load_robot`` reads), or
     None when it cannot be read."""
     try:
-        with open(path, "rb") as fh:
-            return hashlib.sha256(fh.read(MAX_FILE_BYTES + 1)).hexdigest()
+        return hashlib.sha256(robot_file_bytes(path)).hexdigest()
     except (OSError, ValueError):
         return None
 

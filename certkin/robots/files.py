@@ -25,6 +25,21 @@ from .spherical import Spherical3DOF, rotation_float
 KINDS = {cls.kind: cls for cls in (Planar3RPR, Spherical3DOF, GoughStewart)}
 
 MAX_FILE_BYTES = 16 * 2 ** 20       # a robot file is a few hundred bytes
+READ_CHUNK = 1 << 16
+
+
+def robot_file_bytes(path) -> bytes:
+    """The first ``MAX_FILE_BYTES`` + 1 bytes of a file (more means refused: /dev/zero or a huge file
+    is never read whole), read a chunk at a time so that a small file costs a small buffer."""
+    chunks, left = [], MAX_FILE_BYTES + 1
+    with open(path, "rb") as fh:
+        while left > 0:
+            chunk = fh.read(min(left, READ_CHUNK))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            left -= len(chunk)
+    return b"".join(chunks)
 
 
 def load_robot(path) -> Robot:
@@ -34,8 +49,7 @@ def load_robot(path) -> Robot:
     path = Path(path)
     source = str(path)
     try:
-        with open(path, "rb") as fh:
-            raw = fh.read(MAX_FILE_BYTES + 1)        # /dev/zero or a huge file: refused, not read whole
+        raw = robot_file_bytes(path)
         if len(raw) > MAX_FILE_BYTES:
             raise RobotFileError(source, "", f"larger than {MAX_FILE_BYTES // 2 ** 20} MiB: not a robot file")
         data = tomllib.loads(raw.decode("utf-8"), parse_float=Decimal)
