@@ -11,6 +11,7 @@ import sympy as sp
 
 from certkin import RobotFileError, load_robot, robot_from_dict
 from certkin.robots import GoughStewart, Planar3RPR, Spherical3DOF
+from certkin.robots.files import MAX_FILE_BYTES, READ_CHUNK, robot_file_bytes
 from intervals import Interval
 
 DATA = Path(__file__).parent / "data"
@@ -252,3 +253,16 @@ def test_loading_a_robot_does_not_import_sympy():
                          cwd=Path(__file__).resolve().parents[1])
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "False"
+
+
+def test_a_robot_file_is_read_up_to_one_byte_past_the_limit(tmp_path):
+    """``robot_file_bytes``: a small file whole; a larger one only up to MAX_FILE_BYTES + 1 bytes (what
+    makes ``load_robot`` refuse it), whatever its size."""
+    small = tmp_path / "small.toml"
+    small.write_bytes(b"x" * (READ_CHUNK + 7))
+    assert robot_file_bytes(small) == b"x" * (READ_CHUNK + 7)
+    big = tmp_path / "big.toml"
+    big.write_bytes(b"y" * (MAX_FILE_BYTES + 10))
+    assert robot_file_bytes(big) == b"y" * (MAX_FILE_BYTES + 1)
+    with pytest.raises(RobotFileError, match="larger than"):
+        load_robot(big)
