@@ -24,6 +24,7 @@ import json
 import os
 from pathlib import Path
 import secrets
+import stat
 import zipfile
 import zlib
 
@@ -147,7 +148,9 @@ def atomic_path(path):
     """A temporary file name beside ``path`` (with its suffix, so a writer that reads the type from
     the name still can), renamed onto ``path`` when the block ends without error and removed
     otherwise: nothing half-written is left.  The file is created as a file created normally is (0666
-    less the umask, or the directory's default ACL); a missing directory is an error, never created."""
+    less the umask, or the directory's default ACL); a missing directory is an error, never created;
+    a symbolic link is followed, and a name that is not a regular file refused (``replaced_file``)."""
+    path = replaced_file(path)
     fd, tmp = _temporary(path)
     os.close(fd)
     with _renamed(tmp, path):
@@ -158,10 +161,31 @@ def atomic_path(path):
 def atomic_file(path):
     """``atomic_path``'s file, open for writing bytes (the block writes to it; it is closed, then
     renamed onto ``path``)."""
+    path = replaced_file(path)
     fd, tmp = _temporary(path)
     with _renamed(tmp, path):
         with open(fd, "wb") as fh:
             yield fh
+
+
+class NotRegularFile(OSError):
+    """An output path that names a device, a pipe or a socket."""
+
+
+def replaced_file(path) -> Path:
+    """The file an atomic write renames its new file onto: ``path``, or the file a symbolic link there
+    points to (the link stays a link).  Refused (``NotRegularFile``) when it exists and is not a
+    regular file: renaming onto /dev/null would replace the device itself."""
+    target = Path(os.path.realpath(path)) if os.path.islink(path) else Path(path)
+    try:
+        mode = os.stat(target).st_mode
+    except FileNotFoundError:
+        return target
+    if not stat.S_ISREG(mode):
+        kind = "a directory" if stat.S_ISDIR(mode) else "a device, a pipe or a socket"
+        raise NotRegularFile(errno.EINVAL, f"not a regular file ({kind}): certkin writes a new file and renames "
+                                           "it onto the name")
+    return target
 
 
 def _temporary(path):

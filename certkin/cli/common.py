@@ -22,7 +22,7 @@ from typing import Callable
 
 from tqdm import tqdm
 
-from ..certificates.writing import atomic_path
+from ..certificates.writing import atomic_path, replaced_file
 from ..engine import Budget, interrupt
 from ..engine.budgets import MAX_MEMORY, positive_integer, positive_number
 from ..errors import InputError
@@ -197,7 +197,8 @@ def plot_suffixes():
 
 def check_output_path(path, option: str, suffixes=None, parent: bool = True) -> None:
     """Before solving: ``path`` can be written (its directory exists and is writable, it is not a
-    directory, it has one of ``suffixes`` if given); else ``InputError`` naming ``option``.
+    directory nor a device, a pipe or a socket, it has one of ``suffixes`` if given); else
+    ``InputError`` naming ``option``.  A symbolic link is checked as the file it points to.
     ``parent=False``: the directory is made by the run itself (not checked)."""
     p = Path(path)
     if not str(path).strip():
@@ -207,9 +208,13 @@ def check_output_path(path, option: str, suffixes=None, parent: bool = True) -> 
     if suffixes is not None and p.suffix.lower() not in suffixes:
         raise InputError(option, str(path), f"unknown file type {p.suffix or '(none)'!r}; use one of "
                                             f"{', '.join(suffixes)}")
+    try:
+        target = replaced_file(p)            # /dev/null, a pipe: refused; a symbolic link: its target
+    except OSError as exc:
+        raise InputError(option, str(path), exc.strerror) from None
     if not parent:
         return
-    parent = p.parent
+    parent = target.parent
     if not parent.is_dir():
         raise InputError(option, str(path), f"directory {str(parent)!r} does not exist")
     try:                                  # a file can be created there (a trial, removed at once)

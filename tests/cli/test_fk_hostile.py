@@ -1,7 +1,12 @@
 """``certkin fk`` on hostile input (issue #18)."""
+import os
+import stat
+import zipfile
+
 import pytest
 
 import certkin.cli.fk
+from certkin.certificates.writing import NotRegularFile, write_text
 from conftest import MEL, R2, answered, refused
 
 L = "28.99,13.66,40.53"
@@ -81,3 +86,25 @@ def test_a_long_spatial_search_stays_under_the_memory_ceiling(tmp_path):
     modes = [ln for ln in lines if ln[2:].split(":")[0].strip().isdigit()]
     assert 0 < len(regions) <= 20 and run.left == ["f.cert"]           # at most 20 regions, then one line
     assert len(lines) == 1 + len(modes) + len(regions) + ("more unresolved regions" in lines[-1])
+
+
+def test_outputs_onto_a_pipe_are_refused_and_a_link_is_followed(cli, tmp_path):
+    """An output path naming a pipe (or /dev/null, a device) is refused before solving and left as
+    it is (renaming the new file onto it would replace it); a symbolic link is followed: the file it
+    points to is written and the link stays a link.  The library's writer refuses the pipe too."""
+    pipe = tmp_path / "pipe.cert"
+    os.mkfifo(pipe)
+    for option in ("--certificate", "--report"):
+        target = pipe if option == "--certificate" else tmp_path / "pipe.html"
+        if option == "--report":
+            os.mkfifo(target)
+        refused(cli(*F, option, str(target)), option, "not a regular file")
+        assert stat.S_ISFIFO(os.lstat(target).st_mode)
+    with pytest.raises(NotRegularFile):
+        write_text(pipe, "x")
+    assert stat.S_ISFIFO(os.lstat(pipe).st_mode) and sorted(p.name for p in tmp_path.iterdir()) == ["pipe.cert",
+                                                                                                    "pipe.html"]
+    link, real = tmp_path / "link.cert", tmp_path / "real.cert"
+    link.symlink_to(real)
+    answered(cli(*F, "--certificate", str(link)))
+    assert link.is_symlink() and zipfile.is_zipfile(real)
