@@ -197,14 +197,16 @@ def add_arguments(b):
     b.add_argument("jobs", metavar="JOBS.jsonl", help="one job a line (see docs/index.md)")
     b.add_argument("--out", required=True, metavar="DIR", help="directory of the results (DIR/<id>.json, .cert)")
     b.add_argument("--workers", type=count(MAX_WORKERS), default=os.cpu_count() or 1,
-                   help=f"local worker processes (default {os.cpu_count() or 1}, the number of cores)")
+                   help=f"local worker processes (default {os.cpu_count() or 1}, the number of cores; at most "
+                        f"{MAX_WORKERS}, {PER_CORE} per core: more would share the same cores and multiply the memory)")
     b.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="run on this Dask cluster (the dask extra)")
     b.add_argument("--report", metavar="FILE.html", help="write a report of the whole campaign")
     b.add_argument("--json", action="store_true", help="print summary.json instead of the table")
     b.add_argument("--progress", action="store_true", help="show progress on stderr")
 
 
-MAX_WORKERS = 1024
+PER_CORE = 4
+MAX_WORKERS = PER_CORE * (os.cpu_count() or 1)     # each worker holds its own robots, models and job
 
 
 def _check(args, jobs) -> None:

@@ -1,6 +1,7 @@
 """``certkin batch`` on hostile input (issue #18): every option and output path is checked before
 any job runs (exit 2, one line, nothing created); a bad job line is an error job, never a crash."""
 import json
+import os
 
 import pytest
 
@@ -32,6 +33,7 @@ HOSTILE = [
     (["--workers", "nan"], ["--workers"]),
     (["--workers", "1e300"], ["--workers", "'1e300'"]),
     (["--workers", "100000"], ["--workers"]),
+    (["--workers", str(4 * (os.cpu_count() or 1) + 1)], ["--workers", f"to {4 * (os.cpu_count() or 1)}"]),
     (["--workers", "2", "--workers", "3"], ["--workers", "twice"]),
     (["--json", "--json"], ["--json", "twice"]),
     (["--report", "{tmp}/r.txt"], ["--report", ".txt"]),
