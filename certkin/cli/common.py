@@ -155,7 +155,18 @@ def _memory(text):
     size = positive_number(m.group(1), "") * UNITS[m.group(2).lower()]
     if size < 2 ** 20 or size > 2 ** 50:
         raise InputError("", "", f"expected a size from 1MiB to 1PiB, got {text!r}")
+    physical = physical_memory()
+    if physical is not None and size > physical:
+        raise InputError("", "", f"{text!r} is more than this machine's memory ({physical / 2 ** 30:.1f} GiB)")
     return int(size)
+
+
+def physical_memory() -> int | None:
+    """Bytes of memory of this machine (None where the system does not say)."""
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        return None
 
 
 memory = _typed(_memory)
