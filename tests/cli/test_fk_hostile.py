@@ -20,7 +20,7 @@ HOSTILE = [
     (F + ["--min-width", "0"], ["--min-width"]),
     (F + ["--min-width", "nan"], ["--min-width"]),
     (F + ["--max-memory", "0"], ["--max-memory"]),
-    (F + ["--max-memory", "1PiB"], ["--max-memory", "this machine's memory"]),
+    (F + ["--max-memory", "1000TiB"], ["--max-memory", "this machine's memory"]),
     (F + ["--lengths", "1,2,3"], ["--lengths", "twice"]),
     (["fk", R2, "--lengths", "-28.99,13.66,40.53"], ["--lengths", "negative"]),
     (["fk", R2, "--lengths", "1e300,13.66,40.53"], ["--lengths", "out of range"]),
