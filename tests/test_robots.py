@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from certkin import RobotFileError, load_robot, robot_from_dict
+from certkin import InputError, RobotFileError, load_robot, robot_from_dict
 from certkin.robots import GoughStewart, Planar3RPR, Spherical3DOF
 from certkin.robots.files import MAX_FILE_BYTES, READ_CHUNK, robot_file_bytes
+from certkin.robots.poses import parse_box, parse_pose
 from intervals import Interval
 
 DATA = Path(__file__).parent / "data"
@@ -266,3 +267,19 @@ def test_a_robot_file_is_read_up_to_one_byte_past_the_limit(tmp_path):
     assert robot_file_bytes(big) == b"y" * (MAX_FILE_BYTES + 1)
     with pytest.raises(RobotFileError, match="larger than"):
         load_robot(big)
+
+
+def test_a_pose_may_name_its_variables_in_any_order():
+    """``x=...,y=...`` (any order, as in a box) gives the pose the values alone give; a missing, repeated,
+    unknown or unnamed variable among named ones is refused naming it; 0deg is exactly 0."""
+    mel = load_robot(Path(__file__).resolve().parents[1] / "examples" / "robots" / "seed000-mel-tsukuba.toml")
+    plain, texts = parse_pose("1.5,-2,520,85deg,10deg,0deg", mel)
+    named, named_texts = parse_pose("phi=0deg, theta=10deg,psi=85deg,z=520,y=-2,x=1.5", mel)
+    assert np.array_equal(plain.lo, named.lo) and np.array_equal(plain.hi, named.hi) and texts == named_texts
+    assert plain.lo[5] == plain.hi[5] == 0.0
+    for text, word in (("x=1,y=2,z=3,psi=0,theta=0", "phi"), ("x=1,x=1,y=2,z=3,psi=0,theta=0,phi=0", "x"),
+                       ("x=1,y=2,z=3,psi=0,theta=0,phi=0,w=1", "w"), ("x=1,2,3,0,0,0", "2")):
+        with pytest.raises(InputError, match=word):
+            parse_pose(text, mel)
+    box, _ = parse_box("x=0:1,y=0:1,z=520:520,psi=0deg:1deg,theta=0:0,phi=0:0", mel)
+    assert box.lo[3] == 0.0

@@ -64,6 +64,8 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
             raise RobotFileError(source, field, f"not a number of degrees: {value!r}") from None
         if not (math.isfinite(lo) and math.isfinite(hi)):
             raise RobotFileError(source, field, f"not a number of degrees: {value!r}")
+        if lo == hi == 0.0:                      # 0deg is 0 exactly (a product would round it outward)
+            return Interval(0.0), text
         return Interval.from_bounds(np.array(lo), np.array(hi)) * RADIANS_PER_DEGREE, text
     if isinstance(text, float):
         # tomllib with parse_float=Decimal never gives floats; Python callers may
@@ -95,9 +97,13 @@ def _exact(text):
 
 # ----------------------------------------------------------------- poses and boxes
 def parse_pose(text, robot, parameter="pose") -> tuple[Interval, list[str]]:
-    """(d,) enclosure of a pose and its exact texts."""
+    """(d,) enclosure of a pose and its exact texts.  ``text``: the values in the order of the pose
+    variables (``"0,0,520,85deg,10deg,0"``), or each named (``"x=0,y=0,z=520,..."``, any order, as
+    in a box), or a sequence of values."""
     parts = [p.strip() for p in text.split(",")] if isinstance(text, str) else list(text)
     names = robot.pose_names
+    if isinstance(text, str) and any("=" in p for p in parts):
+        parts = _named(parts, names, parameter)
     if len(parts) != len(names):
         raise InputError(parameter, "", f"expected {len(names)} comma-separated values ({','.join(names)}), "
                                         f"got {len(parts)}")
@@ -107,6 +113,25 @@ def parse_pose(text, robot, parameter="pose") -> tuple[Interval, list[str]]:
         ivs.append(iv)
         texts.append(str(t))
     return Interval.from_bounds(np.array([float(i.lo) for i in ivs]), np.array([float(i.hi) for i in ivs])), texts
+
+
+def _named(parts, names, parameter) -> list[str]:
+    """The values of a pose given as ``name=value`` parts, in the order of ``names``."""
+    given = {}
+    for part in parts:
+        if "=" not in part:
+            raise InputError(parameter, part, f"expected name=value for every variable ({','.join(names)}) "
+                                              "or values alone")
+        name, value = (t.strip() for t in part.split("=", 1))
+        if name not in names:
+            raise InputError(parameter, name, f"not a pose variable of this robot ({','.join(names)})")
+        if name in given:
+            raise InputError(parameter, name, "given twice")
+        given[name] = value
+    missing = [n for n in names if n not in given]
+    if missing:
+        raise InputError(parameter, ",".join(missing), "missing")
+    return [given[n] for n in names]
 
 
 def parse_box(spec, robot, parameter="box") -> tuple[Interval, dict]:
