@@ -440,3 +440,16 @@ def test_a_bad_report_path_is_refused_before_any_job_runs(tmp_path, capsys):
     assert not (tmp_path / "out" / "a.json").exists()
     assert main(["batch", str(jobs), "--out", str(tmp_path / "out"), "--report", str(tmp_path / "r.txt")]) == 2
     assert "unknown file type" in capsys.readouterr().err
+
+
+def test_reserved_ids_and_ids_differing_in_case_only_are_error_jobs(tmp_path):
+    """``summary`` (the batch's summary.json) and ``line-N`` (the id given to a line that is not a job)
+    are reserved, in any letter case; an id that differs from an earlier one by case only would be
+    the same file on some systems.  Each becomes an error job with its line's id; nothing collides."""
+    ids = ["Summary", "line-2", "LINE-7", "a", "A", "b"]
+    (tmp_path / "jobs.jsonl").write_text("".join(dumps({"id": i, "command": "fk"}) + "\n" for i in ids))
+    jobs = read_jobs(tmp_path / "jobs.jsonl")
+    assert [j["id"] for j in jobs] == ["line-1", "line-2", "line-3", "a", "line-5", "b"]
+    assert ["is reserved" in j.get("error", "") for j in jobs] == [True, True, True, False, False, False]
+    assert "used by an earlier job" in jobs[4]["error"] and "error" not in jobs[3] and "error" not in jobs[5]
+    assert len({j["id"].casefold() for j in jobs}) == len(jobs)

@@ -3,8 +3,9 @@
 ``{"id": "j1", "command": "fk", "robot": "robot.toml" or an inline robot table, <options of that
 command by their long names>}``.  Numbers keep their exact decimal text (``parse_float=Decimal``),
 so ``0.1`` in a job is the decimal 0.1, as on the command line.  A line that cannot be a job (not
-JSON, no usable id, an id used twice) still becomes a job, with an ``error`` and an id of its own
-(``line-N``), so the batch reports it and carries on.
+JSON, no usable id, an id used twice, even in another letter case, or a reserved one: ``summary``,
+``line-N``) still becomes a job, with an ``error`` and an id of its own (``line-N``), so the batch
+reports it and carries on.
 """
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ import re
 from ..errors import InputError
 
 ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,127}")     # a file name on every system: no separator
+RESERVED = re.compile(r"summary|line-[0-9]+", re.IGNORECASE)   # summary.json; the ids of unreadable lines
 ERROR = "error"                                           # key of a job that is already broken
 
 
@@ -56,9 +58,13 @@ def _job(path, n: int, line: str, seen: set) -> dict:
         return {**job, "id": f"line-{n}",
                 ERROR: f"{where}: id: expected a name of letters, digits, '.', '_' or '-' (at most 128), "
                        f"got {jid!r}"}
-    if jid in seen:
-        return {**job, "id": f"line-{n}", ERROR: f"{where}: id: {jid!r} is used by an earlier job"}
-    seen.add(jid)
+    if RESERVED.fullmatch(jid):
+        return {**job, "id": f"line-{n}", ERROR: f"{where}: id: {jid!r} is reserved (summary.json is the batch's "
+                                                 "summary, line-N the id of a line that is not a job)"}
+    if jid.casefold() in seen:           # a.json and A.json are one file on some systems
+        return {**job, "id": f"line-{n}", ERROR: f"{where}: id: {jid!r} is used by an earlier job (letter case "
+                                                 "aside)"}
+    seen.add(jid.casefold())
     return job
 
 
