@@ -111,13 +111,23 @@ def geometry_sha256(robot: dict) -> str:
         raise Rejected("robot: nested too deeply") from None
 
 
+MAX_ROBOT = 16 << 20     # bytes of a robot file (a few hundred in practice)
+
+
+class UnreadableRobot(Unreadable):
+    """The robot file given to confirm the geometry cannot be read."""
+
+
 def read_robot(path) -> dict:
-    """A robot file (TOML, decimals read exactly); raises ``Unreadable``."""
+    """A robot file (TOML, decimals read exactly); raises ``UnreadableRobot``."""
     try:
         with open(path, "rb") as fh:
-            data = tomllib.load(fh, parse_float=Decimal)
+            raw = fh.read(MAX_ROBOT + 1)          # /dev/zero or a huge file: never read whole
+        data = tomllib.loads(raw.decode("utf-8"), parse_float=Decimal) if len(raw) <= MAX_ROBOT else {}
     except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError, RecursionError) as exc:
-        raise Unreadable(f"{path}: cannot read the robot file ({exc})") from None
+        raise UnreadableRobot(str(exc)) from None
+    if not isinstance(data.get("kind"), str):
+        raise UnreadableRobot(f"not a robot file (no kind, or larger than {MAX_ROBOT >> 20} MiB)")
     robot = {k: data[k] for k in ("name", "kind", "base", "platform", "limits") if k in data}
     limits = robot.get("limits")
     if isinstance(limits, dict):                  # the file's shorthands: one radius for every leg; comments
@@ -146,7 +156,8 @@ def run(path, robot=None, as_json=False, progress=False) -> int:
     try:
         report = check(load(path), robot=robot, progress=_bar if progress else None)
     except (Unreadable, MemoryError, RecursionError) as exc:
-        print(f"{path}: cannot read the certificate: {exc or type(exc).__name__}", file=sys.stderr)
+        what = f"{robot}: cannot read the robot file" if isinstance(exc, UnreadableRobot) else f"{path}: cannot read the certificate"
+        print(f"{what}: {exc or type(exc).__name__}", file=sys.stderr)
         return 2
     if progress:                                  # the bar completed (also for a certificate without trees)
         print(f"\r[{'#' * 40}] checked" + " " * 20, file=sys.stderr)

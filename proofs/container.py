@@ -25,7 +25,8 @@ import numpy as np
 from .report import Rejected, Unreadable
 
 MAX_HEADER = 64 << 20            # bytes of header.json
-MAX_JSON = 1 << 30               # bytes of a JSON document (read to say which version it is)
+MAX_JSON = 16 << 20              # bytes of a JSON document read to say which version it is (not more:
+                                 # parsed, it takes several times that memory)
 MAX_ARRAY = 2 << 30              # bytes of one array
 DTYPES = ("<f8", "<f4", "<i4", "<i8", "<u8", "|i1", "|u1")
 
@@ -162,5 +163,6 @@ def read(path) -> Certificate:
     except OSError as exc:
         raise Unreadable(f"cannot read: {exc.strerror or exc}") from None
     if len(text) > MAX_JSON:
-        raise Unreadable(f"a JSON certificate larger than {MAX_JSON >> 20} MB (version 2 files are ZIP archives)")
+        raise Unreadable(f"not a ZIP archive (version 2), and a JSON document larger than {MAX_JSON >> 20} MiB "
+                         "is not read (version 1 certificates are no longer checked)")
     return Certificate(_json(text, "certificate"))

@@ -44,3 +44,18 @@ def test_empty_names_are_bad_input(cli):
     for argv, word in ((["check", ""], "CERT"), (["check", "{tmp}/c.cert", "--robot", ""], "--robot")):
         run = cli(*argv)
         assert run.code == 2 and word in run.err and "empty" in run.err and run.out == ""
+
+
+def test_robot_files_that_are_not_robots_and_endless_files_are_unreadable(cli, tmp_path):
+    """``--robot`` an empty file, not TOML, or endless (/dev/zero): exit 2 naming the robot file, never a
+    'rejected' certificate nor a read without end; a certificate that is an endless stream: exit 2 after
+    reading a bounded prefix."""
+    assert cli("singular", R2, "--box", "x=-20:-10,y=20:30,phi=0:0.3", "--certificate", "{tmp}/c.cert").code == 0
+    (tmp_path / "empty.toml").write_text("")
+    (tmp_path / "text.toml").write_text("not = [toml")
+    for robot in ("{tmp}/empty.toml", "{tmp}/text.toml", "/dev/zero"):
+        run = cli("check", "{tmp}/c.cert", "--robot", robot)
+        unreadable(run, robot.replace("{tmp}", str(tmp_path)))
+        assert "robot file" in run.err
+    unreadable(cli("check", "/dev/zero"), "/dev/zero")
+    assert cli("check", "{tmp}/c.cert", "--robot", R2).code == 0
