@@ -18,10 +18,12 @@ import proofs
 from batch_work import dies_on_boom, square_or_die
 from certfile import Doc
 from certkin.batch import local, read_jobs, run_batch
+from certkin.batch import jobs as jobs_module
 from certkin.batch.jobs import dumps
 from certkin.batch.results import untimed
 from certkin.cli import main
 from certkin.cli.batch import run_job
+from certkin.errors import InputError
 
 
 
@@ -453,3 +455,17 @@ def test_reserved_ids_and_ids_differing_in_case_only_are_error_jobs(tmp_path):
     assert ["is reserved" in j.get("error", "") for j in jobs] == [True, True, True, False, False, False]
     assert "used by an earlier job" in jobs[4]["error"] and "error" not in jobs[3] and "error" not in jobs[5]
     assert len({j["id"].casefold() for j in jobs}) == len(jobs)
+
+
+def test_a_jobs_file_is_read_line_by_line_within_bounds(tmp_path, monkeypatch):
+    """An overlong line is an error job (read past in pieces, never held whole) and the lines after it
+    are read as usual; a file of more than ``MAX_JOBS`` jobs is refused (split the campaign)."""
+    monkeypatch.setattr(jobs_module, "MAX_LINE", 1000)
+    monkeypatch.setattr(jobs_module, "MAX_JOBS", 3)
+    path = tmp_path / "jobs.jsonl"
+    path.write_text(dumps({"id": "a", "command": "fk"}) + "\n" + "x" * 5000 + "\n" + dumps({"id": "b", "command": "fk"}))
+    jobs = read_jobs(path)
+    assert [j["id"] for j in jobs] == ["a", "line-2", "b"] and "longer than" in jobs[1]["error"]
+    path.write_text("".join(dumps({"id": f"j{k}", "command": "fk"}) + "\n" for k in range(4)))
+    with pytest.raises(InputError, match="more than 3 jobs"):
+        read_jobs(path)

@@ -25,9 +25,9 @@ import math
 import numpy as np
 
 from ..errors import InputError
+from .jobs import MAX_JOBS
 
 DIGITS = 15
-MAX_JOBS = 10 ** 6          # jobs generated at most (a million lines is about 150 MB of JSONL)
 MAX_MAGNITUDE = 10 ** 12    # as every user value (``robots.poses``)
 
 

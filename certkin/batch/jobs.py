@@ -19,6 +19,9 @@ from ..errors import InputError
 ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,127}")     # a file name on every system: no separator
 RESERVED = re.compile(r"summary|line-[0-9]+", re.IGNORECASE)   # summary.json; the ids of unreadable lines
 ERROR = "error"                                           # key of a job that is already broken
+MAX_JOBS = 200_000          # jobs of one file at most: a batch holds each job and its summary row
+                            # (200 000 jobs: about 0.5 GB in the batch process; split larger campaigns)
+MAX_LINE = 1 << 20          # characters of a job line at most (an inline robot table is a few hundred)
 
 
 def read_jobs(path) -> list[dict]:
@@ -28,22 +31,39 @@ def read_jobs(path) -> list[dict]:
     an ``error`` (its id: ``line-N`` when it has no usable one)."""
     if os.path.exists(path) and not os.path.isfile(path) and not os.path.isdir(path):
         raise InputError(str(path), "", "not a regular file (a device or a pipe is not a jobs file)")
+    jobs, seen, shared = [], set(), {}
     try:
         with open(path, encoding="utf-8") as fh:
-            lines = fh.read().splitlines()
+            for n, line in enumerate(_lines(fh), 1):
+                if line is None:
+                    jobs.append({"id": f"line-{n}", ERROR: f"{path}: line {n}: longer than {MAX_LINE >> 10} KiB: not a job"})
+                elif line.strip() and not line.lstrip().startswith("#"):
+                    jobs.append(_job(path, n, line, seen, shared))
+                if len(jobs) > MAX_JOBS:
+                    raise InputError(str(path), "", f"more than {MAX_JOBS} jobs: split the campaign")
     except FileNotFoundError:
         raise InputError(str(path), "", "no such file") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(str(path), "", f"cannot read the jobs file ({exc})") from None
-    jobs, seen = [], set()
-    for n, line in enumerate(lines, 1):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        jobs.append(_job(path, n, line, seen))
     return jobs
 
 
-def _job(path, n: int, line: str, seen: set) -> dict:
+def _lines(fh):
+    """The lines of a text file, one at a time; None for a line longer than ``MAX_LINE`` (read past
+    in pieces, never held whole)."""
+    while True:
+        line = fh.readline(MAX_LINE + 1)
+        if not line:
+            return
+        if len(line) > MAX_LINE:
+            while line and not line.endswith("\n"):
+                line = fh.readline(MAX_LINE + 1)
+            yield None
+        else:
+            yield line
+
+
+def _job(path, n: int, line: str, seen: set, shared: dict) -> dict:
     where = f"{path}: line {n}"
     try:
         job = json.loads(line, parse_float=Decimal)
@@ -65,6 +85,9 @@ def _job(path, n: int, line: str, seen: set) -> dict:
         return {**job, "id": f"line-{n}", ERROR: f"{where}: id: {jid!r} is used by an earlier job (letter case "
                                                  "aside)"}
     seen.add(jid.casefold())
+    for key in ("command", "robot"):         # the same text in many jobs: held once
+        if isinstance(job.get(key), str):
+            job[key] = shared.setdefault(job[key], job[key])
     return job
 
 

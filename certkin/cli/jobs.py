@@ -6,8 +6,8 @@
 """
 from __future__ import annotations
 
-from ..batch.grid import MAX_JOBS, cell_jobs, fk_jobs, trajectory_jobs
-from ..batch.jobs import ID, dumps
+from ..batch.grid import cell_jobs, fk_jobs, trajectory_jobs
+from ..batch.jobs import ID, MAX_JOBS, dumps
 from ..errors import InputError
 from ..robots import load_robot
 from .batch import parse_job

@@ -22,7 +22,7 @@ HOSTILE = [
     (G + ["--command", "fk", "--lengths", "L1=1:2:1e300,L2=1,L3=1"], ["--lengths", "L1", "'1e300'"]),
     (G + ["--command", "fk", "--lengths", "L1=nan:2:3,L2=1,L3=1"], ["--lengths", "L1"]),
     (G + ["--command", "fk", "--lengths", "L1=1:1e300:3,L2=1,L3=1"], ["--lengths", "L1", "out of range"]),
-    (G + ["--command", "fk", "--lengths", "L1=1:2:1000000,L2=1:2:1000000,L3=1:2:100000"], ["--lengths", "jobs"]),
+    (G + ["--command", "fk", "--lengths", "L1=1:2:1000,L2=1:2:1000,L3=1:2:1000"], ["--lengths", "jobs"]),
     (CELLS + ["--cells", "0"], ["--cells"]),
     (CELLS + ["--cells", "-1"], ["--cells"]),
     (CELLS + ["--cells", "1e300"], ["--cells", "'1e300'"]),
