@@ -51,7 +51,8 @@ class Report:
         return ("OK: " if self.ok else "REJECTED: ") + self.summary()
 
     def lines(self) -> list:
-        """The full account printed by ``certkin check``: robot, question, verdicts, result."""
+        """The full account printed by ``certkin check``: robot, question, verdicts, result; any character of
+        the certificate that is not printable (a newline, a terminal escape, a bidi control) escaped."""
         a = self.about
         out = []
         if a.get("robot") is not None:
@@ -61,7 +62,7 @@ class Report:
         if a.get("question"):
             out.append(f"question: {a['question']}")
         out += [f"proved: {p}" for p in self.proved] if self.ok else []
-        return out + [str(self)]
+        return ["".join(c if c.isprintable() else ascii(c)[1:-1] for c in line) for line in out + [str(self)]]
 
     def to_json(self) -> dict:
         return {"ok": self.ok, "step": self.step, "checked": self.checked, "proved": self.proved, **self.about}

@@ -283,3 +283,13 @@ def test_a_pose_may_name_its_variables_in_any_order():
             parse_pose(text, mel)
     box, _ = parse_box("x=0:1,y=0:1,z=520:520,psi=0deg:1deg,theta=0:0,phi=0:0", mel)
     assert box.lo[3] == 0.0
+
+
+@pytest.mark.parametrize("name", ["two\nlines", "escape \x1b[2J", "bidi \u202e", "x" * 201])
+def test_a_robot_name_that_could_forge_output_is_refused(name):
+    """Every answer prints the robot's name: one line of printable characters, at most 200."""
+    data = {"name": name, "kind": "planar-3rpr", "base": [["0", "0"], ["10", "0"], ["3", "10"]],
+            "platform": [["0", "0"], ["4", "0"], ["2", "2"]]}
+    with pytest.raises(RobotFileError, match="printable"):
+        robot_from_dict(data)
+    assert robot_from_dict({**data, "name": "Pétri 3-RPR (β = 2°)"}).name == "Pétri 3-RPR (β = 2°)"

@@ -26,6 +26,7 @@ KINDS = {cls.kind: cls for cls in (Planar3RPR, Spherical3DOF, GoughStewart)}
 
 MAX_FILE_BYTES = 16 * 2 ** 20       # a robot file is a few hundred bytes
 READ_CHUNK = 1 << 16
+MAX_NAME = 200                      # characters of a robot's name
 
 
 def robot_file_bytes(path) -> bytes:
@@ -91,6 +92,9 @@ def robot_from_dict(data: dict, source: str = "<robot>") -> Robot:
     name = data.get("name", Path(source).stem)
     if not isinstance(name, str):
         raise RobotFileError(source, "name", "expected a string")
+    if not name.isprintable() or len(name) > MAX_NAME:     # printed in every answer and certificate check
+        raise RobotFileError(source, "name", f"expected one line of at most {MAX_NAME} printable characters (no "
+                                             f"newline, terminal escape or bidi control), got {name[:MAX_NAME]!r}")
     base = parse_points(data, "base", cls.n_legs, cls.dim, source)
     platform = parse_points(data, "platform", cls.n_legs, cls.dim, source)
     limits = _parse_limits(data.get("limits", {}), cls, source)

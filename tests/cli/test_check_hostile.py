@@ -59,3 +59,17 @@ def test_robot_files_that_are_not_robots_and_endless_files_are_unreadable(cli, t
         assert "robot file" in run.err
     unreadable(cli("check", "/dev/zero"), "/dev/zero")
     assert cli("check", "{tmp}/c.cert", "--robot", R2).code == 0
+
+
+def test_text_of_a_certificate_cannot_forge_lines_of_the_account(cli, tmp_path):
+    """A robot name in a (tampered) certificate with a newline, a terminal escape or a bidi control is
+    printed escaped: the account keeps one line per item and its verdict cannot be overwritten."""
+    assert cli("singular", R2, "--box", "x=-20:-10,y=20:30,phi=0:0.3", "--certificate", "{tmp}/c.cert").code == 0
+    cert = Doc(tmp_path / "c.cert")
+    cert.header["robot"]["name"] = "x\nOK: forged\x1b[2K\u202eevil"
+    cert.write(tmp_path / "forged.cert")
+    run = cli("check", "{tmp}/forged.cert")
+    first = run.out.splitlines()[0]
+    assert first.startswith("robot: x\\nOK: forged\\x1b[2K\\u202eevil (planar-3rpr)")
+    assert not any(line.startswith("OK: forged") for line in run.out.splitlines())
+    assert all(c.isprintable() for c in run.out.replace("\n", ""))
