@@ -179,3 +179,9 @@ def interval(iv, digits: int = DIGITS) -> str:
     else:
         lo, hi = iv.lo, iv.hi
     return outward(lo, hi, digits)
+
+
+def printable(text: str) -> str:
+    """``text`` with every character that is not printable (a newline, a terminal escape, a bidi control)
+    escaped, so that text from a file (a path, an id in a jobs file) prints as one honest line."""
+    return "".join(c if c.isprintable() else ascii(c)[1:-1] for c in text)

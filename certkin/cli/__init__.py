@@ -16,6 +16,7 @@ import warnings
 
 import numpy as np
 
+from ..display import printable
 from ..errors import InputError
 from .common import Parser, join_negative_values
 
@@ -58,7 +59,7 @@ def main(argv=None):
             warnings.simplefilter("ignore")          # numpy's overflow warnings are not for the user
             return args.func(args)
     except InputError as exc:
-        sys.stderr.write(f"certkin: error: {exc}\n")
+        sys.stderr.write(f"certkin: error: {printable(str(exc))}\n")
         return 2
     except MemoryError:
         sys.stderr.write("certkin: error: out of memory: lower the budget (--max-boxes, --max-memory) or the size "

@@ -23,6 +23,7 @@ from tqdm import tqdm
 from ..batch import PENDING, read_jobs, run_batch
 from ..batch.results import ERROR, certificate_path, done, file_facts, row, write_document, \
     write_error
+from ..display import printable
 from ..errors import InputError
 from ..report import batch_report
 from ..robots import load_robot, robot_from_dict
@@ -268,4 +269,4 @@ def table(summary: dict, out) -> str:
     pending = sum(r["verdict"] == PENDING for r in summary["results"])
     if summary["interrupted"]:
         lines.append(f"  INTERRUPTED: {pending} jobs not run; the same command resumes the batch")
-    return "\n".join(lines)
+    return "\n".join(printable(line) for line in lines)      # a jobs file's text cannot forge a line

@@ -105,3 +105,13 @@ def test_bad_job_lines_are_error_jobs(cli, jobs, tmp_path):
         assert word in errors[jid] and "\n" not in errors[jid], (jid, errors[jid])
     assert summary["counts"]["fk complete"] == 1 and summary["jobs"] == 9
     assert (tmp_path / "out" / "a.cert").exists()
+
+
+def test_text_of_a_jobs_file_cannot_forge_lines_of_the_table(cli, jobs):
+    """A robot path with a newline and a terminal escape, echoed in a job's error, is printed escaped."""
+    forged = json.dumps({"id": "a", "command": "fk", "robot": "no\nsuch\x1b[2K  fk complete 99",
+                         "lengths": "28.99,13.66,40.53"})
+    run = cli("batch", jobs(forged), "--out", "{tmp}/out")
+    assert run.code == 0 and "error a: no\\nsuch\\x1b[2K  fk complete 99: no such file" in run.out
+    assert not any(line.strip().startswith("fk complete") for line in run.out.splitlines())
+    assert all(c.isprintable() for c in run.out.replace("\n", ""))
