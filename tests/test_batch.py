@@ -2,6 +2,7 @@
 broken jobs; the job generators."""
 from __future__ import annotations
 
+import fcntl
 from fractions import Fraction
 import itertools
 import json
@@ -469,3 +470,24 @@ def test_a_jobs_file_is_read_line_by_line_within_bounds(tmp_path, monkeypatch):
     path.write_text("".join(dumps({"id": f"j{k}", "command": "fk"}) + "\n" for k in range(4)))
     with pytest.raises(InputError, match="more than 3 jobs"):
         read_jobs(path)
+
+
+def test_a_second_batch_on_the_same_directory_is_refused_while_the_first_writes(tmp_path, capsys):
+    """While a batch holds DIR's lock, another on DIR exits 2 naming --out and writes nothing; once the
+    lock is released, the same command runs."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (tmp_path / "jobs.jsonl").write_text(dumps({"id": "good", "command": "fk", "robot": PLANAR,
+                                                "lengths": "28.99,13.66,40.53"}) + "\n")
+    fd = os.open(out / ".certkin-batch.lock", os.O_RDWR | os.O_CREAT)
+    fcntl.flock(fd, fcntl.LOCK_EX)
+    try:
+        capsys.readouterr()
+        assert main(["batch", str(tmp_path / "jobs.jsonl"), "--out", str(out), "--workers", "1"]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("certkin: error: --out") and "another certkin batch" in err
+        assert sorted(p.name for p in out.iterdir()) == [".certkin-batch.lock"]
+    finally:
+        os.close(fd)
+    assert main(["batch", str(tmp_path / "jobs.jsonl"), "--out", str(out), "--workers", "1"]) == 0
+    assert (out / "good.json").exists() and (out / "summary.json").exists()

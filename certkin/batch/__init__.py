@@ -15,7 +15,7 @@ import time
 from .cluster import run_dask
 from .jobs import ERROR, read_jobs
 from .local import Died, run_local
-from .results import FAILED, remove_leftovers, row, summarise, write_error, write_summary
+from .results import FAILED, locked, remove_leftovers, row, summarise, write_error, write_summary
 
 PENDING = "pending"          # verdict of a job an interrupt kept from running
 
@@ -28,6 +28,11 @@ def run_batch(jobs: list, out, work, workers: int = 1, scheduler: str | None = N
     ``preload``: modules the local workers import once, before the first job (in their fork server)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    with locked(out):
+        return _run(jobs, out, work, workers, scheduler, on_row, preload)
+
+
+def _run(jobs, out: Path, work, workers, scheduler, on_row, preload) -> dict:
     t0, c0 = time.perf_counter(), time.process_time()
     ids = [job["id"] for job in jobs]
     remove_leftovers(out, ids)              # of an earlier run killed while writing

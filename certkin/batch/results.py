@@ -8,7 +8,9 @@ independent checker ``proofs``: only such jobs are skipped when a batch is run a
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
 from datetime import datetime, timezone
+import fcntl
 import hashlib
 import json
 import os
@@ -17,9 +19,11 @@ from pathlib import Path
 
 from .. import __version__
 from ..certificates import temporary_of, write_text
+from ..errors import InputError
 from .jobs import canonical
 
 SUMMARY = "summary.json"
+LOCK = ".certkin-batch.lock"                 # held by the batch that writes in the directory
 ERROR, FAILED = "error", "failed"            # verdicts of jobs without an answer
 SLOWEST = 5
 TIMING_FIELDS = {"seconds", "cpu_seconds", "job_seconds", "job_cpu_seconds", "batch_cpu_seconds", "slowest", "date",
@@ -34,6 +38,23 @@ def untimed(doc):
     if isinstance(doc, list):
         return [untimed(v) for v in doc]
     return doc
+
+
+@contextmanager
+def locked(out):
+    """Hold ``DIR/.certkin-batch.lock`` (an advisory lock) while a batch writes in ``out``: a second batch
+    on the same directory is refused (``InputError``) instead of removing the first one's temporary
+    files or writing the same jobs at once.  The lock file stays (empty); the lock ends with the process."""
+    fd = os.open(Path(out) / LOCK, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o666)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise InputError("--out", str(out), "another certkin batch is writing in this directory "
+                                                "(wait for it, or give another --out)") from None
+        yield
+    finally:
+        os.close(fd)
 
 
 def document_path(out, jid: str) -> Path:
