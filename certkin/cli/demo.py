@@ -12,6 +12,7 @@ lengths; the seed 000 Fig. 1.8 trajectory of the MEL robot (legs 1-2 and
 from __future__ import annotations
 
 from pathlib import Path
+import sys
 import time
 
 import proofs
@@ -30,10 +31,15 @@ from .batch import run_job, table
 from .common import check_output_directory
 
 
-def bundled_robots_dir() -> Path:
-    """``examples/robots`` of the source tree (the package is installed editable)."""
-    here = Path(__file__).resolve().parent.parent.parent / "examples" / "robots"
-    return here
+SOURCE_TREE = Path(__file__).resolve().parent.parent.parent
+
+
+def bundled_robots_dir(source: Path = SOURCE_TREE, prefix: str | None = None) -> Path:
+    """``examples/robots`` of the source tree (an editable install), else the copy an install from a
+    wheel puts in ``<prefix>/share/certkin/robots`` (pyproject's data-files)."""
+    here = Path(source) / "examples" / "robots"
+    installed = Path(sys.prefix if prefix is None else prefix) / "share" / "certkin" / "robots"
+    return here if here.is_dir() or not installed.is_dir() else installed
 
 
 def summarise(robot) -> list[str]:

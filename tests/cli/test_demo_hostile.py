@@ -2,6 +2,7 @@
 checked before anything runs."""
 import pytest
 
+from certkin.cli.demo import SOURCE_TREE, bundled_robots_dir
 from conftest import refused
 
 
@@ -21,3 +22,15 @@ def test_an_output_directory_that_is_a_file(cli, tmp_path):
     (tmp_path / "file").write_text("")
     run = cli("demo", "--out", "{tmp}/file")
     assert run.code == 2 and "--out" in run.err and "not a directory" in run.err and run.out == ""
+
+
+def test_the_bundled_robots_are_found_in_a_source_tree_or_an_installed_copy(tmp_path):
+    """The source tree's examples/robots when there is one (editable install); else the copy a wheel
+    installs under <prefix>/share/certkin/robots (pyproject's data-files)."""
+    assert bundled_robots_dir() == SOURCE_TREE / "examples" / "robots"
+    assert any(bundled_robots_dir().glob("*.toml"))
+    installed = tmp_path / "prefix" / "share" / "certkin" / "robots"
+    installed.mkdir(parents=True)
+    assert bundled_robots_dir(tmp_path / "site-packages", str(tmp_path / "prefix")) == installed
+    assert bundled_robots_dir(SOURCE_TREE, str(tmp_path / "prefix")) == SOURCE_TREE / "examples" / "robots"
+    assert '"share/certkin/robots" = ["examples/robots/*.toml"]' in (SOURCE_TREE / "pyproject.toml").read_text()
