@@ -149,7 +149,7 @@ def atomic_path(path):
     the name still can), renamed onto ``path`` when the block ends without error and removed
     otherwise: nothing half-written is left.  The file is created as a file created normally is (0666
     less the umask, or the directory's default ACL); a missing directory is an error, never created;
-    a symbolic link is followed, and a name that is not a regular file refused (``replaced_file``)."""
+    a name that is not a regular file is refused and a symbolic link replaced (``replaced_file``)."""
     path = replaced_file(path)
     fd, tmp = _temporary(path)
     os.close(fd)
@@ -173,13 +173,16 @@ class NotRegularFile(OSError):
 
 
 def replaced_file(path) -> Path:
-    """The file an atomic write renames its new file onto: ``path``, or the file a symbolic link there
-    points to (the link stays a link).  Refused (``NotRegularFile``) when it exists and is not a
-    regular file: renaming onto /dev/null would replace the device itself."""
-    target = Path(os.path.realpath(path)) if os.path.islink(path) else Path(path)
+    """``path``, the name an atomic write renames its new file onto, once checked: refused
+    (``NotRegularFile``) when it exists and is not a regular file, since renaming onto /dev/null would
+    replace the device itself.  A symbolic link is replaced by the new file and its target left as it
+    is (as ``sed -i`` or git do: a link planted in an output directory cannot redirect a write)."""
+    target = Path(path)
     try:
-        mode = os.stat(target).st_mode
+        mode = os.lstat(target).st_mode
     except FileNotFoundError:
+        return target
+    if stat.S_ISLNK(mode):
         return target
     if not stat.S_ISREG(mode):
         kind = "a directory" if stat.S_ISDIR(mode) else "a device, a pipe or a socket"

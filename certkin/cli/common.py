@@ -209,7 +209,7 @@ def plot_suffixes():
 def check_output_path(path, option: str, suffixes=None, parent: bool = True) -> None:
     """Before solving: ``path`` can be written (its directory exists and is writable, it is not a
     directory nor a device, a pipe or a socket, it has one of ``suffixes`` if given); else
-    ``InputError`` naming ``option``.  A symbolic link is checked as the file it points to.
+    ``InputError`` naming ``option``.
     ``parent=False``: the directory is made by the run itself (not checked)."""
     p = Path(path)
     if not str(path).strip():
@@ -220,12 +220,12 @@ def check_output_path(path, option: str, suffixes=None, parent: bool = True) -> 
         raise InputError(option, str(path), f"unknown file type {p.suffix or '(none)'!r}; use one of "
                                             f"{', '.join(suffixes)}")
     try:
-        target = replaced_file(p)            # /dev/null, a pipe: refused; a symbolic link: its target
+        replaced_file(p)                     # /dev/null, a pipe: refused
     except OSError as exc:
         raise InputError(option, str(path), exc.strerror) from None
     if not parent:
         return
-    parent = target.parent
+    parent = p.parent
     if not parent.is_dir():
         raise InputError(option, str(path), f"directory {str(parent)!r} does not exist")
     try:                                  # a file can be created there (a trial, removed at once)

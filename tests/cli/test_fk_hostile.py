@@ -89,10 +89,11 @@ def test_a_long_spatial_search_stays_under_the_memory_ceiling(tmp_path):
     assert len(lines) == 1 + len(modes) + len(regions) + ("more unresolved regions" in lines[-1])
 
 
-def test_outputs_onto_a_pipe_are_refused_and_a_link_is_followed(cli, tmp_path):
+def test_outputs_onto_a_pipe_are_refused_and_a_link_is_replaced(cli, tmp_path):
     """An output path naming a pipe (or /dev/null, a device) is refused before solving and left as
-    it is (renaming the new file onto it would replace it); a symbolic link is followed: the file it
-    points to is written and the link stays a link.  The library's writer refuses the pipe too."""
+    it is (renaming the new file onto it would replace it); a symbolic link is replaced by the new
+    file, its target left as it is (a planted link cannot redirect a write).  The library's writer
+    refuses the pipe too."""
     pipe = tmp_path / "pipe.cert"
     os.mkfifo(pipe)
     for option in ("--certificate", "--report"):
@@ -106,6 +107,11 @@ def test_outputs_onto_a_pipe_are_refused_and_a_link_is_followed(cli, tmp_path):
     assert stat.S_ISFIFO(os.lstat(pipe).st_mode) and sorted(p.name for p in tmp_path.iterdir()) == ["pipe.cert",
                                                                                                     "pipe.html"]
     link, real = tmp_path / "link.cert", tmp_path / "real.cert"
+    real.write_text("kept")
     link.symlink_to(real)
     answered(cli(*F, "--certificate", str(link)))
-    assert link.is_symlink() and zipfile.is_zipfile(real)
+    assert not link.is_symlink() and zipfile.is_zipfile(link) and real.read_text() == "kept"
+    device_link = tmp_path / "device.cert"
+    device_link.symlink_to(pipe)
+    answered(cli(*F, "--certificate", str(device_link)))
+    assert zipfile.is_zipfile(device_link) and stat.S_ISFIFO(os.lstat(pipe).st_mode)
