@@ -2,6 +2,7 @@
 from decimal import Decimal
 from fractions import Fraction
 from pathlib import Path
+import re
 import subprocess
 import sys
 
@@ -12,7 +13,7 @@ import sympy as sp
 from certkin import InputError, RobotFileError, load_robot, robot_from_dict
 from certkin.robots import GoughStewart, Planar3RPR, Spherical3DOF
 from certkin.robots.files import MAX_FILE_BYTES, READ_CHUNK, robot_file_bytes
-from certkin.robots.poses import parse_box, parse_pose
+from certkin.robots.poses import parse_box, parse_lengths, parse_pose
 from intervals import Interval
 
 DATA = Path(__file__).parent / "data"
@@ -293,3 +294,15 @@ def test_a_robot_name_that_could_forge_output_is_refused(name):
     with pytest.raises(RobotFileError, match="printable"):
         robot_from_dict(data)
     assert robot_from_dict({**data, "name": "Pétri 3-RPR (β = 2°)"}).name == "Pétri 3-RPR (β = 2°)"
+
+
+def test_leg_length_arrays_of_the_wrong_shape_are_refused_saying_what_was_given():
+    """An empty batch and an array of more than two dimensions are refused with what was wrong."""
+    planar = robot_from_dict({"kind": "planar-3rpr", "base": [["0", "0"], ["10", "0"], ["3", "10"]],
+                              "platform": [["0", "0"], ["4", "0"], ["2", "2"]]})
+    for lengths, words in ((np.ones((0, 3)), "no set of leg lengths"), (np.ones((2, 2, 3)), "shape (2, 2, 3)"),
+                           ([1, 2], "expected 3 leg lengths per instance")):
+        with pytest.raises(InputError, match=re.escape(words)):
+            parse_lengths(planar, lengths)
+    rows, texts, batch = parse_lengths(planar, np.ones((2, 3)))
+    assert batch and len(texts) == 2

@@ -212,7 +212,12 @@ def parse_lengths(robot, lengths, parameter="lengths"):
     batch = arr.ndim == 2
     if arr.ndim == 1:
         arr = arr[None, :]
-    if arr.ndim != 2 or arr.shape[1] != robot.n_legs or arr.shape[0] == 0:
+    if arr.ndim == 2 and arr.shape[0] == 0:
+        raise InputError(parameter, "", "no set of leg lengths (an empty array)")
+    if arr.ndim != 2:
+        raise InputError(parameter, "", f"expected {robot.n_legs} leg lengths, or one row of {robot.n_legs} per instance "
+                                        f"(a 2-D array), got an array of shape {arr.shape}")
+    if arr.shape[1] != robot.n_legs:
         raise InputError(parameter, "", f"expected {robot.n_legs} leg lengths per instance")
     rows, texts = [], []
     for i, row in enumerate(arr):
