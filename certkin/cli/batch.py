@@ -21,7 +21,7 @@ import time
 from tqdm import tqdm
 
 from ..batch import PENDING, read_jobs, run_batch
-from ..batch.results import ERROR, certificate_path, done, file_facts, row, write_document, \
+from ..batch.results import ERROR, SUMMARY, certificate_path, done, file_facts, row, write_document, \
     write_error
 from ..display import printable
 from ..errors import InputError
@@ -226,6 +226,13 @@ def _check(args, jobs) -> None:
             raise InputError("--scheduler", args.scheduler, "needs dask.distributed (pip install -e \".[dask]\")")
     if not jobs:
         raise InputError(str(args.jobs), "", "no jobs in the file (one JSON object a line)")
+    source = os.path.realpath(args.jobs)
+    name = os.path.basename(source)
+    ours = os.path.dirname(source) == os.path.realpath(args.out) and (
+        name == SUMMARY or any(name in (f"{j['id']}.json", f"{j['id']}.cert") for j in jobs))
+    if ours or args.report is not None and os.path.realpath(args.report) == source:
+        raise InputError(str(args.jobs), "", "the batch would overwrite its own jobs file (a result or the "
+                                             "report has its name): move it or give another --out")
 
 
 def run(args):

@@ -115,3 +115,17 @@ def test_text_of_a_jobs_file_cannot_forge_lines_of_the_table(cli, jobs):
     assert run.code == 0 and "error a: no\\nsuch\\x1b[2K  fk complete 99: no such file" in run.out
     assert not any(line.strip().startswith("fk complete") for line in run.out.splitlines())
     assert all(c.isprintable() for c in run.out.replace("\n", ""))
+
+
+def test_a_jobs_file_the_batch_would_overwrite_is_refused(cli, tmp_path):
+    """A jobs file inside --out named like one of the batch's files (summary.json, <id>.json) would be
+    overwritten by the run: refused, nothing written."""
+    out = tmp_path / "out"
+    out.mkdir()
+    for name in ("summary.json", "a.json"):
+        path = out / name
+        path.write_text(json.dumps(JOB) + "\n")
+        run = cli("batch", str(path), "--out", str(out))
+        assert run.code == 2 and "overwrite its own jobs file" in run.err
+        assert path.read_text() == json.dumps(JOB) + "\n" and sorted(p.name for p in out.iterdir()) == [name]
+        path.unlink()
