@@ -44,17 +44,25 @@ def untimed(doc):
 def locked(out):
     """Hold ``DIR/.certkin-batch.lock`` (an advisory lock) while a batch writes in ``out``: a second batch
     on the same directory is refused (``InputError``) instead of removing the first one's temporary
-    files or writing the same jobs at once.  The lock file stays (empty); the lock ends with the process."""
-    fd = os.open(Path(out) / LOCK, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o666)
+    files or writing the same jobs at once.  The lock file stays (empty); the lock ends with the process.
+    Where the file system cannot lock (some network file systems), the batch runs unlocked."""
     try:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise InputError("--out", str(out), "another certkin batch is writing in this directory "
-                                                "(wait for it, or give another --out)") from None
+        fd = os.open(Path(out) / LOCK, os.O_RDONLY | os.O_CREAT | os.O_CLOEXEC, 0o666)
+    except OSError:
+        fd = None
+    try:
+        if fd is not None:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                raise InputError("--out", str(out), "another certkin batch is writing in this directory "
+                                                    "(wait for it, or give another --out)") from None
+            except OSError:
+                pass
         yield
     finally:
-        os.close(fd)
+        if fd is not None:
+            os.close(fd)
 
 
 def document_path(out, jid: str) -> Path:
