@@ -18,18 +18,16 @@ import os
 import sys
 import time
 
-from tqdm import tqdm
-
 from ..batch import PENDING, read_jobs, run_batch
 from ..batch.results import ERROR, SUMMARY, certificate_path, done, file_facts, row, write_document, \
     write_error
 from ..display import printable
 from ..errors import InputError
-from ..report import batch_report
 from ..robots import load_robot, robot_from_dict
 from ..robots.files import robot_file_bytes
 from . import COMMANDS as CLI_COMMANDS
-from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, write_certificate
+from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, report_writer, \
+    write_certificate
 
 COMMANDS = ("fk", "singular", "trajectory", "plan", "workspace")
 OUTPUTS = ("json", "certificate", "report", "plot", "progress")   # the batch writes a job's outputs itself
@@ -240,13 +238,16 @@ def run(args):
         raise InputError("JOBS.jsonl", "", "empty file name")
     jobs = read_jobs(args.jobs)
     _check(args, jobs)
-    bar = tqdm(total=len(jobs), desc="jobs", unit="job", file=sys.stderr, leave=False) if args.progress else None
+    bar = None
+    if args.progress:
+        from tqdm import tqdm             # a bar only with --progress
+        bar = tqdm(total=len(jobs), desc="jobs", unit="job", file=sys.stderr, leave=False)
     summary = run_batch(jobs, args.out, run_job, args.workers, args.scheduler,
                         (lambda r: bar.update(1)) if bar else None, preload(jobs))
     if bar:
         bar.close()
     if args.report:
-        batch_report(summary, args.out, args.report)
+        report_writer("batch_report")(summary, args.out, args.report)
     print(json.dumps(summary) if args.json else table(summary, args.out))
     return 130 if summary["interrupted"] else 0
 

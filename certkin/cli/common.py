@@ -20,8 +20,6 @@ import sys
 import tempfile
 from typing import Callable
 
-from tqdm import tqdm
-
 from ..certificates.writing import atomic_path, replaced_file
 from ..engine import Budget, interrupt
 from ..engine.budgets import MAX_MEMORY, positive_integer, positive_number
@@ -88,6 +86,7 @@ def progress(enabled, what="boxes", extra="frontier"):
     ``extra=value``; the engine calls it with the boxes processed and the frontier's size), or None."""
     if not enabled:
         return None
+    from tqdm import tqdm                 # a bar only with --progress
     bar = tqdm(desc=what, unit="", file=sys.stderr, leave=False)
 
     def update(done, value):
@@ -193,6 +192,13 @@ def add_outputs(p, certificate_help="write the certificate to FILE"):
     p.add_argument("--certificate", metavar="FILE", help=certificate_help)
     p.add_argument("--report", metavar="FILE.html", help="write a self-contained HTML report")
     p.add_argument("--progress", action="store_true", help="show progress on stderr")
+
+
+def report_writer(name: str):
+    """The function ``name`` of ``certkin.report``, imported when a report is asked for: the report
+    modules and their plots would cost every command about 20 ms of start-up."""
+    from .. import report
+    return getattr(report, name)
 
 
 # ----------------------------------------------------------------- output paths

@@ -10,11 +10,10 @@ from .. import display
 from ..certificates import fk_certificate
 from ..engine import budgets
 from ..fk import forward_kinematics
-from ..report import fk_report
 from ..robots import load_robot
 from ..robots.poses import parse_pose
-from .common import (Answer, add_budget, add_outputs, budget, check_outputs, options, progress, refuse, run_answer,
-                     with_angles)
+from .common import (Answer, add_budget, add_outputs, budget, check_outputs, options, progress, refuse, report_writer,
+                     run_answer, with_angles)
 
 OPTIONS = {"lengths": "--lengths", "domain": "--domain", "track": "--track"}
 
@@ -45,7 +44,7 @@ def compute(args, robot=None) -> Answer:
                                     record=bool(getattr(args, "certificate", None)))
     return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
                   lambda: fk_certificate(result),
-                  lambda path, cert: fk_report(robot, result, path, cert, budget(args)))
+                  lambda path, cert: report_writer("fk_report")(robot, result, path, cert, budget(args)))
 
 
 def run(args):

@@ -4,10 +4,10 @@ from __future__ import annotations
 import sys
 
 from ..engine import budgets
-from ..report import plan_report
 from ..robots import load_robot
 from ..trajectory import plan
-from .common import Answer, add_budget, add_outputs, budget, check_outputs, count, options, progress, run_answer
+from .common import (Answer, add_budget, add_outputs, budget, check_outputs, count, options, progress, report_writer,
+                     run_answer)
 
 OPTIONS = {"start": "--from", "goal": "--to", "constraints": "--constraints", "divisions": "--divisions",
            "margin": "--margin", "max_edges": "--max-edges"}
@@ -37,7 +37,7 @@ def compute(args, robot=None) -> Answer:
                       progress=progress(args.progress, "segments verified", "batch"))
     return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
                   result.certificate if result.segments else None,
-                  lambda path, cert: plan_report(robot, result, path, cert, budget(args)))
+                  lambda path, cert: report_writer("plan_report")(robot, result, path, cert, budget(args)))
 
 
 def run(args):

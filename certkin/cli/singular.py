@@ -6,11 +6,10 @@ from ..certificates import singularity_certificate
 from ..engine import budgets
 from ..errors import InputError
 from ..plots import plot_cells
-from ..report import singularity_report
 from ..robots import load_robot
 from ..singularity import classify_cells, largest_free_box
 from .common import (Answer, add_budget, add_outputs, budget, check_outputs, count, options, progress, refuse,
-                     run_answer, with_angles)
+                     report_writer, run_answer, with_angles)
 
 OPTIONS = {"box": "--box", "pose": "--around", "scale": "--scale", "plot": "--plot", "n": "--cells"}
 
@@ -60,7 +59,7 @@ def compute(args, robot=None) -> Answer:
         doc = results[0].to_json()
     return Answer(robot, results, doc, lambda: _text(robot, results, counts, args.cells),
                   lambda: singularity_certificate(results),
-                  lambda path, cert: singularity_report(robot, results, path, cert, budget(args)),
+                  lambda path, cert: report_writer("singularity_report")(robot, results, path, cert, budget(args)),
                   lambda path: plot_cells(robot, results, path))
 
 

@@ -3,10 +3,9 @@ from __future__ import annotations
 
 from .. import display
 from ..engine import budgets
-from ..report import trajectory_report
 from ..robots import load_robot
 from ..trajectory import verify_trajectory
-from .common import Answer, add_budget, add_outputs, budget, check_outputs, options, progress, run_answer
+from .common import Answer, add_budget, add_outputs, budget, check_outputs, options, progress, report_writer, run_answer
 
 OPTIONS = {"start": "--from", "goal": "--to", "waypoints": "--via", "constraints": "--constraints"}
 
@@ -29,7 +28,7 @@ def compute(args, robot=None) -> Answer:
         result = verify_trajectory(robot, args.start, args.goal, waypoints=list(args.via or []),
                                    constraints=args.constraints, budget=budget(args), progress=progress(args.progress))
     return Answer(robot, result, result.to_json(), lambda: describe(robot, result), result.certificate,
-                  lambda path, cert: trajectory_report(robot, result, path, cert, budget(args)))
+                  lambda path, cert: report_writer("trajectory_report")(robot, result, path, cert, budget(args)))
 
 
 def run(args):

@@ -5,13 +5,13 @@ from .. import display
 from ..engine import budgets
 from ..errors import InputError
 from ..plots import plot_section, plot_volume
-from ..report import workspace_report
 from ..robots import load_robot
 from ..workspace import VolumeResult, workspace_section, workspace_volume
 from ..workspace.annuli import ORIENTATION, check_robot
 from ..workspace.section import ignored_limits
 from ..workspace.volume import DEFAULT_SLABS, MAX_SLABS
-from .common import Answer, add_budget, add_outputs, budget, check_outputs, count, options, progress, refuse, run_answer
+from .common import (Answer, add_budget, add_outputs, budget, check_outputs, count, options, progress, refuse,
+                     report_writer, run_answer)
 
 OPTIONS = {"orientation": "--orientation", "z": "--z", "z_range": "--z-range", "slabs": "--slabs", "plot": "--plot"}
 DEFAULT = budgets.WORKSPACE
@@ -49,7 +49,7 @@ def compute(args, robot=None) -> Answer:
         result = _solve(args, robot)
     plot = plot_volume if isinstance(result, VolumeResult) else plot_section
     return Answer(result.robot, result, result.to_json(), lambda: describe(result), result.certificate,
-                  lambda path, cert: workspace_report(result.robot, result, path, cert, budget(args)),
+                  lambda path, cert: report_writer("workspace_report")(result.robot, result, path, cert, budget(args)),
                   lambda path: plot(result, path))
 
 
