@@ -12,7 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 import time
 
-from .cluster import run_dask
+from .cluster import connect, run_dask
 from .jobs import ERROR, read_jobs
 from .local import Died, run_local
 from .results import FAILED, locked, remove_leftovers, row, summarise, write_error, write_summary
@@ -26,13 +26,14 @@ def run_batch(jobs: list, out, work, workers: int = 1, scheduler: str | None = N
     skipping a job already done there); write and return ``summary.json``.  ``on_row(row)`` is
     called as each job ends.  Jobs that could not be read are answered here with their error.
     ``preload``: modules the local workers import once, before the first job (in their fork server)."""
+    client = connect(scheduler) if scheduler else None       # before anything is written
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     with locked(out):
-        return _run(jobs, out, work, workers, scheduler, on_row, preload)
+        return _run(jobs, out, work, workers, scheduler, client, on_row, preload)
 
 
-def _run(jobs, out: Path, work, workers, scheduler, on_row, preload) -> dict:
+def _run(jobs, out: Path, work, workers, scheduler, client, on_row, preload) -> dict:
     t0, c0 = time.perf_counter(), time.process_time()
     ids = [job["id"] for job in jobs]
     remove_leftovers(out, ids)              # of an earlier run killed while writing
@@ -57,7 +58,7 @@ def _run(jobs, out: Path, work, workers, scheduler, on_row, preload) -> dict:
         record(todo[k], value)
 
     if scheduler:
-        interrupted, workers_cpu = run_dask(tasks, work, scheduler, report), None
+        interrupted, workers_cpu = run_dask(tasks, work, client, report), None
     else:
         interrupted, workers_cpu = run_local(tasks, work, workers, report, preload=preload) if tasks else (False, 0.0)
     if not (scheduler and interrupted):     # (a cancelled Dask task may still be writing)

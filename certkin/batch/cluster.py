@@ -10,16 +10,27 @@ system).
 """
 from __future__ import annotations
 
+from ..errors import InputError
 from .local import Died
 
 
-def run_dask(tasks: list, work, address: str, report) -> bool:
-    """Run ``work(*tasks[i])`` for every i on the Dask cluster at ``address``; ``report(i, value)``
-    as each ends.  Returns True when Ctrl-C stopped the run."""
-    from dask.distributed import Client, as_completed
+def connect(address: str):
+    """A client of the Dask scheduler at ``address`` (``InputError`` naming ``scheduler`` when none
+    answers there within Dask's connection timeout, 30 s by default)."""
+    from dask.distributed import Client
+    try:
+        return Client(address)
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:
+        raise InputError("scheduler", address, f"no Dask scheduler answers there ({exc})") from None
+
+
+def run_dask(tasks: list, work, client, report) -> bool:
+    """Run ``work(*tasks[i])`` for every i on the Dask cluster of ``client`` (``connect``), closed at
+    the end; ``report(i, value)`` as each ends.  Returns True when Ctrl-C stopped the run."""
+    from dask.distributed import as_completed
     from distributed.scheduler import KilledWorker
 
-    with Client(address) as client:
+    with client:
         futures = {client.submit(work, *task, pure=False): i for i, task in enumerate(tasks)}
         try:
             for future in as_completed(futures):

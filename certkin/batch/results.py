@@ -55,8 +55,8 @@ def locked(out):
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
-                raise InputError("--out", str(out), "another certkin batch is writing in this directory "
-                                                    "(wait for it, or give another --out)") from None
+                raise InputError("out", str(out), "another certkin batch is writing in this directory "
+                                                  "(wait for it, or give another --out)") from None
             except OSError:
                 pass
         yield

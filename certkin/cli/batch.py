@@ -26,8 +26,8 @@ from ..errors import InputError
 from ..robots import load_robot, robot_from_dict
 from ..robots.files import robot_file_bytes
 from . import COMMANDS as CLI_COMMANDS
-from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, report_writer, \
-    write_certificate
+from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, options, \
+    report_writer, write_certificate
 
 COMMANDS = ("fk", "singular", "trajectory", "plan", "workspace")
 OUTPUTS = ("json", "certificate", "report", "plot", "progress")   # the batch writes a job's outputs itself
@@ -238,14 +238,18 @@ def run(args):
         raise InputError("JOBS.jsonl", "", "empty file name")
     jobs = read_jobs(args.jobs)
     _check(args, jobs)
-    bar = None
-    if args.progress:
-        from tqdm import tqdm             # a bar only with --progress
-        bar = tqdm(total=len(jobs), desc="jobs", unit="job", file=sys.stderr, leave=False)
-    summary = run_batch(jobs, args.out, run_job, args.workers, args.scheduler,
-                        (lambda r: bar.update(1)) if bar else None, preload(jobs))
-    if bar:
-        bar.close()
+    bar = []                              # --progress: the bar, from the first job's end (not before a refusal)
+
+    def tick(row):
+        if not bar:
+            from tqdm import tqdm         # a bar only with --progress
+            bar.append(tqdm(total=len(jobs), desc="jobs", unit="job", file=sys.stderr, leave=False))
+        bar[0].update(1)
+    with options({"out": "--out", "scheduler": "--scheduler"}):
+        summary = run_batch(jobs, args.out, run_job, args.workers, args.scheduler, tick if args.progress else None,
+                            preload(jobs))
+    for b in bar:
+        b.close()
     if args.report:
         report_writer("batch_report")(summary, args.out, args.report)
     print(json.dumps(summary) if args.json else table(summary, args.out))

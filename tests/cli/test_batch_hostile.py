@@ -129,3 +129,13 @@ def test_a_jobs_file_the_batch_would_overwrite_is_refused(cli, tmp_path):
         assert run.code == 2 and "overwrite its own jobs file" in run.err
         assert path.read_text() == json.dumps(JOB) + "\n" and sorted(p.name for p in out.iterdir()) == [name]
         path.unlink()
+
+
+def test_a_scheduler_nobody_answers_at_is_refused_before_anything_is_written(cli, jobs, tmp_path):
+    """``--scheduler`` at an address where no Dask scheduler answers: exit 2, one line naming
+    --scheduler, no output directory created (the connection is made first)."""
+    dask = pytest.importorskip("dask")
+    with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
+        run = cli("batch", ok(jobs), "--out", "{tmp}/out", "--scheduler", "tcp://127.0.0.1:1")
+    refused(run, "--scheduler", "tcp://127.0.0.1:1", "no Dask scheduler")
+    assert not (tmp_path / "out").exists()
