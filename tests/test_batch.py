@@ -491,3 +491,34 @@ def test_a_second_batch_on_the_same_directory_is_refused_while_the_first_writes(
         os.close(fd)
     assert main(["batch", str(tmp_path / "jobs.jsonl"), "--out", str(out), "--workers", "1"]) == 0
     assert (out / "good.json").exists() and (out / "summary.json").exists()
+
+
+@pytest.mark.parametrize("busy", [False, True], ids=["idle", "with chunks in flight"])
+def test_a_worker_found_dead_when_handed_a_chunk_is_replaced_and_the_chunk_runs(monkeypatch, busy):
+    """A worker that died after its chunks were collected makes ``submit`` raise BrokenProcessPool (a
+    race a killed worker can win): the chunk goes back to the queue uncharged, and the worker is
+    replaced at once when nothing of it is left to collect; every task is reported once, with its
+    answer (the batch crashed before)."""
+    from concurrent.futures.process import BrokenProcessPool
+    real, raised, workers = local._Worker, [], []
+
+    class DiesOnce(real):
+        def __init__(self, context):
+            super().__init__(context)
+            workers.append(self)
+            submit = self.executor.submit
+
+            def flaky(fn, *args):
+                if not raised and bool(self.tasks) == busy:
+                    raised.append(len(self.tasks))
+                    raise BrokenProcessPool("the worker died")
+                return submit(fn, *args)
+            self.executor.submit = flaky
+    monkeypatch.setattr(local, "_Worker", DiesOnce)
+    tasks = [({"id": f"j{k}", "x": k}, "unused") for k in range(40)]
+    reports = []
+    interrupted, _ = local.run_local(tasks, square_or_die, 1, lambda i, v: reports.append((i, v)))
+    assert not interrupted and raised and bool(raised[0]) == busy
+    assert len(workers) == (1 if busy else 2)
+    assert sorted(i for i, _ in reports) == list(range(40))
+    assert all(v["square"] == tasks[i][0]["x"] ** 2 for i, v in reports)

@@ -148,10 +148,18 @@ def run_local(tasks: list, work, workers: int, report, retries: int = RETRIES,
     pool = [_Worker(context) for _ in range(max(1, min(workers, len(tasks))))]
     try:
         while queue or any(w.tasks for w in pool):
-            for w in pool:
+            for k, w in enumerate(pool):
                 while queue and len(w.tasks) < IN_FLIGHT:
                     chunk = queue.chunk(len(pool))
-                    w.tasks.append((chunk, w.executor.submit(run_chunk, work, [tasks[i] for i in chunk])))
+                    try:
+                        future = w.executor.submit(run_chunk, work, [tasks[i] for i in chunk])
+                    except BrokenProcessPool:      # the worker died since its tasks were last collected
+                        queue.again(chunk)         # (this chunk never ran: back, uncharged)
+                        if not w.tasks:            # nothing of it left to collect: a fresh worker now
+                            w.stop()
+                            pool[k] = _Worker(context)
+                        break
+                    w.tasks.append((chunk, future))
             wait([f for w in pool for _, f in w.tasks], return_when=FIRST_COMPLETED)
             for k, w in enumerate(pool):
                 if _collect(w, report, queue, attempts, retries):

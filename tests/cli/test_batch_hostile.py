@@ -134,7 +134,8 @@ def test_a_jobs_file_the_batch_would_overwrite_is_refused(cli, tmp_path):
 def test_a_scheduler_nobody_answers_at_is_refused_before_anything_is_written(cli, jobs, tmp_path):
     """``--scheduler`` at an address where no Dask scheduler answers: exit 2, one line naming
     --scheduler, no output directory created (the connection is made first)."""
-    dask = pytest.importorskip("dask")
+    pytest.importorskip("dask.distributed")      # its configuration loaded first: the set below restores it after
+    import dask
     with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
         run = cli("batch", ok(jobs), "--out", "{tmp}/out", "--scheduler", "tcp://127.0.0.1:1")
     refused(run, "--scheduler", "tcp://127.0.0.1:1", "no Dask scheduler")
