@@ -37,6 +37,10 @@ NEEDS = {"fk": ("lengths",), "singular": ("box", "cells"), "trajectory": ("start
 OPTION = {"lengths": "--lengths", "box": "--box", "cells": "--cells", "start": "--from", "goal": "--to"}
 
 
+WRITTEN = ("id", "command", "robot")
+GIVEN_BY = {"id": "--prefix", "command": "--command", "robot": "ROBOT", "lengths": "--lengths", "box": "--box and --cells",
+            "from": "--from", "to": "--to"}
+
 USED = {"fk": ("lengths",), "singular": ("box", "cells"), "trajectory": ("start", "goal", "count", "seed", "decimals")}
 
 
@@ -54,7 +58,10 @@ def run(args):
         key, eq, value = item.partition("=")
         if not eq or not key.strip():
             raise InputError("--set", item, "expected KEY=VALUE")
-        extra[key.strip().replace("-", "_")] = True if value.strip() == "true" else value.strip()
+        key = key.strip().replace("-", "_")
+        if key in extra:
+            raise InputError("--set", item, "set twice")
+        extra[key] = True if value.strip() == "true" else value.strip()
     robot = load_robot(args.robot)
     prefix = args.prefix or args.command
     if args.command == "fk":
@@ -63,6 +70,10 @@ def run(args):
         jobs = cell_jobs(args.robot, robot, args.box, args.cells, prefix)
     else:
         jobs = trajectory_jobs(args.robot, robot, args.start, args.goal, args.count, args.seed, args.decimals, prefix)
+    for key in extra:                   # what the generator writes is not overridden (every job alike)
+        if key in WRITTEN or (jobs and key in jobs[0]):
+            raise InputError("--set", key, "written by the generator"
+                             + (f" (from {GIVEN_BY[key]})" if key in GIVEN_BY else "") + ", not by --set")
     if extra and jobs:                  # the options of --set are checked once, as the batch will read them
         try:
             parse_job({**jobs[0], **extra})

@@ -40,6 +40,13 @@ HOSTILE = [
     (FK + ["--set", "max_seconds=nan"], ["--set", "--max-seconds"]),   # checked as the batch will read it
     (FK + ["--set", "bogus=1"], ["--set", "--bogus"]),
     (FK + ["--set", "certificate=x"], ["--set", "certificate"]),
+    (FK + ["--set", "lengths=1,2,3"], ["--set", "lengths", "--lengths"]),   # once: every job the same lengths
+    (FK + ["--set", "id=x"], ["--set", "id", "--prefix"]),                  # once: every job the same id
+    (FK + ["--set", "robot=other.toml"], ["--set", "robot"]),
+    (FK + ["--set", "command=singular"], ["--set", "command"]),
+    (CELLS + ["--cells", "2", "--set", "box=x=0:1"], ["--set", "box"]),
+    (TRAJ + ["--count", "2", "--set", "from=0,0,0"], ["--set", "from", "--from"]),
+    (FK + ["--set", "max_boxes=5", "--set", "max-boxes=6"], ["--set", "twice"]),   # once: the last one won
     (FK + ["--prefix", "../x"], ["--prefix"]),
     (FK + ["--prefix", ""], ["--prefix"]),
     (["jobs", "grid", "{tmp}", "--command", "fk", "--lengths", "L1=1,L2=1,L3=1"], ["directory"]),
