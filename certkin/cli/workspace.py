@@ -88,7 +88,7 @@ def describe(result) -> str:
                 f"at {orient}: {result.status}\n"
                 f"  volume in [{display.lower(max(vin, 0.0))}, {display.upper(vout)}] ({len(result.pavings)} slabs; "
                 f"{c['inner_boxes']} inside, {c['boundary_boxes']} boundary, {c['outside_boxes']} outside boxes) "
-                f"[{result.stats['boxes']} boxes, {result.stats['seconds']:.3f} s]" + note)
+                f"[{result.stats['boxes']} boxes, {result.stats['seconds']:.3f} s{_stopped(result)}]" + note)
     where = "" if result.z is None else f"z = {result.z}, "
     lines = [f"{result.robot.name}: section {where}{orient}: {result.status}"]
     b = result.boundary
@@ -103,5 +103,11 @@ def describe(result) -> str:
     c = result.counts()
     lines.append(f"  paving: area in [{display.lower(max(result.inner, 0.0))}, {display.upper(result.outer)}] "
                  f"({c['inner_boxes']} inside, {c['boundary_boxes']} boundary, {c['outside_boxes']} outside boxes) "
-                 f"[{result.stats['boxes']} boxes, {result.stats['seconds']:.3f} s]")
+                 f"[{result.stats['boxes']} boxes, {result.stats['seconds']:.3f} s{_stopped(result)}]")
     return "\n".join(lines) + note
+
+
+def _stopped(result) -> str:
+    """Said when a budget (boxes, seconds, memory) stopped the paving before --min-width: its
+    bracket is true but wider than that resolution would give."""
+    return "; budget exhausted before --min-width" if result.stats.get("exhausted") else ""

@@ -61,3 +61,13 @@ def test_a_fine_paving_stays_under_the_memory_ceiling(tmp_path):
     from conftest import limited
     run = limited(Z + ["--min-width", "1e-12", "--max-boxes", "1e9", "--max-seconds", "3"], tmp_path)
     answered(run, "paving: area in [")
+
+
+def test_a_paving_stopped_by_its_budget_says_so(cli):
+    """A box budget that runs out leaves a true but coarse bracket: the text says the budget stopped
+    it (the JSON's ``stats.exhausted``), and a paving that reached --min-width does not."""
+    answered(cli(*Z, "--max-boxes", "200"), "budget exhausted before --min-width")
+    answered(cli(*W, "--z-range", "20000:20010", "--slabs", "4", "--max-boxes", "200"), "budget exhausted before --min-width")
+    run = cli(*Z, "--min-width", "0.05")
+    answered(run, "paving: area in [")
+    assert "budget exhausted" not in run.out
