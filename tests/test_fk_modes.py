@@ -140,6 +140,25 @@ def test_lengths_at_a_singular_pose_give_a_cluster_and_a_complete_answer():
     assert not complete_without.check().ok
 
 
+def test_a_report_names_the_cluster(tmp_path):
+    """The report of an answer with a cluster once said "0 assembly modes, each proved unique in its
+    box; the rest of the domain is proved to hold none" and "No posture.": the cluster may hold the
+    (double) posture, so the verdict names it and the table lists its box."""
+    from certkin.report.fk import fk_report, fk_verdict
+    robot = planar(ISSUE_BASE, ISSUE_PLATFORM)
+    result = forward_kinematics(robot, planar_lengths(robot, singular_pose(robot), 17))
+    assert result.complete and len(result.clusters) == 1
+    verdict = fk_verdict(result)
+    assert verdict.startswith("0 assembly modes proved unique in their boxes, 1 cluster that may hold postures")
+    fk_report(robot, result, tmp_path / "r.html")
+    page = (tmp_path / "r.html").read_text()
+    assert "cluster 1" in page and "No posture." not in page
+    cut = forward_kinematics(robot, planar_lengths(robot, (5.0, 5.0, 0.0), 17), max_boxes=10)
+    assert not cut.complete
+    assert fk_verdict(cut).endswith("left unresolved (the budget (boxes, seconds or memory) ran out before every "
+                                    "region was decided).")
+
+
 def test_a_continuum_of_modes_ends_undecided_with_a_message():
     """Congruent base and platform with equal legs: the platform translates on a circle (phi = 0),
     a continuum; the search cannot finish, says so, and claims nothing about it."""

@@ -71,11 +71,15 @@ def describe(robot, r):
     """Each assembly mode's box (an enclosure: printed outward), each cluster and unresolved region
     outward; with length ranges a mode's box holds its posture for every length in the ranges."""
     ranges = any(":" in t for t in r.lengths)
-    clusters = f", {len(r.clusters)} clusters (postures not resolved)" if r.clusters else ""
-    head = (f"{robot.name}: {len(r.solutions)} assembly modes, each proved unique"
-            + (" for every length in the ranges" if ranges else "")
+    c = len(r.clusters)
+    clusters = f", {c} cluster{'s' if c != 1 else ''} (postures not resolved)" if c else ""
+    n, u = len(r.solutions), len(r.unresolved)
+    modes = {0: "0 assembly modes", 1: "1 assembly mode, proved unique"}.get(n, f"{n} assembly modes, each proved unique")
+    head = (f"{robot.name}: {modes}"
+            + (" for every length in the ranges" if ranges and n else "")
             + (" (tracked from the previous pose)" if r.tracked else
-               f"{clusters}; complete" if r.complete else f"{clusters}; INCOMPLETE, {len(r.unresolved)} unresolved regions"))
+               f"{clusters}; complete" if r.complete else
+               f"{clusters}; INCOMPLETE, {u} unresolved region{'s' if u != 1 else ''}"))
     lines = [head + f" [{r.boxes} boxes, {r.seconds:.3f} s]"]
     for k, s in enumerate(r.solutions):
         lines.append(f"  {k + 1}: " + ", ".join(f"{n}={display.interval(v, 12)}" for n, v in s["pose"].items()))

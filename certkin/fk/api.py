@@ -21,7 +21,7 @@ import numpy as np
 
 from intervals import Interval, sqr
 
-from ..engine import PROVED, RESOLUTION, UNDECIDED, Budget, budgets
+from ..engine import BUDGET, PROVED, RESOLUTION, UNDECIDED, Budget, budgets
 from ..certificates.fk import record_sink
 from ..engine.budgets import make_budget
 from ..robots import as_robot
@@ -167,6 +167,8 @@ def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
         mine = slice(und_starts[k], und_starts[k + 1])
         r.cluster_leaves = und_sorted[mine][at_limit[mine]]
         pending = [(tree.lo[j], tree.hi[j]) for j in und_sorted[mine][~at_limit[mine]]]
+        if np.any(tree.reason[und_sorted[mine]] == BUDGET):
+            r.message = BUDGET_MESSAGE
         _merge(r, system, proved[sel], (slo[sel], shi[sel], star_C[sel]), rlo[sel], rhi[sel], rC[sel], lo[i], hi[i],
                pending)
         pendings.append(pending)
@@ -309,13 +311,14 @@ def _finish(result, system, pending, angle_filter, computed=None):
                                       "platform_points": [[pts[j, i, c] for c in range(pts.shape[2])]
                                                           for i in range(pts.shape[1])]})
         result.complete = False
-        if len(result.clusters) > 1 and not result.message:
+        if len(result.clusters) > 1 and result.message in ("", BUDGET_MESSAGE):
             result.message = (f"the budget ran out after the search reached the resolution limit in "
                               f"{len(result.clusters)} separate places without proving a posture there: the "
                               "postures may form a continuum (a self-motion) or be singular")
     result.solutions.sort(key=lambda s: [float(v.lo) for v in s["pose"].values()])
 
 
+BUDGET_MESSAGE = "the budget (boxes, seconds or memory) ran out before every region was decided"
 CLUSTER_GAP = 2.0 ** -20     # cluster leaves closer than this (relative to the domain) or than their own width join
 CONTINUUM = 1000.0           # a cluster this many times longer than its leaves,
 CONTINUUM_EXTENT = 2.0 ** -10  # and this long relative to the domain, suggests a continuum of postures

@@ -5,13 +5,17 @@ from .page import enclosure, esc, evidence_section, robot_section, table, tree_e
 
 
 def fk_verdict(result) -> str:
-    n = len(result.solutions)
+    """The verdict in one line; never "the rest holds none" while a cluster may hold postures."""
+    n, c, u = len(result.solutions), len(result.clusters), len(result.unresolved)
     if result.tracked:
         return "Tracked: exactly one posture in the box around the previous pose (proved unique there)."
+    modes = f"{n} assembly mode{'s' if n != 1 else ''} proved unique in {'its box' if n == 1 else 'their boxes'}"
+    clusters = (f", {c} cluster{'s' if c != 1 else ''} that may hold postures (not resolved: a singular pose, "
+                "postures closer than the resolution, or a continuum)") if c else ""
     if result.complete:
-        return f"{n} assembly modes, each proved unique in its box; the rest of the domain is proved to hold none (complete)."
-    return (f"INCOMPLETE: {n} assembly modes proved unique, and {len(result.unresolved)} regions left unresolved "
-            "(a budget ran out, or the search was interrupted).")
+        return f"{modes}{clusters}; the rest of the domain is proved to hold none (complete)."
+    why = f" ({result.message})" if result.message else " (a budget ran out, or the search was interrupted)"
+    return f"INCOMPLETE: {modes}{clusters}, and {u} region{'s' if u != 1 else ''} left unresolved{why}."
 
 
 def fk_report(robot, result, path, certificate=None, budget=None) -> None:
@@ -34,7 +38,8 @@ def fk_report(robot, result, path, certificate=None, budget=None) -> None:
         "the boxes are enclosures, printed outward.</p>")))
     rows = [[k + 1] + [enclosure((float(s["pose"][n].lo), float(s["pose"][n].hi))) for n in names]
             for k, s in enumerate(result.solutions)]
-    rows += [[f"unresolved {k + 1}"] + [enclosure((float(s["pose"][n].lo), float(s["pose"][n].hi))) for n in names]
-             for k, s in enumerate(result.unresolved)]
+    rows += [[f"{kind} {k + 1}"] + [enclosure((float(s["pose"][n].lo), float(s["pose"][n].hi))) for n in names]
+             for kind, regions in (("cluster", result.clusters), ("unresolved", result.unresolved))
+             for k, s in enumerate(regions)]
     sections.append(("Assembly modes", table(["mode"] + names, rows) if rows else "<p>No posture.</p>"))
     write_report(path, f"Forward kinematics: {robot.name}", fk_verdict(result), sections, certificate)

@@ -5,6 +5,7 @@ import zipfile
 
 import pytest
 
+import certkin
 import certkin.cli.fk
 from certkin.certificates.writing import NotRegularFile, write_text
 from conftest import MEL, R2, answered, refused
@@ -86,7 +87,21 @@ def test_a_long_spatial_search_stays_under_the_memory_ceiling(tmp_path):
     regions = [ln for ln in lines if ln.startswith("  unresolved ")]
     modes = [ln for ln in lines if ln[2:].split(":")[0].strip().isdigit()]
     assert 0 < len(regions) <= 20 and run.left == ["f.cert"]           # at most 20 regions, then one line
-    assert len(lines) == 1 + len(modes) + len(regions) + ("more unresolved regions" in lines[-1])
+    more = [ln for ln in lines if "more unresolved regions" in ln]
+    assert lines[-1] == "  note: the budget (boxes, seconds or memory) ran out before every region was decided"
+    assert len(lines) == 1 + len(modes) + len(regions) + len(more) + 1
+
+
+def test_an_answer_cut_by_its_budget_says_so(cli):
+    """'INCOMPLETE' alone did not say why: a budget that ran out is named (text and JSON), a complete
+    answer carries no such note, and one region or one mode is counted in the singular."""
+    run = cli(*F, "--max-boxes", "10")
+    answered(run, "0 assembly modes; INCOMPLETE, 1 unresolved region [10 boxes",
+             "note: the budget (boxes, seconds or memory) ran out")
+    assert certkin.forward_kinematics(R2, L, max_boxes=10).to_json()["message"].startswith("the budget")
+    full = certkin.forward_kinematics(R2, L)
+    assert full.complete and "message" not in full.to_json()
+    assert "note:" not in cli(*F).out
 
 
 def test_outputs_onto_a_pipe_are_refused_and_a_link_is_replaced(cli, tmp_path):
