@@ -24,11 +24,14 @@ def _pose(robot, result, z) -> list:
 
 
 def workspace_verdict(result) -> str:
+    """The verdict in one line (the inner bound rounded down and never below 0, as on the terminal)."""
+    stopped = "; a budget stopped the paving before its resolution" if result.stats.get("exhausted") else ""
     if isinstance(result, VolumeResult):
         vin, vout = result.volume()
-        return f"Workspace volume {result.status}: between {lower(vin)} and {upper(vout)} (certified bracket)."
-    return (f"Workspace section {result.status}: area between {lower(result.inner)} and {upper(result.outer)} "
-            "(certified bracket).")
+        return (f"Workspace volume {result.status}: between {lower(max(vin, 0.0))} and {upper(vout)} "
+                f"(certified bracket{stopped}).")
+    return (f"Workspace section {result.status}: area between {lower(max(result.inner, 0.0))} and "
+            f"{upper(result.outer)} (certified bracket{stopped}).")
 
 
 def workspace_report(robot, result, path, certificate=None, budget=None) -> None:

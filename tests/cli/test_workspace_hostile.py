@@ -71,3 +71,13 @@ def test_a_paving_stopped_by_its_budget_says_so(cli):
     run = cli(*Z, "--min-width", "0.05")
     answered(run, "paving: area in [")
     assert "budget exhausted" not in run.out
+
+
+def test_the_report_says_when_a_budget_stopped_the_paving(tmp_path):
+    from certkin import load_robot
+    from certkin.report.workspace import workspace_verdict
+    from certkin.workspace import workspace_section
+    robot = load_robot(MICRO)
+    cut = workspace_section(robot, "0,0,0", "20005", max_boxes=200)
+    assert workspace_verdict(cut).endswith("(certified bracket; a budget stopped the paving before its resolution).")
+    assert "budget" not in workspace_verdict(workspace_section(robot, "0,0,0", "20005", min_width=0.05))
