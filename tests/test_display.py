@@ -137,3 +137,13 @@ def test_points_and_integers():
     assert display.point(Fraction(1, 4)) == "0.25" and display.point(Fraction(1, 3)) == "1/3"
     assert display.lower(10 ** 400) == "1e400" and display.upper(10 ** 400 + 1) == "1.000000001e400"
     assert display.interval(mpmath.mpi(1, 2) / 3) == "[0.3333333333, 0.6666666667]"
+
+
+def test_a_plotted_slice_of_cells_is_named_by_its_exact_range():
+    """A slice of the cell plot once read "phi in [0.1963, 0.3927]" (outward, 4 digits): wider than the
+    cells proved singularity-free beneath it.  Its bounds are now printed exactly."""
+    from certkin.plots.singularity import slab_title
+    lo, hi = 0.7853981634 / 4, 0.7853981634 / 2
+    title = slab_title("phi", (lo, hi))
+    a, b = title.split("[")[1].rstrip("]").split(", ")
+    assert float(a) == lo and float(b) == hi and title.startswith("phi in [")

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..display import outward
+from ..display import point
 from .figure import pyplot
 
 COLOURS = {"free+": "#4c72b0", "free-": "#55a868", "singular": "#c44e52", "undecided": "#bbbbbb"}
@@ -58,7 +58,7 @@ def plot_cells(robot, results, path, max_slices: int = 6):
         a.set_xlabel(_label(robot, names[ax_x]))
         a.set_ylabel(_label(robot, names[ax_y]))
         if slab is not None:
-            a.set_title(f"{names[k]} in {outward(slab[0], slab[1], 4)}", fontsize=9)
+            a.set_title(slab_title(names[k], slab), fontsize=9)
     for a in list(axes.flat)[len(slabs):]:
         a.axis("off")
     legend = [Patch(color=COLOURS[c], label=t) for c, t in
@@ -68,3 +68,9 @@ def plot_cells(robot, results, path, max_slices: int = 6):
     fig.tight_layout(rect=(0, 0.05, 1, 0.96))
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def slab_title(name: str, slab) -> str:
+    """The range of a slice of cells, exactly: rounded outward it would widen the singularity-free
+    cells drawn under it beyond what was proved, rounded inward the singular ones."""
+    return f"{name} in [{point(slab[0])}, {point(slab[1])}]"
