@@ -15,6 +15,7 @@ import importlib
 import importlib.util
 import json
 import os
+import re
 import sys
 import time
 
@@ -32,6 +33,10 @@ from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_outpu
 COMMANDS = ("fk", "singular", "trajectory", "plan", "workspace")
 OUTPUTS = ("json", "certificate", "report", "plot", "progress")   # the batch writes a job's outputs itself
 FIXED = ("id", "command", "robot")
+OUTPUT_NOTES = {None: "the batch writes DIR/<id>.json and DIR/<id>.cert",
+                "report": "certkin batch --report writes the campaign's report",
+                "progress": "certkin batch --progress shows the batch's progress"}
+OPTION_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_-]*")
 
 
 class JobParser(Parser):
@@ -54,7 +59,12 @@ def parse_job(job: dict):
     if command not in _PARSERS:
         _PARSERS[command] = JobParser(prog=f"certkin {command}")
         module.add_arguments(_PARSERS[command])
-    return module, _PARSERS[command].parse_args(job_argv(job))
+    parser = _PARSERS[command]
+    for key, value in job.items():       # ``true`` for an option that takes a value: argparse's own words mislead
+        action = getattr(parser, "_option_string_actions", {}).get("--" + str(key).replace("_", "-"))
+        if value is True and action is not None and action.nargs != 0:
+            raise InputError(key, "", "expected a value, got true")
+    return module, parser.parse_args(job_argv(job))
 
 
 def command_module(command: str):
@@ -76,7 +86,9 @@ def job_argv(job: dict) -> list[str]:
         if key in FIXED:
             continue
         if key in OUTPUTS:
-            raise InputError(key, "", "not an option of a job: the batch writes DIR/<id>.json and DIR/<id>.cert")
+            raise InputError(key, "", "not an option of a job: " + OUTPUT_NOTES.get(key, OUTPUT_NOTES[None]))
+        if not OPTION_NAME.fullmatch(str(key)):
+            raise InputError(repr(key), "", "not an option name (letters, digits, '_' or '-')")
         option = "--" + key.replace("_", "-")
         if value is True:
             argv.append(option)

@@ -94,16 +94,21 @@ def test_bad_job_lines_are_error_jobs(cli, jobs, tmp_path):
              json.dumps({"id": "b5", "command": "trajectory", "robot": MEL, "from": "-69,-50,1e300,85deg,10deg,0",
                          "to": "84,92,500,85deg,10deg,0"}),
              json.dumps({"id": "../b6", "command": "fk", "robot": R2}),
-             json.dumps({**JOB, "id": "b7", "bogus": 1})]
+             json.dumps({**JOB, "id": "b7", "bogus": 1}),
+             json.dumps({**JOB, "id": "b8", "max_seconds": True}),      # once: "--max-seconds: expected one argument"
+             json.dumps({**JOB, "id": "b9", "max_boxes ": 5}),          # once: "unrecognized arguments: --max-boxes =5"
+             json.dumps({**JOB, "id": "b10", "progress": True})]        # once: "the batch writes DIR/<id>.json"
     run = cli("batch", jobs(*lines), "--out", "{tmp}/out", "--workers", "1", "--json")
     answered(run)
     summary = json.loads(run.out)
     errors = {e["id"]: e["error"] for e in summary["errors"]}
-    assert set(errors) == {"line-2", "b1", "b2", "b3", "b4", "b5", "line-8", "b7"}, errors
+    assert set(errors) == {"line-2", "b1", "b2", "b3", "b4", "b5", "line-8", "b7", "b8", "b9", "b10"}, errors
     for word, jid in (("nested too deeply", "line-2"), ("--max-seconds", "b1"), ("certificate", "b2"),
-                      ("command", "b3"), ("--cells", "b4"), ("--from", "b5"), ("id", "line-8"), ("--bogus", "b7")):
+                      ("command", "b3"), ("--cells", "b4"), ("--from", "b5"), ("id", "line-8"), ("--bogus", "b7"),
+                      ("max_seconds: expected a value, got true", "b8"), ("'max_boxes ': not an option name", "b9"),
+                      ("certkin batch --progress", "b10")):
         assert word in errors[jid] and "\n" not in errors[jid], (jid, errors[jid])
-    assert summary["counts"]["fk complete"] == 1 and summary["jobs"] == 9
+    assert summary["counts"]["fk complete"] == 1 and summary["jobs"] == 12
     assert (tmp_path / "out" / "a.cert").exists()
 
 
