@@ -44,7 +44,9 @@ class FKResult:
 
     def __repr__(self):
         return (f"<FKResult {len(self.solutions)} solutions, {'complete' if self.complete else 'incomplete'}"
-                f"{', tracked' if self.tracked else ''}, {len(self.unresolved)} unresolved; lengths "
+                f"{', tracked' if self.tracked else ''}"
+                f"{f', {len(self.clusters)} clusters (not resolved)' if self.clusters else ''}, "
+                f"{len(self.unresolved)} unresolved; lengths "
                 f"{','.join(self.lengths)}>")
 
     def to_json(self) -> dict:
