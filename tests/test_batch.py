@@ -522,3 +522,18 @@ def test_a_worker_found_dead_when_handed_a_chunk_is_replaced_and_the_chunk_runs(
     assert len(workers) == (1 if busy else 2)
     assert sorted(i for i, _ in reports) == list(range(40))
     assert all(v["square"] == tasks[i][0]["x"] ** 2 for i, v in reports)
+
+
+def test_an_fk_job_with_a_cluster_is_not_counted_as_plainly_complete(tmp_path):
+    """Lengths at a singular pose: the answer is complete but a cluster may hold the (double) posture;
+    the batch counts it as ``complete-with-clusters``, never with the answers that proved every mode."""
+    from test_fk_modes import ISSUE_BASE, ISSUE_PLATFORM, planar_lengths, singular_pose
+    from test_fk import planar
+    robot = planar(ISSUE_BASE, ISSUE_PLATFORM)
+    lengths = ",".join(planar_lengths(robot, singular_pose(robot), 17))
+    inline = {"kind": "planar-3rpr", "base": [list(p) for p in ISSUE_BASE], "platform": [list(p) for p in ISSUE_PLATFORM]}
+    job = {"id": "c", "command": "fk", "robot": inline, "lengths": lengths}
+    plain = {**job, "id": "p", "lengths": "7.0710678118654752440,5.0990195135927848300,5"}
+    summary = run_batch([job, plain], tmp_path, run_job)
+    assert summary["counts"] == {"fk complete": 1, "fk complete-with-clusters": 1}, summary["counts"]
+    assert proofs.check_file(tmp_path / "c.cert").ok

@@ -142,10 +142,16 @@ def _content_sha256(path: str) -> str | None:
 
 
 def verdict(command, document: dict) -> str:
-    """The answer of a job in one word: fk ``complete``/``incomplete``/``tracked``; singular cells:
+    """The answer of a job in one word: fk ``complete`` (``complete-with-clusters`` when some postures
+    are only enclosed in clusters)/``incomplete``/``tracked``; singular cells:
     ``singular`` if a cell is, ``singularity-free`` if all are, else ``undecided``; else its status."""
     if command == "fk":
-        return "tracked" if document.get("tracked") else "complete" if document["complete"] else "incomplete"
+        if document.get("tracked"):
+            return "tracked"
+        if not document["complete"]:
+            return "incomplete"
+        clusters = any(s.get("status") == "cluster" for s in document.get("solutions", ()))
+        return "complete-with-clusters" if clusters else "complete"
     if command == "singular" and "counts" in document:
         c = document["counts"]
         return "singular" if c["singular"] else "undecided" if c["undecided"] else "singularity-free"
