@@ -60,7 +60,7 @@ def constraint_names(kinds):
         return None
     names = [k.strip() for k in kinds.split(",")] if isinstance(kinds, str) else list(kinds)
     if not names or names == [""]:
-        raise InputError("constraints", "", "empty list (None checks every constraint)")
+        raise InputError("constraints", "", "empty list (leave it out to check every constraint)")
     for k in names:
         if not isinstance(k, str) or not k:
             raise InputError("constraints", "", f"expected constraint names, got {k!r}")
