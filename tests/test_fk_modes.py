@@ -123,7 +123,7 @@ def test_lengths_at_a_singular_pose_give_a_cluster_and_a_complete_answer():
     lengths = planar_lengths(robot, pose, 17)
     result = forward_kinematics(robot, lengths)
     assert result.complete and result.solutions == [] and len(result.clusters) == 1
-    assert repr(result).startswith("<FKResult 0 solutions, complete, 1 clusters (not resolved), 0 unresolved;")
+    assert repr(result).startswith("<FKResult 0 solutions, complete, 1 cluster (not resolved), 0 unresolved;")
     doc = result.to_json()
     assert [s["status"] for s in doc["solutions"]] == ["cluster"]
     assert _contains([[(float(c.lo), float(c.hi)) for c in p] for p in result.clusters[0]["platform_points"]],

@@ -45,7 +45,7 @@ class FKResult:
     def __repr__(self):
         return (f"<FKResult {len(self.solutions)} solutions, {'complete' if self.complete else 'incomplete'}"
                 f"{', tracked' if self.tracked else ''}"
-                f"{f', {len(self.clusters)} clusters (not resolved)' if self.clusters else ''}, "
+                f"{f', {len(self.clusters)} cluster' + 's' * (len(self.clusters) != 1) + ' (not resolved)' if self.clusters else ''}, "
                 f"{len(self.unresolved)} unresolved; lengths "
                 f"{','.join(self.lengths)}>")
 
