@@ -43,10 +43,10 @@ class FKResult:
         return "complete" if self.complete else "incomplete"
 
     def __repr__(self):
+        c = len(self.clusters)
+        clusters = f", {c} cluster{'s' if c != 1 else ''} (not resolved)" if c else ""
         return (f"<FKResult {len(self.solutions)} solutions, {'complete' if self.complete else 'incomplete'}"
-                f"{', tracked' if self.tracked else ''}"
-                f"{f', {len(self.clusters)} cluster' + 's' * (len(self.clusters) != 1) + ' (not resolved)' if self.clusters else ''}, "
-                f"{len(self.unresolved)} unresolved; lengths "
+                f"{', tracked' if self.tracked else ''}{clusters}, {len(self.unresolved)} unresolved; lengths "
                 f"{','.join(self.lengths)}>")
 
     def to_json(self) -> dict:
