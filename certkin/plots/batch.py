@@ -13,7 +13,7 @@ def _null_formatter():
 COLOURS = {"complete": "#55a868", "singularity-free": "#55a868", "feasible": "#55a868", "found": "#55a868",
            "non-empty": "#55a868", "tracked": "#55a868", "singular": "#c44e52", "infeasible": "#c44e52",
            "empty": "#8172b2", "undecided": "#bbbbbb", "incomplete": "#bbbbbb", "error": "#dd8452",
-           "failed": "#000000", "pending": "#eeeeee"}
+           "failed": "#000000", "pending": "#eeeeee", "complete-with-clusters": "#ccb974"}
 
 
 def plot_campaign(summary: dict, path):
