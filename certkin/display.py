@@ -181,6 +181,11 @@ def interval(iv, digits: int = DIGITS) -> str:
     return outward(lo, hi, digits)
 
 
+def counted(n: int, noun: str) -> str:
+    """``n`` and the noun, plural unless n is 1: '1 cluster', '0 clusters', '2 clusters'."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
 def printable(text: str) -> str:
     """``text`` with every character that is not printable (a newline, a terminal escape, a bidi control)
     escaped, so that text from a file (a path, an id in a jobs file) prints as one honest line."""

@@ -147,3 +147,8 @@ def test_a_plotted_slice_of_cells_is_named_by_its_exact_range():
     title = slab_title("phi", (lo, hi))
     a, b = title.split("[")[1].rstrip("]").split(", ")
     assert float(a) == lo and float(b) == hi and title.startswith("phi in [")
+
+
+def test_counted_is_plural_unless_one():
+    from certkin.display import counted
+    assert [counted(n, "cluster") for n in (0, 1, 2)] == ["0 clusters", "1 cluster", "2 clusters"]

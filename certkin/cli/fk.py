@@ -72,14 +72,14 @@ def describe(robot, r):
     outward; with length ranges a mode's box holds its posture for every length in the ranges."""
     ranges = any(":" in t for t in r.lengths)
     c = len(r.clusters)
-    clusters = f", {c} cluster{'s' if c != 1 else ''} (postures not resolved)" if c else ""
+    clusters = f", {display.counted(c, 'cluster')} (postures not resolved)" if c else ""
     n, u = len(r.solutions), len(r.unresolved)
     modes = {0: "0 assembly modes", 1: "1 assembly mode, proved unique"}.get(n, f"{n} assembly modes, each proved unique")
     head = (f"{robot.name}: {modes}"
             + (" for every length in the ranges" if ranges and n else "")
             + (" (tracked from the previous pose)" if r.tracked else
                f"{clusters}; complete" if r.complete else
-               f"{clusters}; INCOMPLETE, {u} unresolved region{'s' if u != 1 else ''}"))
+               f"{clusters}; INCOMPLETE, {display.counted(u, 'unresolved region')}"))
     lines = [head + f" [{r.boxes} boxes, {r.seconds:.3f} s]"]
     for k, s in enumerate(r.solutions):
         lines.append(f"  {k + 1}: " + ", ".join(f"{n}={display.interval(v, 12)}" for n, v in s["pose"].items()))

@@ -37,7 +37,6 @@ NEEDS = {"fk": ("lengths",), "singular": ("box", "cells"), "trajectory": ("start
 OPTION = {"lengths": "--lengths", "box": "--box", "cells": "--cells", "start": "--from", "goal": "--to"}
 
 
-WRITTEN = ("id", "command", "robot")
 GIVEN_BY = {"id": "--prefix", "command": "--command", "robot": "ROBOT", "lengths": "--lengths", "box": "--box and --cells",
             "from": "--from", "to": "--to"}
 
@@ -70,8 +69,8 @@ def run(args):
         jobs = cell_jobs(args.robot, robot, args.box, args.cells, prefix)
     else:
         jobs = trajectory_jobs(args.robot, robot, args.start, args.goal, args.count, args.seed, args.decimals, prefix)
-    for key in extra:                   # what the generator writes is not overridden (every job alike)
-        if key in WRITTEN or (jobs and key in jobs[0]):
+    for key in extra:                   # what the generator writes (id, command, robot, ...) is not overridden
+        if jobs and key in jobs[0]:
             raise InputError("--set", key, "written by the generator"
                              + (f" (from {GIVEN_BY[key]})" if key in GIVEN_BY else "") + ", not by --set")
     if extra and jobs:                  # the options of --set are checked once, as the batch will read them

@@ -95,7 +95,7 @@ def describe(result) -> str:
     if b.decided and b.perimeter is not None:
         lines.append(f"  exact area in {display.interval(b.area, 15)}, perimeter in "
                      f"{display.interval(b.perimeter, 15)} ({len(b.arcs)} arcs, "
-                     f"{b.loops} loop{'s' if b.loops != 1 else ''})")
+                     f"{display.counted(b.loops, 'loop')})")
     elif b.decided:
         lines.append(f"  exact area in {display.interval(b.area, 15)} ({b.reason})")
     else:

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..certificates import fk_certificate
+from ..display import counted
 
 
 @dataclass(repr=False)
@@ -44,7 +45,7 @@ class FKResult:
 
     def __repr__(self):
         c = len(self.clusters)
-        clusters = f", {c} cluster{'s' if c != 1 else ''} (not resolved)" if c else ""
+        clusters = f", {counted(c, 'cluster')} (not resolved)" if c else ""
         return (f"<FKResult {len(self.solutions)} solutions, {'complete' if self.complete else 'incomplete'}"
                 f"{', tracked' if self.tracked else ''}{clusters}, {len(self.unresolved)} unresolved; lengths "
                 f"{','.join(self.lengths)}>")

@@ -1,6 +1,7 @@
 """The report of a forward-kinematics result: every assembly mode with its proved box, drawn."""
 from __future__ import annotations
 
+from ..display import counted
 from .page import enclosure, esc, evidence_section, robot_section, table, tree_evidence, write_report
 
 
@@ -9,13 +10,13 @@ def fk_verdict(result) -> str:
     n, c, u = len(result.solutions), len(result.clusters), len(result.unresolved)
     if result.tracked:
         return "Tracked: exactly one posture in the box around the previous pose (proved unique there)."
-    modes = f"{n} assembly mode{'s' if n != 1 else ''} proved unique in {'its box' if n == 1 else 'their boxes'}"
-    clusters = (f", {c} cluster{'s' if c != 1 else ''} that may hold postures (not resolved: a singular pose, "
+    modes = f"{counted(n, 'assembly mode')} proved unique in {'its box' if n == 1 else 'their boxes'}"
+    clusters = (f", {counted(c, 'cluster')} that may hold postures (not resolved: a singular pose, "
                 "postures closer than the resolution, or a continuum)") if c else ""
     if result.complete:
         return f"{modes}{clusters}; the rest of the domain is proved to hold none (complete)."
     why = f" ({result.message})" if result.message else " (a budget ran out, or the search was interrupted)"
-    return f"INCOMPLETE: {modes}{clusters}, and {u} region{'s' if u != 1 else ''} left unresolved{why}."
+    return f"INCOMPLETE: {modes}{clusters}, and {counted(u, 'region')} left unresolved{why}."
 
 
 def fk_report(robot, result, path, certificate=None, budget=None) -> None:

@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from ..certificates import trajectory_certificate
+from ..display import counted
 from .constraints import Constraints
 from .families.base import SATISFIED, UNKNOWN, VIOLATED
 from .path import Path
@@ -32,7 +33,7 @@ class TrajectoryResult:
     indices: list | None = None
 
     def __repr__(self):
-        return (f"<TrajectoryResult {self.status}: {self.path.segments} segment{'s' if self.path.segments != 1 else ''}, "
+        return (f"<TrajectoryResult {self.status}: {counted(self.path.segments, 'segment')}, "
                 f"{len(self.margins)} margins, {len(self.violations)} violations, {len(self.undecided)} undecided ranges>")
 
     def to_json(self) -> dict:
