@@ -328,6 +328,7 @@ def test_plain_paths_and_constraint_names():
     rs = verify_trajectories(robot, [(a, b), [a, c, b], {"start": a, "goal": b}], constraints="interference")
     assert [r.path.segments for r in rs] == [1, 2, 1] and all(len(r.margins) == 15 for r in rs)
     assert len(repr(rs[0])) < 200
+    assert "1 segment, 15 margins, 0 violations, 0 undecided ranges" in repr(rs[0])
     with pytest.raises(InputError) as exc:
         verify_trajectories(robot, [(a,)], constraints="interference")
     assert exc.value.source == "paths[0]"
@@ -347,6 +348,8 @@ def test_planner_finds_a_certified_detour(mel):
     assert result.status == "found" and len(result.waypoints) >= 3
     assert result.waypoints[0] == s.split(",") and result.waypoints[-1] == g.split(",")
     assert all(seg.status == "feasible" for seg in result.segments)
+    n = len(result.segments)
+    assert f"{len(result.waypoints)} waypoints, {n} segment{'' if n == 1 else 's'} certified feasible" in repr(result)
     report = proofs.check(result.certificate())
     assert report.ok, report.step
     for w in result.waypoints[1:-1]:               # the grid's poses as exact decimals of 12 digits at most

@@ -48,8 +48,8 @@ class PlanResult:
     stats: dict = field(default_factory=dict)
 
     def __repr__(self):
-        return (f"<PlanResult {self.status}: {len(self.waypoints)} waypoints, {len(self.segments)} segments "
-                f"certified feasible>")
+        return (f"<PlanResult {self.status}: {display.counted(len(self.waypoints), 'waypoint')}, "
+                f"{display.counted(len(self.segments), 'segment')} certified feasible>")
 
     def to_json(self) -> dict:
         """The result as a JSON-ready dict: the fields of ``certkin plan --json``."""

@@ -34,7 +34,8 @@ class TrajectoryResult:
 
     def __repr__(self):
         return (f"<TrajectoryResult {self.status}: {counted(self.path.segments, 'segment')}, "
-                f"{len(self.margins)} margins, {len(self.violations)} violations, {len(self.undecided)} undecided ranges>")
+                f"{counted(len(self.margins), 'margin')}, {counted(len(self.violations), 'violation')}, "
+                f"{counted(len(self.undecided), 'undecided range')}>")
 
     def to_json(self) -> dict:
         """The result as a JSON-ready dict (``json.dumps(result.to_json())``): the document of
