@@ -3,6 +3,7 @@ broken jobs; the job generators."""
 from __future__ import annotations
 
 import fcntl
+import hashlib
 from fractions import Fraction
 import itertools
 import json
@@ -101,6 +102,9 @@ def test_one_worker_answers_every_job_as_its_command(reference, jobs_file, capsy
         printed = json.loads(capsys.readouterr().out)
         written = json.loads((reference / f"{job['id']}.json").read_text())
         assert written.pop("job") == json.loads(dumps(job))
+        sources = written.pop("sources")        # what the answer came from: the robot file, the certificate beside it
+        assert sources["robot_sha256"] == hashlib.sha256(Path(job["robot"]).read_bytes()).hexdigest()
+        assert sources["certificate_sha256"] == hashlib.sha256((reference / f"{job['id']}.cert").read_bytes()).hexdigest()
         assert untimed(written) == untimed(printed)
     for row in summary["results"]:
         cert = reference / row["certificate"]["file"]
@@ -214,6 +218,8 @@ def test_a_phased_chunk_writes_after_computing_and_a_raising_phase_fails_only_it
         events.append(("answer", job))
         if job == "bad answer":
             raise ValueError("no answer")
+        if job == "exits":                       # (argparse's --help did, and the whole batch ended)
+            raise SystemExit(0)
 
         def complete():
             events.append(("complete", job))
@@ -225,12 +231,13 @@ def test_a_phased_chunk_writes_after_computing_and_a_raising_phase_fails_only_it
     def work(job):                               # the one-phase form, unused when ``phased`` exists
         raise AssertionError("not called")
     work.phased = answer
-    tasks = [("a",), ("bad answer",), ("bad write",), ("b",)]
+    tasks = [("a",), ("bad answer",), ("bad write",), ("exits",), ("b",)]
     values, _ = local.run_chunk(work, tasks)
-    assert values[0] == "A" and values[3] == "B"
+    assert values[0] == "A" and values[4] == "B"
     assert isinstance(values[1], local.Died) and "ValueError: no answer" in values[1].reason
     assert isinstance(values[2], local.Died) and "OSError: disk full" in values[2].reason
-    assert [e[0] for e in events] == ["answer"] * 4 + ["complete"] * 3      # computed first, then written
+    assert isinstance(values[3], local.Died) and "SystemExit" in values[3].reason
+    assert [e[0] for e in events] == ["answer"] * 5 + ["complete"] * 3      # computed first, then written
     events.clear()
     monkeypatch.setattr(local, "HOLD_SECONDS", 0.0)                         # nothing held: one at a time
     assert local.run_chunk(work, [("a",), ("b",)])[0] == ["A", "B"]
@@ -368,6 +375,38 @@ def test_a_changed_job_or_a_tampered_certificate_is_run_again(reference, jobs_fi
     assert proofs.check_file(cert).ok
     assert json.loads((tmp_path / f"{cells[1]['id']}.json").read_text())["job"]["max_boxes"] == 5000
 
+
+
+def test_an_edited_robot_file_or_a_swapped_certificate_is_run_again(tmp_path):
+    """A document answers its job only with the robot file it was computed from and the certificate
+    written beside it: after the robot file is edited, or a valid certificate of another job is put in
+    a job's place, the jobs run again (and answer the new geometry), instead of being resumed."""
+    robot = tmp_path / "robot.toml"
+    robot.write_text(Path(PLANAR).read_text())
+    out = tmp_path / "out"
+    jobs = [{"id": "a", "command": "fk", "robot": str(robot), "lengths": "28.99,13.66,40.53"},
+            {"id": "b", "command": "singular", "robot": str(robot), "box": "x=-20:-10,y=20:30,phi=0:0.3"},
+            {"id": "c", "command": "fk", "robot": str(robot), "lengths": "29,13.66,40.53"}]
+    first = run_batch(jobs, out, run_job)
+    assert first["resumed"] == 0 and len(json.loads((out / "a.json").read_text())["solutions"]) == 6
+    assert run_batch(jobs, out, run_job)["resumed"] == 3               # nothing changed: every job resumed
+    (out / "c.cert").write_bytes((out / "a.cert").read_bytes())          # another job's valid certificate
+    (out / "a.cert").write_bytes((out / "b.cert").read_bytes())          # another kind of certificate
+    assert proofs.check_file(out / "a.cert").ok and proofs.check_file(out / "c.cert").ok
+    again = run_batch(jobs, out, run_job)
+    assert again["resumed"] == 1 and [r["id"] for r in again["results"] if not r.get("resumed")] == ["a", "c"]
+    for jid in "ac":                    # each job's own certificate again, the one its document names
+        sources = json.loads((out / f"{jid}.json").read_text())["sources"]
+        assert sources["certificate_sha256"] == hashlib.sha256((out / f"{jid}.cert").read_bytes()).hexdigest()
+    assert len({(out / f"{jid}.cert").read_bytes() for jid in "abc"}) == 3
+    text = robot.read_text()
+    robot.write_text(text.replace(text[text.index("base ="):].split("\n")[0], "base = [[0, 0], [40, 0], [20, 40]]"))
+    edited = run_batch(jobs, out, run_job)
+    assert edited["resumed"] == 0
+    from certkin import forward_kinematics, load_robot
+    expected = forward_kinematics(load_robot(str(robot)), "28.99,13.66,40.53")
+    assert len(json.loads((out / "a.json").read_text())["solutions"]) == len(expected.solutions)
+    assert proofs.check_file(out / "a.cert", robot=str(robot)).ok
 
 # ----------------------------------------------------------------- generators
 def test_fk_grid_round_trip(tmp_path, capsys):

@@ -10,18 +10,45 @@ system).
 """
 from __future__ import annotations
 
+import threading
+
 from ..errors import InputError
 from .local import Died
 
 
 def connect(address: str):
-    """A client of the Dask scheduler at ``address`` (``InputError`` naming ``scheduler`` when none
-    answers there within Dask's connection timeout, 30 s by default)."""
+    """A client of the Dask scheduler at ``address``; ``InputError`` naming ``scheduler`` when none
+    answers there within Dask's connection timeout (``distributed.comm.timeouts.connect``, 30 s by
+    default) and a few seconds more.  Dask's own timeout does not cover a service that accepts the
+    connection and then stays silent, so the attempt runs in a thread this call stops waiting for
+    (a daemon: it cannot keep the process alive); a service that answers with something else than
+    Dask's handshake makes Dask read a bogus frame length (``MemoryError``): not a Dask scheduler."""
+    import dask
     from dask.distributed import Client
-    try:
-        return Client(address)
-    except (OSError, TimeoutError, ValueError, TypeError) as exc:
-        raise InputError("scheduler", address, f"no Dask scheduler answers there ({exc})") from None
+    from dask.utils import parse_timedelta
+    seconds = parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), default="s")
+    outcome = {}
+
+    def attempt():
+        try:
+            outcome["client"] = Client(address)
+        except BaseException as exc:        # handed to the caller below
+            outcome["error"] = exc
+    thread = threading.Thread(target=attempt, name="certkin-dask-connect", daemon=True)
+    thread.start()
+    thread.join(seconds + 5.0)
+    if "client" in outcome:
+        return outcome["client"]
+    exc = outcome.get("error")
+    if exc is None:
+        reason = f"nothing answered within {seconds:g} s"
+    elif isinstance(exc, MemoryError):
+        reason = "the service there does not speak Dask's protocol"
+    elif isinstance(exc, (OSError, TimeoutError, ValueError, TypeError)):
+        reason = str(exc)
+    else:
+        raise exc
+    raise InputError("scheduler", address, f"no Dask scheduler answers there ({reason})")
 
 
 def run_dask(tasks: list, work, client, report) -> bool:

@@ -22,6 +22,7 @@ ERROR = "error"                                           # key of a job that is
 MAX_JOBS = 200_000          # jobs of one file at most: a batch holds each job and its summary row
                             # (200 000 jobs: about 0.5 GB in the batch process; split larger campaigns)
 MAX_LINE = 1 << 20          # characters of a job line at most (an inline robot table is a few hundred)
+MAX_DEPTH = 32              # nesting of a job's lists and tables at most (an inline robot table: 4)
 
 
 def read_jobs(path) -> list[dict]:
@@ -33,7 +34,7 @@ def read_jobs(path) -> list[dict]:
         raise InputError(str(path), "", "not a regular file (a device or a pipe is not a jobs file)")
     jobs, seen, shared = [], set(), {}
     try:
-        with open(path, encoding="utf-8") as fh:
+        with open(path, encoding="utf-8-sig") as fh:     # (a byte-order mark at the start is no job's text)
             for n, line in enumerate(_lines(fh), 1):
                 if line is None:
                     jobs.append({"id": f"line-{n}", ERROR: f"{path}: line {n}: longer than {MAX_LINE >> 10} KiB: not a job"})
@@ -66,18 +67,22 @@ def _lines(fh):
 def _job(path, n: int, line: str, seen: set, shared: dict) -> dict:
     where = f"{path}: line {n}"
     try:
-        job = json.loads(line, parse_float=Decimal)
+        job = json.loads(line, parse_float=Decimal, object_pairs_hook=_without_repeats)
     except json.JSONDecodeError as exc:
         return {"id": f"line-{n}", ERROR: f"{where}: not valid JSON ({exc.msg})"}
+    except RepeatedKey as exc:
+        return {"id": f"line-{n}", ERROR: f"{where}: {exc.args[0]!r} given twice (one value per key)"}
     except RecursionError:
         return {"id": f"line-{n}", ERROR: f"{where}: not a job (JSON nested too deeply)"}
     if not isinstance(job, dict):
         return {"id": f"line-{n}", ERROR: f"{where}: expected a JSON object (a job)"}
+    if _depth(job) > MAX_DEPTH:         # (it could not be handed to a worker: pickling recurses)
+        return {"id": f"line-{n}", ERROR: f"{where}: not a job (JSON nested more than {MAX_DEPTH} deep)"}
     jid = job.get("id")
     if not isinstance(jid, str) or not ID.fullmatch(jid):
         return {**job, "id": f"line-{n}",
                 ERROR: f"{where}: id: expected a name of letters, digits, '.', '_' or '-' (at most 128), "
-                       f"got {jid!r}"}
+                       f"got {shown(jid)}"}
     if RESERVED.fullmatch(jid):
         return {**job, "id": f"line-{n}", ERROR: f"{where}: id: {jid!r} is reserved (summary.json is the batch's "
                                                  "summary, line-N the id of a line that is not a job)"}
@@ -89,6 +94,39 @@ def _job(path, n: int, line: str, seen: set, shared: dict) -> dict:
         if isinstance(job.get(key), str):
             job[key] = shared.setdefault(job[key], job[key])
     return job
+
+
+class RepeatedKey(ValueError):
+    """A key given twice in one JSON object (``json`` would keep the last value silently)."""
+
+
+def _without_repeats(pairs) -> dict:
+    out = {}
+    for key, value in pairs:
+        if key in out:
+            raise RepeatedKey(key)
+        out[key] = value
+    return out
+
+
+def _depth(value) -> int:
+    """How deep lists and tables nest in a parsed JSON value (without recursion)."""
+    deepest, todo = 0, [(value, 1)]
+    while todo:
+        v, d = todo.pop()
+        if isinstance(v, (dict, list)):
+            deepest = max(deepest, d)
+            todo.extend((w, d + 1) for w in (v.values() if isinstance(v, dict) else v))
+    return deepest
+
+
+def shown(value, limit: int = 60) -> str:
+    """A value of a job as JSON writes it (``null``, ``true``, ``["fk"]``), cut to ``limit`` characters."""
+    try:
+        text = json.dumps(value, default=_exact)
+    except (TypeError, ValueError):
+        text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 def dumps(job: dict) -> str:

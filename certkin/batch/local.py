@@ -75,7 +75,8 @@ class _Worker:
 
 def run_chunk(work, tasks: list) -> tuple[list, float]:
     """In a worker: ``work(*task)`` for each task of a chunk; (their values, wall seconds).  A task
-    that raises (a bug in ``work``, which answers every job) is reported as ``Died``.
+    that raises (a bug in ``work``, which answers every job), or tries to end the process
+    (``SystemExit``), is reported as ``Died``.
 
     A work function with ``phased`` (``work.phased(*task)`` computes a task's answer and returns a
     function that completes it: writes its files, gives its value) has the answers of consecutive
@@ -90,13 +91,13 @@ def run_chunk(work, tasks: list) -> tuple[list, float]:
                 values[k] = work(*task)
             else:
                 held.append((k, phased(*task)))
-        except Exception as exc:
+        except (Exception, SystemExit) as exc:
             values[k] = _raised(exc)
         if held and (k == len(tasks) - 1 or time.perf_counter() - since >= HOLD_SECONDS):
             for j, complete in held:
                 try:
                     values[j] = complete()
-                except Exception as exc:
+                except (Exception, SystemExit) as exc:
                     values[j] = _raised(exc)
             held, since = [], time.perf_counter()
     return values, time.perf_counter() - t0

@@ -3,8 +3,9 @@ answers under ``"job"``), ``DIR/<id>.cert`` (its certificate) and ``DIR/summary.
 
 Every file is written atomically (a temporary file renamed into place), the certificate before the
 document: a document on disk means its job finished.  A job is *done* when its document answers
-the same job (same canonical text), is not an error, and its certificate re-checks with the
-independent checker ``proofs``: only such jobs are skipped when a batch is run again.
+the same job (same canonical text), is not an error, names (``"sources"``) the robot file's bytes as
+they are now and the certificate beside it, and that certificate re-checks with the independent
+checker ``proofs``: only such jobs are skipped when a batch is run again.
 """
 from __future__ import annotations
 
@@ -103,9 +104,19 @@ def write_json(path, document: dict) -> None:
     write_text(path, json.dumps(document))
 
 
-def write_document(out, job: dict, document: dict) -> None:
-    """``DIR/<id>.json``: the document with the job it answers."""
-    write_json(document_path(out, job["id"]), {"job": json.loads(canonical(job)), **document})
+def write_document(out, job: dict, document: dict, sources: dict | None = None) -> None:
+    """``DIR/<id>.json``: the document with the job it answers (and ``provenance``'s ``sources``)."""
+    head = {"job": json.loads(canonical(job))}
+    if sources is not None:
+        head["sources"] = sources
+    write_json(document_path(out, job["id"]), {**head, **document})
+
+
+def provenance(robot_sha256: str | None, certificate: dict | None) -> dict:
+    """What a document's answer was computed from and written with (its ``"sources"``): the SHA-256 of
+    the robot file (None for an inline robot, which the job holds) and of the certificate written
+    beside it: a later run skips the job only if both are still those (``done``)."""
+    return {"robot_sha256": robot_sha256, "certificate_sha256": certificate["sha256"] if certificate else None}
 
 
 def write_error(out, job: dict, verdict: str, message: str, seconds: float = 0.0, attempts: int = 1) -> dict:
@@ -119,7 +130,8 @@ def write_error(out, job: dict, verdict: str, message: str, seconds: float = 0.0
 def row(job: dict, verdict: str, seconds: float, attempts: int = 1, certificate: dict | None = None,
         error: str | None = None, resumed: bool = False, cpu_seconds: float = 0.0) -> dict:
     """One job's line of ``summary.json`` (``seconds``: wall clock, ``cpu_seconds``: CPU of its worker)."""
-    out = {"id": job["id"], "command": job.get("command"), "verdict": verdict, "seconds": round(seconds, 6),
+    command = job.get("command")
+    out = {"id": job["id"], "command": command if isinstance(command, str) else None, "verdict": verdict, "seconds": round(seconds, 6),
            "cpu_seconds": round(cpu_seconds, 6), "attempts": attempts, "document": f"{job['id']}.json",
            "certificate": certificate}
     if error is not None:
@@ -129,9 +141,11 @@ def row(job: dict, verdict: str, seconds: float, attempts: int = 1, certificate:
     return out
 
 
-def done(out, job: dict, verdict) -> dict | None:
-    """The summary row of a job already answered in ``out`` (its document answers this very job and
-    its certificate re-checks), else None.  ``verdict(command, document)`` names the answer."""
+def done(out, job: dict, verdict, robot_sha256) -> dict | None:
+    """The summary row of a job already answered in ``out``, else None: its document answers this very
+    job, from the robot file as it is now (``robot_sha256()``: its SHA-256, as ``provenance``), with
+    the certificate that is beside it now (the same SHA-256: not another job's), and that certificate
+    re-checks.  ``verdict(command, document)`` names the answer."""
     path, cert = document_path(out, job["id"]), certificate_path(out, job["id"])
     try:
         document = json.loads(path.read_text())
@@ -139,6 +153,14 @@ def done(out, job: dict, verdict) -> dict | None:
         return None
     if not isinstance(document, dict) or document.get("status") in (ERROR, FAILED) or \
             json.dumps(document.get("job"), sort_keys=True) != canonical(job) or not cert.exists():
+        return None
+    sources = document.get("sources")
+    try:
+        facts = file_facts(cert)
+    except OSError:
+        return None
+    if not isinstance(sources, dict) or sources.get("certificate_sha256") != facts["sha256"] or \
+            sources.get("robot_sha256") != robot_sha256():
         return None
     import proofs           # the checker, imported by the runs that resume only
     try:
@@ -148,7 +170,7 @@ def done(out, job: dict, verdict) -> dict | None:
         return None
     document.pop("job")
     seconds = document.get("stats", {}).get("seconds", 0.0) if isinstance(document.get("stats"), dict) else 0.0
-    return row(job, verdict(job.get("command"), document), seconds, 0, file_facts(cert), resumed=True)
+    return row(job, verdict(job.get("command"), document), seconds, 0, facts, resumed=True)
 
 
 def summarise(rows: list, wall_seconds: float, interrupted: bool, workers: str, cpu_seconds: float | None = None) -> dict:

@@ -20,8 +20,9 @@ import sys
 import time
 
 from ..batch import PENDING, read_jobs, run_batch
-from ..batch.results import ERROR, SUMMARY, certificate_path, done, file_facts, row, write_document, \
-    write_error
+from ..batch.jobs import shown
+from ..batch.results import ERROR, SUMMARY, certificate_path, done, file_facts, provenance, row, \
+    write_document, write_error
 from ..display import printable
 from ..errors import InputError
 from ..robots import load_robot, robot_from_dict
@@ -40,10 +41,17 @@ OPTION_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_-]*")
 
 
 class JobParser(Parser):
-    """A command's parser that raises the message it would print (``InputError``) instead of exiting."""
+    """A command's parser that raises the message it would print (``InputError``) instead of exiting,
+    and knows its options by their exact names only (``"len"`` is not ``lengths``)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, allow_abbrev=False, add_help=False, **kwargs)
 
     def error(self, message):
         raise InputError("", "", message)
+
+    def exit(self, status=0, message=None):     # an action that would end the process (none is expected)
+        raise InputError("", "", (message or "").strip() or "not an option of a job")
 
 
 _PARSERS: dict = {}
@@ -54,15 +62,20 @@ def parse_job(job: dict):
     """The command module of a job and its options parsed by that command's own parser."""
     command = job.get("command")
     if command not in COMMANDS:
-        raise InputError("command", "", f"expected one of {', '.join(COMMANDS)}, got {command!r}")
+        raise InputError("command", "", f"expected one of {', '.join(COMMANDS)}, got {shown(command)}")
     module = command_module(command)
     if command not in _PARSERS:
         _PARSERS[command] = JobParser(prog=f"certkin {command}")
         module.add_arguments(_PARSERS[command])
     parser = _PARSERS[command]
-    for key, value in job.items():       # ``true`` for an option that takes a value: argparse's own words mislead
-        action = getattr(parser, "_option_string_actions", {}).get("--" + str(key).replace("_", "-"))
-        if value is True and action is not None and action.nargs != 0:
+    actions = getattr(parser, "_option_string_actions", None)    # argparse's own words mislead here:
+    for key, value in job.items():
+        if key in FIXED or key in OUTPUTS or not OPTION_NAME.fullmatch(str(key)) or actions is None:
+            continue                     # (``job_argv`` explains these)
+        action = actions.get("--" + key.replace("_", "-"))
+        if action is None:
+            raise InputError(repr(key), "", f"not an option of certkin {command} (see certkin {command} --help)")
+        if value is True and action.nargs != 0:
             raise InputError(key, "", "expected a value, got true")
     return module, parser.parse_args(job_argv(job))
 
@@ -106,18 +119,21 @@ def _text(value) -> str:
         return ",".join(_text(v) for v in value)
     if isinstance(value, dict):
         return ",".join(f"{k}={_text(v)}" for k, v in value.items())
+    if value is None or isinstance(value, bool):    # inside a list: as the job spelled it, "null", "true"
+        return json.dumps(value)
     return str(value)
 
 
 def robot_of(job: dict):
-    """The job's robot, loaded once per worker process and content: a file path (keyed by the
-    SHA-256 of the file's bytes, so a worker that outlives an edit of the file loads it again), or
-    an inline robot table."""
+    """The job's robot and its fingerprint (the SHA-256 of a robot file's bytes, None for an inline
+    table, which the job's own text holds), loaded once per worker process and content: a file path
+    (keyed by that SHA-256, so a worker that outlives an edit of the file loads it again), or an
+    inline robot table."""
     robot = job.get("robot")
     if isinstance(robot, str):
         key = ("file", robot, _content_sha256(robot))
         if key[2] is None:                  # unreadable: load_robot gives the command line's message
-            return load_robot(robot)
+            return load_robot(robot), None
     elif isinstance(robot, dict):
         key = ("table", json.dumps(robot, sort_keys=True, default=str))
     else:
@@ -129,7 +145,13 @@ def robot_of(job: dict):
             _ROBOTS[key] = exc
     if isinstance(_ROBOTS[key], InputError):
         raise _ROBOTS[key]
-    return _ROBOTS[key]
+    return _ROBOTS[key], (key[2] if key[0] == "file" else None)
+
+
+def robot_fingerprint(job: dict) -> str | None:
+    """The fingerprint ``robot_of`` gives the job's robot now (without loading it)."""
+    robot = job.get("robot")
+    return _content_sha256(robot) if isinstance(robot, str) else None
 
 
 def _content_sha256(path: str) -> str | None:
@@ -169,7 +191,7 @@ def run_job(job: dict, out: str) -> dict:
 def answer_job(job: dict, out: str):
     """``run_job`` in two phases (``run_job.phased``, see ``certkin.batch.local.run_chunk``): the job's
     answer computed now; returned, a function that writes its files and gives its summary row."""
-    previous = done(out, job, verdict)
+    previous = done(out, job, verdict, partial(robot_fingerprint, job))
     if previous is not None:
         return lambda: previous
     t0, c0 = time.perf_counter(), time.process_time()
@@ -177,7 +199,8 @@ def answer_job(job: dict, out: str):
         module, args = parse_job(job)
         path = certificate_path(out, job["id"])
         args.certificate = str(path)         # as ``--certificate``: a search keeps what its certificate needs
-        answer = module.compute(args, robot_of(job))
+        robot, fingerprint = robot_of(job)
+        answer = module.compute(args, robot)
     except Exception as exc:
         return partial(write_error, out, job, ERROR, _message(exc), time.perf_counter() - t0)
     seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
@@ -190,7 +213,7 @@ def answer_job(job: dict, out: str):
                 facts = file_facts(path, write_certificate(path, answer.certificate()))
             else:
                 path.unlink(missing_ok=True)
-            write_document(out, job, answer.document)
+            write_document(out, job, answer.document, provenance(fingerprint, facts))
             return row(job, verdict(job["command"], answer.document), seconds + time.perf_counter() - t1, 1, facts,
                        cpu_seconds=cpu + time.process_time() - c1)
         except Exception as exc:

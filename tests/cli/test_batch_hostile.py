@@ -97,18 +97,33 @@ def test_bad_job_lines_are_error_jobs(cli, jobs, tmp_path):
              json.dumps({**JOB, "id": "b7", "bogus": 1}),
              json.dumps({**JOB, "id": "b8", "max_seconds": True}),      # once: "--max-seconds: expected one argument"
              json.dumps({**JOB, "id": "b9", "max_boxes ": 5}),          # once: "unrecognized arguments: --max-boxes =5"
-             json.dumps({**JOB, "id": "b10", "progress": True})]        # once: "the batch writes DIR/<id>.json"
+             json.dumps({**JOB, "id": "b10", "progress": True}),        # once: "the batch writes DIR/<id>.json"
+             json.dumps({**JOB, "id": "b11", "help": True}),            # once: argparse's help, and the batch ended
+             json.dumps({**JOB, "id": "b12", "len": "1,2,3"}),          # once: taken for --lengths
+             json.dumps({**JOB, "id": "b13", "rep": "r.html"}),         # once: taken for --report, nothing written
+             '{"id": "b14", "command": "fk", "robot": "%s", "lengths": %s1%s}' % (R2, "[" * 500, "]" * 500),
+             json.dumps({**JOB, "id": "b15"})[:-1] + ', "lengths": "1,2,3"}',   # once: the last one won
+             json.dumps({**JOB, "id": "b16", "lengths": [None, 1, 2]}),
+             json.dumps({**JOB, "id": "b17", "command": ["fk"]}),
+             json.dumps({**JOB, "id": None})]
     run = cli("batch", jobs(*lines), "--out", "{tmp}/out", "--workers", "1", "--json")
     answered(run)
     summary = json.loads(run.out)
     errors = {e["id"]: e["error"] for e in summary["errors"]}
-    assert set(errors) == {"line-2", "b1", "b2", "b3", "b4", "b5", "line-8", "b7", "b8", "b9", "b10"}, errors
+    assert set(errors) == {"line-2", "b1", "b2", "b3", "b4", "b5", "line-8", "b7", "b8", "b9", "b10", "b11", "b12",
+                           "b13", "line-16", "line-17", "b16", "b17", "line-20"}, errors
     for word, jid in (("nested too deeply", "line-2"), ("--max-seconds", "b1"), ("certificate", "b2"),
-                      ("command", "b3"), ("--cells", "b4"), ("--from", "b5"), ("id", "line-8"), ("--bogus", "b7"),
+                      ("command", "b3"), ("--cells", "b4"), ("--from", "b5"), ("id", "line-8"),
+                      ("'bogus': not an option of certkin fk", "b7"),
                       ("max_seconds: expected a value, got true", "b8"), ("'max_boxes ': not an option name", "b9"),
-                      ("certkin batch --progress", "b10")):
+                      ("certkin batch --progress", "b10"), ("'help': not an option of certkin fk", "b11"),
+                      ("'len': not an option", "b12"), ("'rep': not an option", "b13"),
+                      ("nested more than 32 deep", "line-16"), ("'lengths' given twice", "line-17"),
+                      ("'null'", "b16"), ('got ["fk"]', "b17"), ("got null", "line-20")):
         assert word in errors[jid] and "\n" not in errors[jid], (jid, errors[jid])
-    assert summary["counts"]["fk complete"] == 1 and summary["jobs"] == 12
+    assert "None" not in run.out and "True" not in run.out
+    assert summary["counts"]["fk complete"] == 1 and summary["jobs"] == 20
+    assert summary["counts"]["? error"] == 4     # no command, or not a text (["fk"]): line-2, 16, 17 and b17
     assert (tmp_path / "out" / "a.cert").exists()
 
 
@@ -144,4 +159,44 @@ def test_a_scheduler_nobody_answers_at_is_refused_before_anything_is_written(cli
     with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
         run = cli("batch", ok(jobs), "--out", "{tmp}/out", "--scheduler", "tcp://127.0.0.1:1")
     refused(run, "--scheduler", "tcp://127.0.0.1:1", "no Dask scheduler")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("greeting", [None, b"SSH-2.0-OpenSSH_9.2\r\n"], ids=["silent", "another-protocol"])
+def test_a_scheduler_address_where_another_service_listens_is_refused(cli, jobs, tmp_path, greeting):
+    """A service that accepts the connection and then stays silent (Dask's own timeout never ends the
+    wait), or answers in another protocol (Dask read a bogus length: "out of memory"), is no Dask
+    scheduler: exit 2 naming --scheduler within the connection timeout and a few seconds."""
+    pytest.importorskip("dask.distributed")
+    import socket
+    import threading
+    import time
+
+    import dask
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen()
+    accepted = []
+
+    def serve():
+        try:
+            while True:
+                conn, _ = server.accept()
+                accepted.append(conn)
+                if greeting:
+                    conn.sendall(greeting)
+        except OSError:
+            pass
+    threading.Thread(target=serve, daemon=True).start()
+    address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    t0 = time.perf_counter()
+    try:
+        with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
+            run = cli("batch", ok(jobs), "--out", "{tmp}/out", "--scheduler", address)
+    finally:
+        server.close()
+        for conn in accepted:
+            conn.close()
+    refused(run, "--scheduler", address, "no Dask scheduler")
+    assert "out of memory" not in run.err and time.perf_counter() - t0 < 15
     assert not (tmp_path / "out").exists()

@@ -38,7 +38,7 @@ HOSTILE = [
     (FK + ["--count", "3"], ["--count", "fk"]),
     (FK + ["--set", ""], ["--set"]),
     (FK + ["--set", "max_seconds=nan"], ["--set", "--max-seconds"]),   # checked as the batch will read it
-    (FK + ["--set", "bogus=1"], ["--set", "--bogus"]),
+    (FK + ["--set", "bogus=1"], ["--set", "'bogus': not an option of certkin fk"]),
     (FK + ["--set", "certificate=x"], ["--set", "certificate"]),
     (FK + ["--set", "lengths=1,2,3"], ["--set", "lengths", "--lengths"]),   # once: every job the same lengths
     (FK + ["--set", "id=x"], ["--set", "id", "--prefix"]),                  # once: every job the same id
