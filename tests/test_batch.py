@@ -576,3 +576,10 @@ def test_an_fk_job_with_a_cluster_is_not_counted_as_plainly_complete(tmp_path):
     summary = run_batch([job, plain], tmp_path, run_job)
     assert summary["counts"] == {"fk complete": 1, "fk complete-with-clusters": 1}, summary["counts"]
     assert proofs.check_file(tmp_path / "c.cert").ok
+
+
+def test_a_job_whose_files_cannot_be_written_says_why_not_internal_error():
+    """A full disk is the machine's state, not a bug: the job's error names the file and the reason."""
+    from certkin.cli.batch import _message
+    assert _message(OSError(28, "No space left on device", "out/b.json")) == "out/b.json: No space left on device"
+    assert _message(ValueError("x")).startswith("internal error: ValueError")

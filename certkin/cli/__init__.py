@@ -57,7 +57,9 @@ def main(argv=None):
     try:
         with warnings.catch_warnings(), np.errstate(all="ignore"):
             warnings.simplefilter("ignore")          # numpy's overflow warnings are not for the user
-            return args.func(args)
+            code = args.func(args)
+            sys.stdout.flush()                       # (a full disk under stdout fails here, not at exit)
+            return code
     except InputError as exc:
         sys.stderr.write(f"certkin: error: {printable(str(exc))}\n")
         return 2
@@ -71,6 +73,12 @@ def main(argv=None):
     except BrokenPipeError:               # the reader of stdout went away (`certkin ... | head`)
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())    # so that the exit's flush is quiet
         return PIPE_CLOSED
+    except OSError as exc:                # a full disk, an I/O error: output paths were checked before
+        where = exc.filename if exc.filename is not None else "standard output"
+        if exc.filename is None:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        sys.stderr.write(f"certkin: error: {printable(str(where))}: {exc.strerror or exc}\n")
+        return 2
 
 
 PIPE_CLOSED = 141        # 128 + SIGPIPE, as a shell reports a command whose output pipe closed

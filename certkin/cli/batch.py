@@ -230,6 +230,8 @@ def _message(exc: Exception) -> str:
         return str(exc)
     if isinstance(exc, MemoryError):
         return "out of memory"
+    if isinstance(exc, OSError) and exc.strerror:        # a full disk, an I/O error
+        return f"{exc.filename}: {exc.strerror}" if exc.filename is not None else exc.strerror
     return f"internal error: {type(exc).__name__}: {exc}"
 
 

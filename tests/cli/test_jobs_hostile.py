@@ -78,3 +78,17 @@ def test_a_reader_that_closes_the_pipe_early_gets_no_traceback():
     err = p.stderr.read().decode()
     assert json.loads(first)["id"] == "fk-00000"
     assert p.wait(timeout=120) == 141 and err == "", err
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full on this system")
+@pytest.mark.parametrize("argv", [
+    [*G, "--command", "fk", "--lengths", "L1=28:29:50,L2=13:14:50,L3=40:41:2"],     # more than a buffer
+    [*G, "--command", "fk", "--lengths", "L1=28:29:2,L2=13.66,L3=40.53"],          # flushed at the end
+], ids=["large", "small"])
+def test_a_full_disk_under_stdout_is_one_line_and_exit_2(argv):
+    """Standard output on a full disk (``> /dev/full``): one line saying so, exit 2, no traceback."""
+    with open("/dev/full", "w") as full:
+        run = subprocess.run([sys.executable, "-m", "certkin", *argv], stdout=full, stderr=subprocess.PIPE, cwd=ROOT,
+                             text=True, timeout=120, env={**os.environ, "PYTHONPATH": os.pathsep.join(
+                                 [str(ROOT), os.environ.get("PYTHONPATH", "")])})
+    assert run.returncode == 2 and run.stderr == "certkin: error: standard output: No space left on device\n", run.stderr
