@@ -145,8 +145,8 @@ def read(path) -> Certificate:
         try:
             archive = zipfile.ZipFile(path)
             first = archive.infolist()[0] if archive.infolist() else None
-            if first is None or first.filename != "header.json":
-                raise Unreadable("the first member of the archive is not header.json")
+            if first is None or first.filename != "header.json" or first.header_offset:    # (nothing before it)
+                raise Unreadable("the archive does not begin with header.json at the file's first byte")
             if first.file_size > MAX_HEADER:
                 raise Unreadable("header.json is too large")
             with archive.open(first) as fh:

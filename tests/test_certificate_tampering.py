@@ -161,3 +161,15 @@ def test_trajectory_tampered(files, tmp_path):
     narrower.claim()["violations"][0]["s"][1] = 0.9
     narrower.claim()["violations"][0].pop("segment", None), narrower.claim()["violations"][0].pop("t", None)
     assert "no violation interval covers it" in narrower.check().step
+
+
+def test_a_certificate_behind_other_bytes_is_unreadable(files, tmp_path):
+    """Another certificate (or anything) before a valid one: ZIP readers find the last archive, so the file
+    a reviewer hashes and files would not be the one checked: unreadable."""
+    joined = tmp_path / "joined.cert"
+    joined.write_bytes(files["fk-ranges"].read_bytes() + files["free"].read_bytes())
+    with pytest.raises(ValueError, match="does not begin with header.json at the file's first byte"):
+        proofs.check(joined)
+    joined.write_bytes(b"#!" + files["free"].read_bytes())
+    with pytest.raises(ValueError):
+        proofs.check(joined)
