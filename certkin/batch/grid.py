@@ -162,9 +162,10 @@ def cell_jobs(robot_ref, robot, spec: str, cells: int, prefix: str = "cell") -> 
             for i, p in zip(_ids(prefix, len(points)), points)]
 
 
-def trajectory_jobs(robot_ref, robot, start: str, goal: str, count: int | None = None, seed: int = 0,
-                    decimals: int = 3, prefix: str = "traj") -> list[dict]:
-    """``trajectory`` jobs from a grid of start and goal poses, or ``count`` random pairs."""
+def trajectory_jobs(robot_ref, robot, start: str, goal: str, count: int | None = None, seed: int | None = None,
+                    decimals: int | None = None, prefix: str = "traj") -> list[dict]:
+    """``trajectory`` jobs from a grid of start and goal poses, or ``count`` random pairs (drawn with
+    ``seed``, default 0, rounded to ``decimals`` places, default 3: options of the random draw only)."""
     names = robot.pose_names
     ends = {}
     for option, spec in (("--from", start), ("--to", goal)):
@@ -178,10 +179,15 @@ def trajectory_jobs(robot_ref, robot, start: str, goal: str, count: int | None =
         if not count or count < 1:
             raise InputError("--count", "", "random start and goal poses need --count N (a positive number)")
         _check_count(count, "--count")
-        rng = np.random.default_rng(seed)
+        rng = np.random.default_rng(0 if seed is None else seed)
+        decimals = 3 if decimals is None else decimals
         poses = {o: [_random(rng, r, parts, count, decimals) for r, parts in ends[o]] for o in ends}
         pairs = [(tuple(v[k] for v in poses["--from"]), tuple(v[k] for v in poses["--to"])) for k in range(count)]
     else:
+        for option, value in (("--count", count), ("--seed", seed), ("--decimals", decimals)):
+            if value is not None:
+                raise InputError(option, "", "every range has a count (a grid of poses): " + option +
+                                 " belongs to random pairs (ranges without a count)")
         _check_count(math.prod(r[2] for o in ends for r, _ in ends[o]), "--from")
         grids = {o: list(itertools.product(*[_values(*r, _end_texts(p))
                                              for r, p in ends[o]])) for o in ends}

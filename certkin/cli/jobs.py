@@ -7,7 +7,7 @@
 from __future__ import annotations
 
 from ..batch.grid import cell_jobs, fk_jobs, trajectory_jobs
-from ..batch.jobs import ID, MAX_JOBS, dumps
+from ..batch.jobs import ID, MAX_JOBS, RESERVED, dumps
 from ..errors import InputError
 from ..robots import load_robot
 from .batch import parse_job
@@ -25,8 +25,8 @@ def add_arguments(j):
     g.add_argument("--from", dest="start", metavar="x=a:b[:n],...", help="trajectory: start poses")
     g.add_argument("--to", dest="goal", metavar="x=a:b[:n],...", help="trajectory: goal poses")
     g.add_argument("--count", type=count(MAX_JOBS), help=f"trajectory: number of random start/goal pairs (at most {MAX_JOBS})")
-    g.add_argument("--seed", type=count(2 ** 63, least=0), default=0, help="trajectory: seed of the random draw (default 0)")
-    g.add_argument("--decimals", type=count(15, least=0), default=3,
+    g.add_argument("--seed", type=count(2 ** 63, least=0), help="trajectory: seed of the random draw (default 0)")
+    g.add_argument("--decimals", type=count(15, least=0),
                    help="trajectory: decimal places of drawn values, 0 to 15 (default 3)")
     g.add_argument("--prefix", help="prefix of the job ids (default: the command)")
     g.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
@@ -40,6 +40,8 @@ OPTION = {"lengths": "--lengths", "box": "--box", "cells": "--cells", "start": "
 GIVEN_BY = {"id": "--prefix", "command": "--command", "robot": "ROBOT", "lengths": "--lengths", "box": "--box and --cells",
             "from": "--from", "to": "--to"}
 
+MAX_PREFIX = 127 - len(str(MAX_JOBS))    # an id (at most 128 characters): the prefix, '-' and the job's number
+
 USED = {"fk": ("lengths",), "singular": ("box", "cells"), "trajectory": ("start", "goal", "count", "seed", "decimals")}
 
 
@@ -50,8 +52,12 @@ def run(args):
     for name, option in {**OPTION, "count": "--count", "seed": "--seed", "decimals": "--decimals"}.items():
         if name not in USED[args.command] and name in getattr(args, "given_options", ()):
             raise InputError(option, "", f"not an option of --command {args.command}")
-    if args.prefix is not None and not ID.fullmatch(args.prefix + "-0"):
-        raise InputError("--prefix", "", f"expected letters, digits, '.', '_' or '-' (a file name), got {args.prefix!r}")
+    if args.prefix is not None and not ID.fullmatch(args.prefix + "-" + "0" * len(str(MAX_JOBS))):
+        raise InputError("--prefix", "", f"expected letters, digits, '.', '_' or '-' (a file name; at most "
+                                         f"{MAX_PREFIX} characters), got {args.prefix!r}")
+    if args.prefix is not None and RESERVED.fullmatch(args.prefix + "-0"):
+        raise InputError("--prefix", args.prefix, "its ids would be line-N, reserved for the lines of a jobs file "
+                                                  "that are not jobs")
     extra = {}
     for item in args.set:
         key, eq, value = item.partition("=")

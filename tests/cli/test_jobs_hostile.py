@@ -13,6 +13,7 @@ G = ["jobs", "grid", R2]
 FK = G + ["--command", "fk", "--lengths", "L1=28:30:3,L2=13.66,L3=40.53"]
 CELLS = G + ["--command", "singular", "--box", "x=-1:1,y=0:1,phi=0:0.1"]
 TRAJ = G + ["--command", "trajectory", "--from", "x=0:1,y=0:1,phi=0", "--to", "x=0:1,y=0:1,phi=0"]
+TRAJ_GRID = G + ["--command", "trajectory", "--from", "x=0:1:2,y=0,phi=0", "--to", "x=2,y=0,phi=0"]
 
 HOSTILE = [
     (G + ["--command", "fk"], ["--lengths"]),
@@ -48,6 +49,11 @@ HOSTILE = [
     (TRAJ + ["--count", "2", "--set", "from=0,0,0"], ["--set", "from", "--from"]),
     (FK + ["--set", "max_boxes=5", "--set", "max-boxes=6"], ["--set", "twice"]),   # once: the last one won
     (FK + ["--prefix", "../x"], ["--prefix"]),
+    (FK + ["--prefix", "line"], ["--prefix", "reserved"]),                 # once: every job an error in the batch
+    (FK + ["--prefix", "p" * 122], ["--prefix", "at most 121 characters"]),
+    (TRAJ_GRID + ["--count", "5"], ["--count", "grid"]),                    # once: ignored
+    (TRAJ_GRID + ["--seed", "5"], ["--seed", "grid"]),
+    (TRAJ_GRID + ["--decimals", "2"], ["--decimals", "grid"]),
     (FK + ["--prefix", ""], ["--prefix"]),
     (["jobs", "grid", "{tmp}", "--command", "fk", "--lengths", "L1=1,L2=1,L3=1"], ["directory"]),
     (["jobs"], ["generator"]),
