@@ -49,15 +49,15 @@ def _check(cert, robot_file, report):
     if not isinstance(h, dict):
         raise Rejected("certificate: expected a JSON object")
     if h.get("format") != FORMAT:
-        raise Rejected(f"format: expected {FORMAT!r}, got {h.get('format')!r:.60}")
+        raise Rejected(f"format: expected {json.dumps(FORMAT)}, got {json.dumps(h.get('format'), default=str):.60}")
     if h.get("version") == 1:
         raise Rejected("version: version 1 certificates (one JSON document) are no longer checked; "
                        "solve again with --certificate to write version 2")
     if type(h.get("version")) is not int or h["version"] != 2:
-        raise Rejected(f"version: unknown version {h.get('version')!r:.60} (known: 2)")
+        raise Rejected(f"version: unknown version {json.dumps(h.get('version'), default=str):.60} (known: 2)")
     problem = h.get("problem")
     if problem not in PROBLEMS:
-        raise Rejected(f"problem: unknown problem {problem!r:.60} (known: {', '.join(PROBLEMS)})")
+        raise Rejected(f"problem: unknown problem {json.dumps(problem, default=str):.60} (known: {', '.join(PROBLEMS)})")
     robot = h.get("robot")
     if not isinstance(robot, dict):
         raise Rejected("robot: expected an object")
@@ -125,7 +125,7 @@ def read_robot(path) -> dict:
             raw = fh.read(MAX_ROBOT + 1)          # /dev/zero or a huge file: never read whole
         data = tomllib.loads(raw.decode("utf-8"), parse_float=Decimal) if len(raw) <= MAX_ROBOT else {}
     except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError, RecursionError) as exc:
-        raise UnreadableRobot(str(exc)) from None
+        raise UnreadableRobot(exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)) from None
     if not isinstance(data.get("kind"), str):
         raise UnreadableRobot(f"not a robot file (no kind, or larger than {MAX_ROBOT >> 20} MiB)")
     robot = {k: data[k] for k in ("name", "kind", "base", "platform", "limits") if k in data}

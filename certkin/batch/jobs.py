@@ -45,7 +45,8 @@ def read_jobs(path) -> list[dict]:
     except FileNotFoundError:
         raise InputError(str(path), "", "no such file") from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(str(path), "", f"cannot read the jobs file ({exc})") from None
+        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
+        raise InputError(str(path), "", f"cannot read the jobs file ({why})") from None
     return jobs
 
 

@@ -110,7 +110,7 @@ def _fk_demo(robots, out):
     out("== Forward kinematics: seed 003 planar example 2, leg lengths 28.99, 13.66, 40.53")
     t = time.perf_counter()
     r = forward_kinematics(robot, "28.99,13.66,40.53")
-    out(f"  {len(r.solutions)} assembly modes, each proved unique; complete: {r.complete} "
+    out(f"  {len(r.solutions)} assembly modes, each proved unique; complete: {'yes' if r.complete else 'no'} "
         f"({time.perf_counter() - t:.3f} s)")
     for k, sol in enumerate(r.solutions):
         out(f"    {k + 1}: " + ", ".join(f"{n}={display.interval(v, 12)}" for n, v in sol["pose"].items()))
@@ -171,6 +171,10 @@ def add_arguments(d):
 
 def run(args):
     check_output_directory(args.out, "--out")
+    if args.robots is not None and not args.robots.strip():
+        raise InputError("--robots", "", "empty directory name (leave it out for the bundled examples)")
     if args.robots is not None and not Path(args.robots).is_dir():
         raise InputError("--robots", args.robots, "not a directory")
+    if args.robots is not None and not any(Path(args.robots).glob("*.toml")):
+        raise InputError("--robots", args.robots, "no robot files (*.toml) in this directory")
     return run_demo(args.robots, results=args.out)

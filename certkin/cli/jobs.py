@@ -15,7 +15,7 @@ from .common import count
 
 
 def add_arguments(j):
-    sub = j.add_subparsers(dest="generator", required=True, parser_class=type(j))
+    sub = j.add_subparsers(dest="generator", metavar="grid", required=True, parser_class=type(j))
     g = sub.add_parser("grid", help="a grid (or random draw) of jobs of one command on one robot")
     g.add_argument("robot", help="robot file (TOML), written into every job as given")
     g.add_argument("--command", required=True, choices=["fk", "singular", "trajectory"])

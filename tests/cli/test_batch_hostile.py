@@ -69,13 +69,14 @@ def test_an_output_directory_that_is_a_file(cli, jobs, tmp_path):
 @pytest.mark.parametrize("content, words", [
     ([b"\xff\xfe{}"], ["jobs.jsonl", "cannot read"]),           # not UTF-8
     ([b""], ["jobs.jsonl", "no jobs"]),
+    ([b"\xef\xbb\xbf"], ["jobs.jsonl", "no jobs"]),                 # a byte-order mark alone
     ([b"# only a comment", b""], ["jobs.jsonl", "no jobs"]),
 ])
 def test_unreadable_or_empty_jobs_files(cli, jobs, content, words):
     refused(cli("batch", jobs(*content), "--out", "{tmp}/out"), *words)
 
 
-@pytest.mark.parametrize("path, words", [("{tmp}", ["directory"]), ("{tmp}/none.jsonl", ["none.jsonl", "no such file"]),
+@pytest.mark.parametrize("path, words", [("{tmp}", ["cannot read the jobs file (Is a directory)"]), ("{tmp}/none.jsonl", ["none.jsonl", "no such file"]),
                                          ("/dev/zero", ["not a regular file"]),
                                          ("", ["empty file name"])])
 def test_missing_jobs_files(cli, path, words):
@@ -200,3 +201,9 @@ def test_a_scheduler_address_where_another_service_listens_is_refused(cli, jobs,
     refused(run, "--scheduler", address, "no Dask scheduler")
     assert "out of memory" not in run.err and time.perf_counter() - t0 < 15
     assert not (tmp_path / "out").exists()
+
+
+def test_a_byte_order_mark_before_the_first_job_is_no_error(cli, jobs):
+    run = cli("batch", jobs(b"\xef\xbb\xbf" + json.dumps(JOB).encode()), "--out", "{tmp}/out", "--json")
+    answered(run)
+    assert json.loads(run.out)["counts"] == {"fk complete": 1}

@@ -73,3 +73,19 @@ def test_text_of_a_certificate_cannot_forge_lines_of_the_account(cli, tmp_path):
     assert first.startswith("robot: x\\nOK: forged\\x1b[2K\\u202eevil (planar-3rpr)")
     assert not any(line.startswith("OK: forged") for line in run.out.splitlines())
     assert all(c.isprintable() for c in run.out.replace("\n", ""))
+
+
+def test_messages_speak_json_and_plain_words(cli, tmp_path):
+    """A missing header field is shown as JSON writes it (``null``, never Python's ``None``); a missing
+    robot file as the system's words, without Python's ``[Errno 2]``."""
+    assert cli("singular", R2, "--box", "x=-20:-10,y=20:30,phi=0:0.3", "--certificate", "{tmp}/c.cert").code == 0
+    for field, words in (("version", "unknown version null"), ("problem", "unknown problem null"),
+                         ("format", "got null")):
+        cert = Doc(tmp_path / "c.cert")
+        del cert.header[field]
+        cert.write(tmp_path / "t.cert")
+        run = cli("check", "{tmp}/t.cert")
+        assert run.code == 1 and words in run.out and "None" not in run.out, run.out
+    run = cli("check", "{tmp}/c.cert", "--robot", "{tmp}/none.toml")
+    unreadable(run, "none.toml")
+    assert "No such file or directory" in run.err and "Errno" not in run.err

@@ -11,7 +11,8 @@ from conftest import refused
     (["--out", "{tmp}/no/such"], ["--out", "does not exist"]),
     (["--out", "/proc/demo"], ["--out", "cannot write"]),
     (["--robots", "{tmp}/none"], ["--robots", "not a directory"]),
-    (["--robots", "{tmp}"], ["no robot files"]),
+    (["--robots", "{tmp}"], ["--robots", "no robot files"]),
+    (["--robots="], ["--robots", "empty directory name"]),
     (["--out", "a", "--out", "b"], ["--out", "twice"]),
 ])
 def test_hostile_input_is_refused(cli, argv, words):

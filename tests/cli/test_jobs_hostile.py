@@ -56,7 +56,7 @@ HOSTILE = [
     (TRAJ_GRID + ["--decimals", "2"], ["--decimals", "grid"]),
     (FK + ["--prefix", ""], ["--prefix"]),
     (["jobs", "grid", "{tmp}", "--command", "fk", "--lengths", "L1=1,L2=1,L3=1"], ["directory"]),
-    (["jobs"], ["generator"]),
+    (["jobs"], ["required: grid"]),
 ]
 
 
