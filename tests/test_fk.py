@@ -869,7 +869,7 @@ def test_track_sequence_planar_every_step_proved_and_certified():
     robot, plat, poses = _planar_motion(60)
     L = robot.leg_lengths_float(poses[1:])
     out = track_sequence(robot, L, _pose_text(poses[0]))
-    assert len(out) == 60 and all(r.tracked and r.complete and len(r.solutions) == 1 for r in out)
+    assert len(out) == 60 and all(r.tracked and not r.complete and len(r.solutions) == 1 for r in out)
     for k, r in enumerate(out):
         box, (dlo, dhi) = r.solutions[0]["box"], r.domain
         assert np.all(box.lo >= dlo) and np.all(box.hi <= dhi)          # root box inside the tracking box
@@ -1018,3 +1018,17 @@ def test_tracked_steps_agree_with_the_full_search():
             near = [g["box"] for g in full.solutions if np.all(g["box"].hi >= blo) and np.all(g["box"].lo <= bhi)]
             assert len(near) == 1 and np.all(near[0].hi >= s.lo) and np.all(near[0].lo <= s.hi)
     assert tracked >= 30
+
+
+def test_a_tracked_posture_is_not_called_complete():
+    """Tracking proves the one posture near the previous pose: the answer (API, JSON) does not say
+    complete, which means every assembly mode is listed; the certificate's claim is complete in its box."""
+    from certkin import load_robot
+    robot = load_robot(EXAMPLES / "seed003-planar-example-2.toml")
+    r = forward_kinematics(robot, "28.99,13.66,40.53", track="13.3,-17,1.13")
+    assert r.tracked and not r.complete and len(r.solutions) == 1 and r.status == "tracked"
+    doc = r.to_json()
+    assert doc["complete"] is False and doc["tracked"] is True and "not searched" in doc["message"]
+    assert "1 solution, tracked" in repr(r)
+    report = proofs.check(r.certificate())
+    assert report.ok, report.step

@@ -191,8 +191,9 @@ def fk_certificate(results) -> Document:
         blo = np.array([s["box"].lo for s in r.all_solutions]).reshape(-1, n)
         bhi = np.array([s["box"].hi for s in r.all_solutions]).reshape(-1, n)
         inside = np.nonzero(np.all((blo >= dlo) & (bhi <= dhi), axis=1))[0]
+        # (a tracked posture's claim: complete in its box, exactly one posture there)
         claim.update(domain=box_json(dlo, dhi), covers="box" if r.user_domain or r.tracked else "all-postures",
-                     complete=bool(r.complete), tree=True, regions=[first, len(r.all_solutions)],
+                     complete=bool(r.complete or r.tracked), tree=True, regions=[first, len(r.all_solutions)],
                      solutions=[{"region": int(j), "box": box} for j, box in zip(inside, outward_boxes(blo[inside], bhi[inside]))])
         if r.clusters:
             claim["clusters"] = outward_boxes(np.array([c["box"].lo for c in r.clusters]).reshape(-1, n),

@@ -41,13 +41,14 @@ class FKResult:
 
     @property
     def status(self) -> str:
-        return "complete" if self.complete else "incomplete"
+        """complete (every posture of the domain listed), tracked (the one near the previous pose), incomplete."""
+        return "complete" if self.complete else "tracked" if self.tracked else "incomplete"
 
     def __repr__(self):
         c = len(self.clusters)
         clusters = f", {counted(c, 'cluster')} (not resolved)" if c else ""
-        return (f"<FKResult {len(self.solutions)} solutions, {'complete' if self.complete else 'incomplete'}"
-                f"{', tracked' if self.tracked else ''}{clusters}, {len(self.unresolved)} unresolved; lengths "
+        return (f"<FKResult {counted(len(self.solutions), 'solution')}, {self.status}{clusters}, "
+                f"{len(self.unresolved)} unresolved; lengths "
                 f"{','.join(self.lengths)}>")
 
     def to_json(self) -> dict:

@@ -305,6 +305,10 @@ def prove(system: StackedFKSystem, x0, x, L: Interval, L2, model=None) -> Proofs
     return Proofs(okB, blo, bhi, bC, rlo, rhi, rC, pts, has_points)
 
 
+TRACKED_MESSAGE = ("the posture near the previous pose is proved unique in a box around it; the other "
+                   "assembly modes were not searched")
+
+
 def _tracked_results(robot, system, texts, proofs: Proofs, rows):
     """FKResults (tracked) for the proved rows: pose and platform points of every root box in one
     evaluation (as ``api._finish`` does for one result)."""
@@ -319,7 +323,8 @@ def _tracked_results(robot, system, texts, proofs: Proofs, rows):
     legs, dim = pts.shape[1], pts.shape[2]
     out = []
     for j, k in enumerate(rows):
-        res = FKResult(robot, system, texts[k], (proofs.blo[k], proofs.bhi[k]), tracked=True, complete=True)
+        res = FKResult(robot, system, texts[k], (proofs.blo[k], proofs.bhi[k]), tracked=True, complete=False,
+                       message=TRACKED_MESSAGE)
         res.solutions.append({"status": "unique", "box": Interval.from_bounds(proofs.rlo[k], proofs.rhi[k]),
                               "C": proofs.rC[k],
                               "pose": robot_pose(robot, {name: v[j] for name, v in poses.items()}),
