@@ -22,7 +22,8 @@ def add_arguments(f):
     f.add_argument("robot", help="robot file (TOML)")
     f.add_argument("--lengths", required=True, metavar="L1,L2,...",
                    help="leg lengths (exact decimals); a range 'lo:hi' or 'value+-tolerance' for an uncertain leg")
-    f.add_argument("--domain", help='narrow the search: "x=a:b,..." (positions narrow the box, angles filter)')
+    f.add_argument("--domain", help='narrow the search: "x=a:b,..." (positions narrow the box; angles filter the '
+                                    'modes, modulo 2 pi and over both Euler-angle triples of a rotation)')
     f.add_argument("--track", metavar="POSE", help="previous pose: prove the unique posture near it first")
     f.add_argument("--angles", choices=["zyz", "tilt-torsion"], help="spherical robots: pose angles of the output")
     add_outputs(f)
@@ -90,4 +91,7 @@ def describe(robot, r):
             lines.append(f"  ... {len(regions) - SHOWN} more {name} regions (all of them in --json and the certificate)")
     if r.message:
         lines.append(f"  note: {r.message}")
+    if r.filtered:
+        lines.append(f"  note: {display.counted(len(r.filtered), 'more assembly mode')} outside the angle ranges of "
+                     "--domain (its certificate lists every mode of the box searched)")
     return "\n".join(lines)

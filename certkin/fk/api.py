@@ -26,6 +26,7 @@ from ..certificates.fk import record_sink
 from ..engine.budgets import make_budget
 from ..robots import as_robot
 from ..robots.poses import length_enclosures, parse_box
+from .angles import in_ranges
 from .result import FKResult, robot_pose
 from .search import FKProblem, search_instances
 from .step import root_boxes
@@ -292,7 +293,7 @@ def _finish(result, system, pending, angle_filter, computed=None):
         for j, s in enumerate(result.solutions):
             s["pose"] = robot_pose(result.robot, {k: v[j] for k, v in poses.items()})
             s["platform_points"] = [[pts[j, i, c] for c in range(pts.shape[2])] for i in range(pts.shape[1])]
-            verdict = _in_filter(s["pose"], angle_filter)
+            verdict = in_ranges(s["pose"], angle_filter)
             if verdict is True:
                 kept.append(s)
             elif verdict is False:
@@ -399,20 +400,6 @@ def _touching(lo, hi):
         hulls = [(np.min([hulls[i][0] for i in members], axis=0).tolist(),
                   np.max([hulls[i][1] for i in members], axis=0).tolist()) for members in joined.values()]
     return [order[np.array(g)] for g in groups]
-
-
-def _in_filter(pose, angle_filter):
-    """True (inside every angle range), False (outside one), None (cannot tell)."""
-    if not angle_filter:
-        return True
-    verdict = True
-    for name, (a, b) in angle_filter.items():
-        v = pose[name]
-        if float(v.hi) < a or float(v.lo) > b:
-            return False
-        if not (float(v.lo) >= a and float(v.hi) <= b):
-            verdict = None
-    return verdict
 
 
 def _apply_domain(robot, system, spec, lo, hi):

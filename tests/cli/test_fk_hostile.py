@@ -130,3 +130,12 @@ def test_outputs_onto_a_pipe_are_refused_and_a_link_is_replaced(cli, tmp_path):
     device_link.symlink_to(pipe)
     answered(cli(*F, "--certificate", str(device_link)))
     assert zipfile.is_zipfile(device_link) and stat.S_ISFIFO(os.lstat(pipe).st_mode)
+
+
+def test_angle_ranges_of_a_domain_are_read_modulo_two_pi_and_the_rest_is_counted(cli):
+    """phi = 100:101 holds the modes whose phi is within -0.531 and 0.469 (modulo 2 pi): 3 of the 6;
+    the text counts the others, which the certificate lists."""
+    run = cli("fk", R2, "--lengths", "28.99,13.66,40.53", "--domain", "x=-50:50,y=-50:50,phi=100:101")
+    answered(run)
+    assert "3 assembly modes, each proved unique; complete" in run.out
+    assert "note: 3 more assembly modes outside the angle ranges of --domain" in run.out

@@ -1,0 +1,119 @@
+"""Angle ranges of ``--domain``: a mode is in them when its rotation is, whatever angles name it.
+
+The expected modes come from brute force, not from the filter's own reasoning: rotations sampled
+on a fine grid of the angle box, each mode (from the unfiltered search) inside when a sample's
+rotation is close to its own, outside when none is near; the cases are chosen with a wide gap
+between the two."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import proofs
+from certkin import load_robot
+from certkin.fk import forward_kinematics
+from certkin.fk.angles import in_ranges
+from intervals import Interval
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "robots"
+
+
+def rz(t):
+    c, s = np.cos(t), np.sin(t)
+    z, o = np.zeros_like(t), np.ones_like(t)
+    return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1), np.stack([z, z, o], -1)], -2)
+
+
+def ry(t):
+    c, s = np.cos(t), np.sin(t)
+    z, o = np.zeros_like(t), np.ones_like(t)
+    return np.stack([np.stack([c, z, s], -1), np.stack([z, o, z], -1), np.stack([-s, z, c], -1)], -2)
+
+
+def rx(t):
+    c, s = np.cos(t), np.sin(t)
+    z, o = np.zeros_like(t), np.ones_like(t)
+    return np.stack([np.stack([o, z, z], -1), np.stack([z, c, -s], -1), np.stack([z, s, c], -1)], -2)
+
+
+def sampled_inside(rotations, samples, near=0.02, far=0.1):
+    """For each mode's rotation: True when a sampled rotation is within ``near`` (Frobenius), False
+    when none is within ``far``; anything between fails the test (a case too close to call)."""
+    out = []
+    for R in rotations:
+        d = np.min(np.linalg.norm((samples - R).reshape(len(samples), -1), axis=1))
+        assert d < near or d > far, d
+        out.append(bool(d < near))
+    return out
+
+
+def mid(v):
+    return 0.5 * (float(v.lo) + float(v.hi))
+
+
+@pytest.mark.parametrize("phi", [(100.0, 101.0), (0.0, 7.0), (-3.0, -1.0), (2.5, 2.9)])
+def test_planar_angle_ranges_are_read_modulo_two_pi(phi):
+    robot = load_robot(EXAMPLES / "seed003-planar-example-2.toml")
+    every = forward_kinematics(robot, "28.99,13.66,40.53")
+    assert every.complete and len(every.solutions) == 6
+    t = np.linspace(*phi, 400001)
+    samples = np.stack([np.cos(t), np.sin(t)], -1)
+    modes = [np.array([np.cos(mid(s["pose"]["phi"])), np.sin(mid(s["pose"]["phi"]))]) for s in every.solutions]
+    expected = sampled_inside(modes, samples, near=1e-4, far=1e-3)
+    r = forward_kinematics(robot, "28.99,13.66,40.53", domain=f"x=-50:50,y=-50:50,phi={phi[0]}:{phi[1]}")
+    assert r.complete and sum(expected) == len(r.solutions)
+    kept = {round(mid(s["pose"]["phi"]), 9) for s in r.solutions}
+    assert kept == {round(mid(s["pose"]["phi"]), 9) for s, e in zip(every.solutions, expected) if e}
+    assert proofs.check(r.certificate()).ok
+
+
+def test_spherical_angle_ranges_hold_the_other_euler_triple():
+    """(-5pi/6, -pi/3, -5pi/6) names the rotation of one mode, printed (pi/6, pi/3, pi/6): that mode is
+    in the box around the first triple; a mode whose second triple is just outside (phi2 -1.15) is not."""
+    robot = load_robot(EXAMPLES / "seed003-spherical-example-1.toml")
+    lengths = "1.67332005307,2.32606878754,1.74216654891"
+    every = forward_kinematics(robot, lengths)
+    assert every.complete
+    box = {"phi1": (-2.7, -2.5), "phi2": (-1.1, -1.0), "phi3": (-2.7, -2.5)}
+    grid = np.meshgrid(*[np.linspace(a, b, 41) for a, b in box.values()], indexing="ij")
+    a, b, c = (g.ravel() for g in grid)
+    samples = rz(a) @ ry(b) @ rz(c)
+    modes = [rz(np.array(mid(s["pose"]["phi1"]))) @ ry(np.array(mid(s["pose"]["phi2"])))
+             @ rz(np.array(mid(s["pose"]["phi3"]))) for s in every.solutions]
+    expected = sampled_inside(modes, samples, near=0.01, far=0.05)    # (another mode is 0.07 away)
+    assert sum(expected) == 1
+    r = forward_kinematics(robot, lengths, domain=",".join(f"{k}={lo}:{hi}" for k, (lo, hi) in box.items()))
+    assert r.complete and len(r.solutions) == 1
+    (s,) = r.solutions
+    (e,) = [m for m, inside in zip(every.solutions, expected) if inside]
+    assert all(abs(mid(s["pose"][k]) - mid(e["pose"][k])) < 1e-9 for k in box)
+    assert proofs.check(r.certificate()).ok
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_the_other_gough_triple_names_the_same_rotation_and_is_inside(seed):
+    """Rz(psi) Rx(theta) Rz(phi) = Rz(psi + pi) Rx(-theta) Rz(phi + pi), checked numerically; a range
+    holding only the second triple (shifted by 2 pi) holds the pose, one holding neither does not."""
+    rng = np.random.default_rng(seed)
+    psi, theta, phi = rng.uniform(-3, 3), rng.uniform(0.2, 2.9), rng.uniform(-3, 3)
+    R = rz(np.array(psi)) @ rx(np.array(theta)) @ rz(np.array(phi))
+    assert np.allclose(R, rz(np.array(psi + np.pi)) @ rx(np.array(-theta)) @ rz(np.array(phi + np.pi)))
+    pose = {k: Interval.from_bounds(np.array(v - 1e-9), np.array(v + 1e-9)) for k, v in
+            (("x", 0.0), ("psi", psi), ("theta", theta), ("phi", phi))}
+    other = (psi + np.pi + 2 * np.pi, -theta, phi + np.pi - 2 * np.pi)
+    near = {k: (v - 0.01, v + 0.01) for k, v in zip(("psi", "theta", "phi"), other)}
+    assert in_ranges(pose, near) is True
+    assert in_ranges(pose, {"theta": (-theta - 0.01, -theta + 0.01)}) is True
+    assert in_ranges(pose, {"theta": (theta + 0.05, theta + 0.06)}) is False
+    assert in_ranges(pose, {"psi": (psi + 0.5, psi + 0.6), "theta": (theta - 0.1, theta + 0.1)}) is False
+    assert in_ranges(pose, {"psi": (psi - 0.1, psi + 0.1), "theta": (-4.0, 4.0)}) is True
+
+
+def test_an_angle_range_ending_on_a_mode_leaves_it_unresolved_never_dropped():
+    robot = load_robot(EXAMPLES / "seed003-planar-example-2.toml")
+    every = forward_kinematics(robot, "28.99,13.66,40.53")
+    phi = next(mid(s["pose"]["phi"]) for s in every.solutions)
+    r = forward_kinematics(robot, "28.99,13.66,40.53", domain=f"x=-50:50,y=-50:50,phi={phi!r}:{phi + 0.001!r}")
+    assert not r.complete and len(r.unresolved) >= 1
+    pose = {"phi": Interval.from_bounds(np.array(-np.pi), np.array(np.pi))}
+    assert in_ranges(pose, {"phi": (0.0, 1.0)}) is None           # an enclosure of every angle: cannot tell
