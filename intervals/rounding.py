@@ -215,8 +215,14 @@ def enclose_decimal(d: Decimal) -> tuple[float, float]:
     decimal comparisons are exact, so the comparisons below place ``d`` at ``f`` or strictly
     between ``f`` and its neighbour, and the neighbour's side is checked too (the enclosure
     rests on these exact comparisons, not on how ``float`` rounds).  Anything else (overflow, a
-    failed check) takes the rational path.  The result equals ``enclose_fraction``'s.
+    failed check) takes the rational path.  The result equals ``enclose_fraction``'s.  Exponents far
+    outside the float range (|d| ≥ 10⁴⁰⁰ or 0 < |d| < 10⁻⁴⁰⁰) are answered without it: the rational
+    path would build an integer of that many digits (``1e999999999``: gigabytes).
     """
+    if d and d.is_finite() and abs(d.adjusted()) > 400:
+        if d.adjusted() > 0:                # beyond MAX: what float() overflowing gives below
+            return (MAX, math.inf) if d > 0 else (-math.inf, -MAX)
+        return (0.0, math.nextafter(0.0, math.inf)) if d > 0 else (math.nextafter(0.0, -math.inf), 0.0)
     f = float(d) + 0.0                      # + 0.0: no negative zero (as float(Fraction(0)))
     if math.isfinite(f):
         exact = Decimal(f)

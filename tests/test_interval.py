@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from intervals import Interval, div, mul, pown, sqr, sqrt
-from intervals.rounding import EXACT_HIGH, EXACT_LOW, down, down_sum, enclose, up, up_sum
+from intervals.rounding import EXACT_HIGH, EXACT_LOW, down, down_sum, enclose, enclose_decimal, enclose_fraction, up, up_sum
 
 SETTINGS = settings(max_examples=300, deadline=None)
 
@@ -83,6 +83,17 @@ def test_decimal_enclosure_is_tight_and_exact(d):
     assert Fraction(lo) <= q <= Fraction(hi) or (abs(q) > Fraction(np.finfo(float).max))
     if lo != hi and np.isfinite(lo) and np.isfinite(hi):
         assert np.nextafter(lo, np.inf) == hi
+
+
+@pytest.mark.parametrize("exponent", [401, 500, 4000])
+@pytest.mark.parametrize("sign", [1, -1])
+def test_decimals_far_outside_the_float_range_are_enclosed_as_the_rationals_are(exponent, sign):
+    """Above 10^400 or below 10^-400 the enclosure is found without building the rational (the same
+    floats as ``enclose_fraction``), and an exponent of a billion is answered at once."""
+    for d in (Decimal(sign) * Decimal(f"1.5e{exponent}"), Decimal(sign) * Decimal(f"1.5e-{exponent}")):
+        assert enclose_decimal(d) == enclose_fraction(Fraction(d))
+    assert enclose_decimal(Decimal("1e999999999")) == (np.finfo(float).max, np.inf)
+    assert enclose_decimal(Decimal("-1e-999999999")) == (-5e-324, 0.0)
 
 
 def test_one_tenth_strictly_enclosed():

@@ -53,7 +53,7 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
 
 def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval, str]:
     if isinstance(value, bool) or value is None:
-        raise RobotFileError(source, field, f"expected a number, got {value!r}")
+        raise RobotFileError(source, field, f"expected a number, got {'nothing' if value is None else str(value).lower()}")
     text = value.strip() if isinstance(value, str) else value
     if isinstance(text, str) and text.lower().endswith("deg"):
         if not angle:
@@ -75,10 +75,16 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
     try:
         lo, hi = enclose(text)
     except (ValueError, TypeError):
-        raise RobotFileError(source, field, f"not a finite number: {value!r}") from None
-    if not (math.isfinite(lo) and math.isfinite(hi)):
-        raise RobotFileError(source, field, f"not a finite number: {value!r}")
+        raise RobotFileError(source, field, f"not a finite number: {_shown(value)}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)):       # a finite decimal beyond the float range
+        raise RobotFileError(source, field, f"{_shown(value)} is out of range (at most {MAX_MAGNITUDE:g} in magnitude)")
     return Interval.from_bounds(np.array(lo), np.array(hi)), exact_text(text)
+
+
+def _shown(value) -> str:
+    """A user's value in a message: a text as it was written, a decimal as its text, never Python's repr."""
+    text = str(value).strip()
+    return repr(text) if isinstance(value, str) else text
 
 
 def _value(text, robot, name, parameter):
@@ -252,8 +258,12 @@ def _length(value, parameter, field_name):
             if max(abs(v), t) > MAX_MAGNITUDE:
                 raise InputError(parameter, field_name, f"{value.strip()} is out of range (at most "
                                                         f"{MAX_MAGNITUDE:g} in magnitude)")
-            with localcontext() as ctx:     # exact: enough digits for both operands
-                ctx.prec = 2 * (len(centre) + len(tol)) + 10
+            if any(d and d.adjusted() < -400 for d in (v, t)):
+                raise InputError(parameter, field_name, f"{value.strip()}: a term below 1e-400 (write 0 for an "
+                                                        "exact length or value)")
+            with localcontext() as ctx:     # exact: every digit of both operands, and a carry
+                exponent = min(v.as_tuple().exponent, t.as_tuple().exponent)
+                ctx.prec = max(v.adjusted(), t.adjusted(), 0) - min(exponent, 0) + 3
                 parts = [format(v - t, "f"), format(v + t, "f")]
         if len(parts) != 2:
             raise InputError(parameter, field_name, f"expected 'lo:hi' or 'value+-tolerance', got {value!r}")

@@ -1,4 +1,5 @@
 """``certkin fk`` on hostile input (issue #18)."""
+import json
 import os
 import stat
 import zipfile
@@ -14,6 +15,9 @@ L = "28.99,13.66,40.53"
 F = ["fk", R2, "--lengths", L]
 
 HOSTILE = [
+    (["fk", R2, "--lengths", "28.99,13.66,1e999999999"], ["--lengths", "leg 3", "out of range"]),  # once: hung
+    (["fk", R2, "--lengths", "28.99,13.66,1e9999"], ["--lengths", "out of range"]),    # once: "not a finite number"
+    (["fk", R2, "--lengths", "29+-1e-999999999,13.66,40.53"], ["--lengths", "below 1e-400"]),
     (F + ["--max-boxes", "0"], ["--max-boxes"]),
     (F + ["--max-boxes", "-1"], ["--max-boxes"]),
     (F + ["--max-seconds", "0"], ["--max-seconds"]),
@@ -139,3 +143,10 @@ def test_angle_ranges_of_a_domain_are_read_modulo_two_pi_and_the_rest_is_counted
     answered(run)
     assert "3 assembly modes, each proved unique; complete" in run.out
     assert "note: 3 more assembly modes outside the angle ranges of --domain" in run.out
+
+
+def test_a_tiny_tolerance_is_kept_exactly(cli):
+    """29+-1e-30 is the range 29 - 1e-30 : 29 + 1e-30, exactly (once rounded to 29:29)."""
+    run = cli("fk", R2, "--lengths", "29+-1e-30,13.66,40.53", "--json")
+    answered(run)
+    assert json.loads(run.out)["lengths"][0] == "28.999999999999999999999999999999:29.000000000000000000000000000001"
