@@ -275,3 +275,19 @@ def test_a_search_past_the_record_limit_gives_the_same_answer_and_a_valid_certif
     assert [[float(v.lo) for v in s["pose"].values()] for s in light.solutions] == \
         [[float(v.lo) for v in s["pose"].values()] for s in whole.solutions]
     checked(light)                                     # the certificate runs the search again, tree kept
+
+
+def test_many_separate_cluster_leaves_are_grouped_in_bounded_work():
+    """10 000 separate boxes (a budget cut a search with cluster leaves everywhere): at most
+    ``MAX_GROUPS`` groups, every box in exactly one (runs of neighbours joined first: the pairwise
+    joining of 10 000 groups outlasted the search's own time budget)."""
+    from certkin.fk import api
+    rng = np.random.default_rng(0)
+    lo = rng.uniform(0, 1, (10_000, 3))
+    hi = lo + 1e-7
+    groups = api._touching(lo, hi)
+    assert len(groups) <= api.MAX_GROUPS
+    members = np.concatenate(groups)
+    assert sorted(members.tolist()) == list(range(10_000))
+    few = api._touching(lo[:50], hi[:50])                       # few boxes: the pairwise joining as before
+    assert len(few) == 50

@@ -15,6 +15,7 @@ box lies inside the domain or outside it: every posture is then in a solution bo
 """
 from __future__ import annotations
 
+import itertools
 import time
 
 import numpy as np
@@ -320,6 +321,7 @@ def _finish(result, system, pending, angle_filter, computed=None):
 
 
 BUDGET_MESSAGE = "the budget (boxes, seconds or memory) ran out before every region was decided"
+MAX_GROUPS = 2000             # groups of cluster leaves joined pairwise at most (``_touching``)
 CLUSTER_GAP = 2.0 ** -20     # cluster leaves closer than this (relative to the domain) or than their own width join
 CONTINUUM = 1000.0           # a cluster this many times longer than its leaves,
 CONTINUUM_EXTENT = 2.0 ** -10  # and this long relative to the domain, suggests a continuum of postures
@@ -368,7 +370,10 @@ def _cluster_leaves(result, system):
 def _touching(lo, hi):
     """Index groups of boxes that meet (transitively, through their hulls): in order of the first
     coordinate, a box joins the current group while it meets the group's hull; then groups whose
-    hulls meet are joined until none do.  Any grouping is sound: each box lies in its group's hull."""
+    hulls meet are joined until none do.  Any grouping is sound: each box lies in its group's hull.
+    Beyond ``MAX_GROUPS`` first groups (a budget cut a search with leaves everywhere), runs of
+    consecutive ones are joined first, so that the pairwise joining stays within a fraction of a
+    second (it took longer than the search's own --max-seconds)."""
     order = np.argsort(lo[:, 0], kind="stable")
     groups, hulls = [], []
     for a, (blo, bhi) in enumerate(zip(lo[order].tolist(), hi[order].tolist())):
@@ -378,6 +383,11 @@ def _touching(lo, hi):
         else:
             groups.append([a])
             hulls.append((list(blo), list(bhi)))
+    if len(groups) > MAX_GROUPS:
+        runs = np.array_split(np.arange(len(groups)), MAX_GROUPS)
+        groups = [list(itertools.chain.from_iterable(groups[i] for i in run)) for run in runs]
+        hulls = [(np.min([hulls[i][0] for i in run], axis=0).tolist(),
+                  np.max([hulls[i][1] for i in run], axis=0).tolist()) for run in runs]
     while len(groups) > 1:
         H = np.array([h[0] for h in hulls]), np.array([h[1] for h in hulls])
         parent = list(range(len(groups)))
@@ -396,7 +406,7 @@ def _touching(lo, hi):
         joined = {}
         for i, t in enumerate(tops):
             joined.setdefault(t, []).append(i)
-        groups = [sum((groups[i] for i in members), []) for members in joined.values()]
+        groups = [list(itertools.chain.from_iterable(groups[i] for i in members)) for members in joined.values()]
         hulls = [(np.min([hulls[i][0] for i in members], axis=0).tolist(),
                   np.max([hulls[i][1] for i in members], axis=0).tolist()) for members in joined.values()]
     return [order[np.array(g)] for g in groups]
