@@ -271,6 +271,7 @@ def check_outputs(args, **more) -> None:
     if plot is not None:
         wanted["--plot"] = (plot, "plot")
     seen = {}
+    robot = getattr(args, "robot", None)
     for option, (path, suffixes) in wanted.items():
         if path is None:
             continue
@@ -279,6 +280,15 @@ def check_outputs(args, **more) -> None:
         if key in seen:
             raise InputError(option, str(path), f"the same file as {seen[key]}")
         seen[key] = option
+        if isinstance(robot, str) and _same_file(path, robot):
+            raise InputError(option, str(path), "the robot file itself (writing there would replace it)")
+
+
+def _same_file(a, b) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:                 # one of them does not exist (yet): not the same file
+        return False
 
 
 # ----------------------------------------------------------------- answers

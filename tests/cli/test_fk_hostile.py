@@ -150,3 +150,14 @@ def test_a_tiny_tolerance_is_kept_exactly(cli):
     run = cli("fk", R2, "--lengths", "29+-1e-30,13.66,40.53", "--json")
     answered(run)
     assert json.loads(run.out)["lengths"][0] == "28.999999999999999999999999999999:29.000000000000000000000000000001"
+
+
+def test_an_output_that_names_the_robot_file_is_refused(cli, tmp_path):
+    """``--certificate robot.toml`` replaced the robot file with a certificate: refused, file intact."""
+    robot = tmp_path / "robot.toml"
+    robot.write_bytes(open(R2, "rb").read())
+    before = robot.read_bytes()
+    for argv in (["fk", str(robot), "--lengths", L, "--certificate", str(robot)],
+                 ["singular", str(robot), "--box", "x=-20:-10,y=20:30,phi=0:0.3", "--certificate", str(robot)]):
+        refused(cli(*argv), "--certificate", "the robot file itself")
+    assert robot.read_bytes() == before
