@@ -12,6 +12,8 @@ from fractions import Fraction
 from pathlib import Path
 
 import mpmath as mp
+import math
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -1032,3 +1034,21 @@ def test_a_tracked_posture_is_not_called_complete():
     assert "1 solution, tracked" in repr(r)
     report = proofs.check(r.certificate())
     assert report.ok, report.step
+
+
+def test_tracking_reads_the_pose_in_the_robots_own_angles():
+    """With tilt and torsion (phi1, phi2, sigma) the previous pose is read as such (sigma was taken for
+    phi3): the mode at (30deg, 60deg, sigma 60deg) is tracked from its own angles, and only from them."""
+    from certkin import load_robot
+    robot = load_robot(EXAMPLES / "seed003-spherical-example-1.toml").with_angles("tilt-torsion")
+    lengths = "1.67332005307,2.32606878754,1.74216654891"
+    every = forward_kinematics(robot, lengths)
+    target = min(every.solutions, key=lambda s: abs(float(s["pose"]["sigma"].lo) - math.pi / 3)
+                 + abs(float(s["pose"]["phi1"].lo) - math.pi / 6))
+    for pose in ("phi1=30deg,phi2=60deg,sigma=60deg", ",".join(repr(float(v.lo)) for v in target["pose"].values())):
+        r = forward_kinematics(robot, lengths, track=pose)
+        assert r.tracked and len(r.solutions) == 1
+        (s,) = r.solutions
+        assert all(float(s["pose"][k].lo) <= float(target["pose"][k].hi) and float(target["pose"][k].lo)
+                   <= float(s["pose"][k].hi) for k in ("phi1", "phi2", "sigma"))
+        assert proofs.check(r.certificate()).ok

@@ -336,6 +336,16 @@ def _tracked_results(robot, system, texts, proofs: Proofs, rows):
 
 
 def _pose_guess(robot, previous):
+    """The pose in the variables ``FKSystem.unknowns_of_pose`` reads: the robot's own, except that
+    tilt-and-torsion angles (phi1, phi2, sigma) become Euler angles (phi1, phi2, phi3 = sigma - phi1)."""
+    pose = _pose_values(robot, previous)
+    if "sigma" in robot.pose_names:
+        pose = pose.copy()
+        pose[2] = pose[2] - pose[0]
+    return pose
+
+
+def _pose_values(robot, previous):
     """The midpoint of ``robots.poses.parse_pose``'s enclosure of a pose (a start for Newton iterations
     only), directly for plain decimal texts and floats; anything else goes through ``parse_pose``
     (which also reports bad input)."""
