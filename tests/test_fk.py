@@ -6,13 +6,13 @@ T = tan(phi/2) whose real roots sympy isolates exactly; spherical instances
 by a lex Groebner basis; Gough postures from the seed's own table.
 """
 import json
+import math
 import subprocess
 import sys
 from fractions import Fraction
 from pathlib import Path
 
 import mpmath as mp
-import math
 
 import numpy as np
 import pytest
