@@ -314,9 +314,13 @@ def _finish(result, system, pending, angle_filter, computed=None):
                                                           for i in range(pts.shape[1])]})
         result.complete = False
         if len(result.clusters) > 1 and result.message in ("", BUDGET_MESSAGE):
-            result.message = (f"the budget ran out after the search reached the resolution limit in "
-                              f"{len(result.clusters)} separate places without proving a posture there: the "
-                              "postures may form a continuum (a self-motion) or be singular")
+            ranges = any(":" in t for t in result.lengths)
+            why = ("over the length ranges the postures sweep regions that could not be told apart (narrower "
+                   "ranges resolve more)" if ranges else
+                   "the postures may form a continuum (a self-motion) or be singular")
+            result.message = (("the budget ran out after " if result.message else "") +
+                              f"the search reached the resolution limit in {len(result.clusters)} separate places "
+                              f"without proving a posture there: {why}")
     result.solutions.sort(key=lambda s: [float(v.lo) for v in s["pose"].values()])
 
 
