@@ -29,7 +29,7 @@ from ..robots import load_robot, robot_from_dict
 from ..robots.files import robot_file_bytes
 from . import COMMANDS as CLI_COMMANDS
 from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, options, \
-    report_writer, write_certificate
+    report_writer, write_certificate, write_text_out
 
 COMMANDS = ("fk", "singular", "trajectory", "plan", "workspace")
 OUTPUTS = ("json", "certificate", "report", "plot", "progress")   # the batch writes a job's outputs itself
@@ -295,7 +295,7 @@ def run(args):
         b.close()
     if args.report:
         report_writer("batch_report")(summary, args.out, args.report)
-    print(json.dumps(summary) if args.json else table(summary, args.out))
+    write_text_out(sys.stdout, (json.dumps(summary) if args.json else table(summary, args.out)) + "\n")
     return 130 if summary["interrupted"] else 0
 
 

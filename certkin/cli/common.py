@@ -350,8 +350,19 @@ def show(args, answer: Answer, out=None) -> int:
     """Write the outputs of an answer, then print its JSON document (``--json``) or its description
     (on ``out``, default stdout)."""
     write_outputs(args, answer)
-    (out or sys.stdout).write((json.dumps(answer.document) if args.json else answer.describe()) + "\n")
+    write_text_out(out or sys.stdout, (json.dumps(answer.document) if args.json else answer.describe()) + "\n")
     return 0
+
+
+PIECE = 1 << 16
+
+
+def write_text_out(stream, text: str) -> None:
+    """``stream.write(text)`` in pieces of 64 KiB: a reader that goes away (``| head -c 10``) is then
+    seen (``BrokenPipeError``, exit 141); one large write loses the rest of the text without an error
+    when the pipe closes after its first part (CPython's buffered writer)."""
+    for k in range(0, len(text), PIECE):
+        stream.write(text[k:k + PIECE])
 
 
 def run_answer(args, compute, names: dict, out=None) -> int:

@@ -1,6 +1,7 @@
 """``certkin singular`` on hostile input (issue #18): every bad option is refused before solving
 (exit 2, one line naming it, nothing written); the budgets bound time and memory."""
 import json
+import os
 
 import pytest
 
@@ -115,3 +116,21 @@ def test_a_huge_classification_stays_under_the_memory_ceiling(tmp_path):
                   tmp_path)
     answered(run, "64000 cells")
     assert run.left == ["c.json"]
+
+
+def test_a_reader_that_closes_the_pipe_after_a_few_bytes_gets_exit_141():
+    """``certkin singular ... --cells 20 --json | head -c 10``: a document of megabytes, one write of
+    which lost the rest silently (exit 0); written in pieces, the closed pipe is seen: 141, no traceback."""
+    import subprocess
+    import sys
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[2]
+    argv = [sys.executable, "-m", "certkin", "singular", R2, "--box", "x=-50:50,y=-50:50,phi=0:0.7853981634",
+            "--cells", "20", "--json"]
+    p = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=root,
+                         env={**os.environ, "PYTHONPATH": os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")])})
+    first = p.stdout.read(10)
+    p.stdout.close()
+    err = p.stderr.read().decode()
+    assert first == b'{"problem"'
+    assert p.wait(timeout=300) == 141 and err == "", err
