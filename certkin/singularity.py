@@ -29,6 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from decimal import Decimal
 from fractions import Fraction
+import math
 
 import numpy as np
 
@@ -40,7 +41,7 @@ from .engine import OPEN, PROVED, Budget, Decisions, budgets, search
 from .engine.budgets import Clock, make_budget, positive_integer
 from .errors import InputError
 from .robots import as_robot
-from .robots.poses import inner_box, parse_box, parse_pose
+from .robots.poses import MAX_MAGNITUDE, inner_box, parse_box, parse_pose
 
 MAX_SCALE = 1e12        # half-widths of the unit box of ``largest_free_box``, at most
 
@@ -346,7 +347,10 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     """The largest box ``pose ± s·scale`` proved singularity-free (bisection on s).
 
     ``scale`` gives the half-widths of the unit box (default 1 in every variable: length units
-    and radians).  The returned result carries the certified box and its tree;
+    and radians).  s is doubled from the value that makes the largest half-width 2⁻¹⁰ (as with
+    the default scale) until a box is not proved (at most to half-width 2²⁰), then bisected: the
+    same boxes for any multiple of the scale by a power of 2.  A box leaving the range of user
+    values (``MAX_MAGNITUDE``) counts as not proved.  The returned result carries the certified box and its tree;
     ``result.scale_factor`` is s.  If the pose itself cannot be proved regular, the result is
     ``undecided`` with s = 0.  ``max_boxes`` bounds each box tried, ``max_seconds`` the whole
     bisection (when it runs out, the largest box proved so far is returned); ``progress(k, s)`` is
@@ -374,6 +378,8 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     def attempt(s):
         nonlocal tried, proved
         lo, hi = center.lo - s * sc, center.hi + s * sc
+        if not (np.all(np.abs(lo) <= MAX_MAGNITUDE) and np.all(np.abs(hi) <= MAX_MAGNITUDE)):
+            return SingularityResult(robot, None, lo, hi, "undecided", scale_factor=s)    # not tried: not proved
         iv = Interval.from_bounds(lo, hi)
         r = classify_cells(robot, (iv, _cell_texts(robot, lo, hi)), 1, budget.within(clock.left()))[0]
         r.scale_factor = s
@@ -388,8 +394,9 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     if best.status != "singularity-free":
         return best
     good, bad = 0.0, None
-    s = 2.0 ** -10
-    while s <= 2.0 ** 20 and not clock.out():
+    unit = 2.0 ** math.floor(math.log2(float(np.max(sc))))      # the scale's largest half-width, to a power of 2
+    s, top = 2.0 ** -10 / unit, 2.0 ** 20 / unit
+    while s <= top and not clock.out():
         r = attempt(s)
         if r.status == "singularity-free":
             best, good = r, s

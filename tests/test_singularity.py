@@ -126,6 +126,25 @@ def test_largest_free_box_is_certified_and_maximal_along_the_scale():
     assert (d > 0).any() and (d < 0).any()
 
 
+@pytest.mark.parametrize("unit", [2.0 ** 39, 2.0 ** -1000])
+def test_largest_free_box_does_not_depend_on_the_scales_unit(unit):
+    """The scale times a power of 2 gives the same box (with the scale 1e12, every box tried was too
+    wide and the point itself was returned; with 1e-300, boxes of 1e-294 at most were tried)."""
+    robot = robot_from_dict(EX2)
+    budget = Budget(max_boxes=5000, max_seconds=20)
+    ref = largest_free_box(robot, "-30,30,0.2", scale="1,1,0.05", budget=budget)
+    r = largest_free_box(robot, "-30,30,0.2", scale=[unit, unit, 0.05 * unit], budget=budget)
+    assert r.status == "singularity-free" and np.allclose(r.lo, ref.lo) and np.allclose(r.hi, ref.hi)
+    checked(r)
+
+
+def test_a_box_around_a_pose_at_the_edge_of_the_value_range_is_never_an_error():
+    """Around 1e12 every box but the point leaves the range of user values: those count as not proved
+    (the message named --box and a value never typed)."""
+    r = largest_free_box(robot_from_dict(EX2), "1e12,1e12,1e12", budget=Budget(max_boxes=500, max_seconds=10))
+    assert r.status == "singularity-free" and np.all(np.abs(r.lo) <= 1e12) and np.all(np.abs(r.hi) <= 1e12)
+
+
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.integers(0, 10_000))
 def test_soundness_against_dense_sampling(seed):

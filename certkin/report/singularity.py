@@ -33,12 +33,17 @@ def singularity_report(robot, results, path, certificate=None, budget=None) -> N
     hi = np.max([r.hi for r in results], axis=0)
     centre = list(0.5 * (lo + hi))
     sections = [("Robot", robot_section(robot, [("centre of the box", centre)], "Drawn at the centre of the box."))]
-    box = _box_text(robot, lo, hi, False)
     cells = "" if len(results) == 1 else f", cut into {len(results)} cells"
+    if len(results) == 1 and results[0].scale_factor is not None:      # --around: the box is the answer
+        question = ("How large a box around the pose given (the pose ± s times the scale, s found by bisection) "
+                    "can be proved free of singularities, det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) "
+                    "never 0 on it? The box found is in the answer below")
+    else:
+        question = (f"Does det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) vanish on the box "
+                    f"{_box_text(robot, lo, hi, False)}{cells}? The box as searched encloses the decimal box given "
+                    "(outward)")
     sections.append(("Question and assumptions", (
-        f"<p>Does det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) vanish on the box {esc(box)}{cells}? "
-        "The box as searched encloses the decimal box given (outward); limits of the robot file are not "
-        "used (the question is about det(A) only).</p>")))
+        f"<p>{esc(question)}; limits of the robot file are not used (the question is about det(A) only).</p>")))
     tree = results[0].tree
     evidence = tree_evidence(tree) if tree is not None else None
     used = {"boxes decided": sum(r.boxes for r in results), "seconds": f"{sum(r.seconds for r in results):.3f}"}

@@ -95,6 +95,20 @@ def test_around_shows_progress_and_prints_the_free_box_inward(cli):
     assert box["x"][0] <= float(printed[0]) <= float(printed[1]) <= box["x"][1]      # inside the proved box
 
 
+def test_an_around_report_asks_its_own_question_and_shows_the_free_box_inward(cli, tmp_path):
+    """The report of --around asked whether det(A) vanishes on the box found, printed outward (wider
+    than proved) beside the verdict, and spoke of a "decimal box given" that nobody gave."""
+    run = cli(*S, "--around=-20,25,0.1", "--max-seconds", "20", "--report", "{tmp}/r.html", "--json")
+    answered(run)
+    box = json.loads(run.out)["box"]
+    page = (tmp_path / "r.html").read_text()
+    question = page.split("Question and assumptions")[1].split("</p>")[0]
+    assert "How large a box around the pose given" in question and "decimal box given" not in question
+    assert "x ∈ [" not in question
+    shown = page.split("x ∈ [")[1].split("]")[0].split(", ")
+    assert box["x"][0] <= float(shown[0]) <= float(shown[1]) <= box["x"][1]
+
+
 @pytest.mark.parametrize("argv", [
     S + ["--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "40", "--min-width", "1e-12"],
     S + ["--around=-20,25,0.1", "--min-width", "1e-12"],
