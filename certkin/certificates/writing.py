@@ -176,14 +176,21 @@ def replaced_file(path) -> Path:
     """``path``, the name an atomic write renames its new file onto, once checked: refused
     (``NotRegularFile``) when it exists and is not a regular file, since renaming onto /dev/null would
     replace the device itself.  A symbolic link is replaced by the new file and its target left as it
-    is (as ``sed -i`` or git do: a link planted in an output directory cannot redirect a write)."""
+    is (as ``sed -i`` or git do: a link planted in an output directory cannot redirect a write), unless
+    it leads to something that is not a regular file: ``/dev/stdout`` is a link to the process's
+    output, and replacing it would break every later ``> /dev/stdout`` on the machine."""
     target = Path(path)
     try:
         mode = os.lstat(target).st_mode
     except FileNotFoundError:
         return target
     if stat.S_ISLNK(mode):
-        return target
+        try:
+            mode = os.stat(target).st_mode
+        except OSError:                     # a dangling link (or a loop): replaced
+            return target
+        if stat.S_ISREG(mode):
+            return target
     if not stat.S_ISREG(mode):
         kind = "a directory" if stat.S_ISDIR(mode) else "a device, a pipe or a socket"
         raise NotRegularFile(errno.EINVAL, f"not a regular file ({kind}): certkin writes a new file and renames "

@@ -161,3 +161,16 @@ def test_an_output_that_names_the_robot_file_is_refused(cli, tmp_path):
                  ["singular", str(robot), "--box", "x=-20:-10,y=20:30,phi=0:0.3", "--certificate", str(robot)]):
         refused(cli(*argv), "--certificate", "the robot file itself")
     assert robot.read_bytes() == before
+
+
+def test_a_link_to_a_device_or_a_pipe_is_refused_and_left_in_place(cli, tmp_path):
+    """``--certificate /dev/stdout`` replaced the link /dev/stdout -> /proc/self/fd/1 with a file (as root):
+    a link leading to anything but a regular file is refused like the device itself; the link stays."""
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    for target in (os.devnull, str(fifo)):
+        link = tmp_path / "out.cert"
+        link.symlink_to(target)
+        refused(cli("fk", R2, "--lengths", L, "--certificate", str(link)), "--certificate", "not a regular file")
+        assert link.is_symlink() and os.readlink(link) == target
+        link.unlink()
