@@ -9,6 +9,7 @@ property test.  Every certificate is re-checked by ``proofs``.
 """
 import copy
 import json
+import os
 import subprocess
 import sys
 from fractions import Fraction
@@ -537,3 +538,39 @@ def test_crossing_estimates_converge_near_an_end():
     t, err = crossing_points(c, np.array([0.25]), np.array([0.9]), radii=np.zeros((1, 16)))
     assert abs(t[0] - root) < 1e-15 and err[0] < 1e-14
     assert np.isnan(crossing_points(c, np.array([0.3]), np.array([0.9]))[0])
+
+
+SINGULAR_EVERYWHERE = {"kind": "planar-3rpr", "base": [[0, 0], [20, 0], [0, 20]], "platform": [[0, 0], [1, 0], [0, 1]],
+                       "limits": {"leg_length": [[1, 100], [1, 100], [1, 100]]}}
+
+
+def test_the_memory_ceiling_bounds_the_whole_call_not_only_the_search():
+    """A path on which det(A) is 0 everywhere, with boxes and width unbounded: the search's records
+    reach the ceiling; the leaves' states and the answer built after it came on top (2.3 times the
+    ceiling at the peak).  In a fresh process, the peak stays within the ceiling and the start-up."""
+    code = ("import json, resource, sys; from certkin import robot_from_dict, verify_trajectory; "
+            f"r = verify_trajectory(robot_from_dict({SINGULAR_EVERYWHERE!r}), '19.1,21.1,0', '22.9,16.9,0', "
+            "max_boxes=10**18, min_width=1e-300, max_seconds=120, max_memory=96 * 2**20); "
+            "print(json.dumps([r.status, r.stats['budget_exhausted'], resource.getrusage(resource.RUSAGE_SELF).ru_maxrss]))")
+    start = ("import json, resource; import certkin.trajectory; "
+             "print(json.dumps(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss))")
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
+    base = json.loads(subprocess.run([sys.executable, "-c", start], capture_output=True, text=True, env=env,
+                                     check=True).stdout)
+    status, exhausted, peak = json.loads(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                                                        env=env, check=True, timeout=300).stdout)
+    assert status == "undecided" and exhausted
+    assert (peak - base) * 1024 <= 96 * 2 ** 20 * 1.1, (peak, base)
+
+
+def test_a_polyline_too_long_for_the_memory_ceiling_is_refused_before_it_starts():
+    """Each segment with a moving orientation holds its polynomials: 300 segments took 2.8 GB under a
+    256 MiB ceiling; now the call is refused at once, naming max_memory and what it would need."""
+    robot = load_robot(MEL)
+    with pytest.raises(InputError) as exc:
+        verify_trajectory(robot, "0,0,500,0,0,0", "84,92,500,85deg,10deg,0",
+                          waypoints=["-69,-50,500,85deg,10deg,0"] * 300, max_memory=256 * 2 ** 20)
+    assert exc.value.source == "max_memory" and "301 segments" in exc.value.problem
+    r = verify_trajectory(robot, "0,0,500,0,0,0", "84,92,500,85deg,10deg,0",
+                          waypoints=["-69,-50,500,85deg,10deg,0"] * 5, max_memory=256 * 2 ** 20, max_seconds=30)
+    assert r.path.segments == 6

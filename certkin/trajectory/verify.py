@@ -22,6 +22,8 @@ than the tolerance.  Verdicts:
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from intervals import Interval
@@ -39,7 +41,13 @@ from .result import TrajectoryResult, conclude
 
 FIRST_BATCH = 256    # constant orientation: about this many initial sub-intervals in all (2 to 16 per segment)
 MARGIN_RTOL = 1e-4   # relative tolerance of the certified minimum margins
+SEARCH_SHARE = 0.4   # of max_memory, for the search's records: the leaves' states and the result take about
+                     # as much again after it (a path singular everywhere: 2.05 times the records at the peak)
 INDEX_STEPS = 64     # sub-intervals per segment for the mean indices
+INDEX_SEGMENTS = 8   # segments evaluated at once for them
+PIECE_BATCH = 512    # boxes decided at once with a moving orientation (each holds its polynomials' products)
+PIECE_BYTES = 8 * 2 ** 10    # held per piece and constraint with a moving orientation, at most (the MEL robot,
+                             # 22 constraints, 301 segments of 8 pieces: 0.45 GiB at the peak, 6.7 KiB each)
 
 
 class TrajectoryProblem:
@@ -230,14 +238,21 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
         int(2 ** np.clip(np.round(np.log2(FIRST_BATCH / n_seg)), 1, 4))
     edges = np.linspace(0.0, 1.0, pieces + 1)          # exact binary fractions
     piece_segment = np.repeat(np.arange(n_seg), pieces)
+    if linear is None and n_seg * pieces * cons.K * PIECE_BYTES > budget.max_memory * (1 - SEARCH_SHARE):
+        need = n_seg * pieces * cons.K * PIECE_BYTES / (1 - SEARCH_SHARE) / 2 ** 20
+        raise InputError("max_memory", "", f"{n_seg} segments with a moving orientation need about {need:.0f} MiB "
+                                           "(their polynomials, held while the paths are verified): give more, or "
+                                           "verify fewer segments at a time")
     lo = np.tile(edges[:-1], n_seg)[:, None]
     hi = np.tile(edges[1:], n_seg)[:, None]
     problem = TrajectoryProblem(cons, P0, D, piece_segment, seg_path, len(paths), rtol, budget.min_width, linear)
     lo, hi, piece_segment = problem.presplit(lo, hi, piece_segment)
     problem.piece_segment = piece_segment
     problem.seed_best(lo, hi, piece_segment)
-    found = search(problem, lo, hi, scale=np.ones(1), budget=budget.within(clock.left()), progress=progress,
-                   min_batch=64, max_rounds=5)
+    searched = replace(budget.within(clock.left()), max_memory=max(1, int(budget.max_memory * SEARCH_SHARE)))
+    batch = PIECE_BATCH if problem.pieces else 4096     # moving orientation: about 0.4 MiB a box while decided
+    found = search(problem, lo, hi, scale=np.ones(1), budget=searched, batch=batch, progress=progress, min_batch=64,
+                   max_rounds=5)
     leaves, segment, tlo, thi, state, mlo, mhi = _leaf_states(problem, found.tree, piece_segment, cons.K, rtol, clock)
     results = []
     for p_index, path in enumerate(paths):
@@ -328,11 +343,14 @@ def _mean_indices(problem, cons, segs) -> list:
     """Certified enclosures of the mean margin over the path (∫ margin ds / segments),
     from INDEX_STEPS sub-intervals per segment: each contributes width × [min, max]."""
     edges = np.linspace(0.0, 1.0, INDEX_STEPS + 1)
-    seg = np.repeat(segs, INDEX_STEPS)
-    tlo = np.tile(edges[:-1], len(segs))
-    thi = np.tile(edges[1:], len(segs))
-    _, mlo, mhi = problem.evaluate(tlo, thi, seg)
-    mean = Interval.from_bounds(*sum_bounds(mlo, mhi, axis=0)) / Interval(INDEX_STEPS * len(segs))   # every column at once
+    total = None
+    for k in range(0, len(segs), INDEX_SEGMENTS):      # a few segments at a time: bounded memory
+        part = segs[k:k + INDEX_SEGMENTS]
+        seg = np.repeat(part, INDEX_STEPS)
+        _, mlo, mhi = problem.evaluate(np.tile(edges[:-1], len(part)), np.tile(edges[1:], len(part)), seg)
+        chunk = Interval.from_bounds(*sum_bounds(mlo, mhi, axis=0))         # every column at once
+        total = chunk if total is None else total + chunk
+    mean = total / Interval(INDEX_STEPS * len(segs))
     out = []
     for k, inst in enumerate(cons.instances):
         if k == cons.det_column:
