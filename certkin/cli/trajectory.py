@@ -49,14 +49,17 @@ def describe(robot, r):
     for k, why in j["skipped"].items():
         lines.append(f"  not checked: {k} ({why})")
     for m in j["margins"]:
-        extra = f", det sign {m['sign']:+d}" if "sign" in m else ""
+        extra = "" if "sign" not in m else (f", det sign {m['sign']:+d}" if m["sign"] else
+                                             ", det sign not proved constant (det(A) may reach 0)")
         lines.append(f"  {m['constraint']} {'-'.join(map(str, m['legs']))}{' ' + m['detail'] if 'detail' in m else ''}: "
                      f"min margin in {display.pair(m['margin'])}{extra}")
+    polyline = r.path.segments > 1        # there, s = k + t on segment k (0-based), as for undecided ranges
     for v in j["violations"]:          # an enclosure of the failing instants, not a range failing throughout
-        where = f"t in {display.outward(*v['t'], 12)}" if "t" in v else f"s in {display.outward(*v['s'], 12)}"
+        where = f"s in {display.outward(*v['s'], 12)}" if polyline or "t" not in v else \
+            f"t in {display.outward(*v['t'], 12)}"
         lines.append(f"  {'VIOLATED' if v['certain'] else 'may fail'}: {v['constraint']} "
-                     f"{'-'.join(map(str, v['legs']))}{' (proved)' if v['certain'] else ''}, "
-                     f"failing instants within {where}")
+                     f"{'-'.join(map(str, v['legs']))}{' ' + v['detail'] if 'detail' in v else ''}"
+                     f"{' (proved)' if v['certain'] else ''}, failing instants within {where}")
     for u in j["undecided"][:SHOWN]:
         lines.append(f"  undecided for s in {display.outward(*u['s'], 12)}")
     if len(j["undecided"]) > SHOWN:

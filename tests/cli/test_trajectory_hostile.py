@@ -73,3 +73,16 @@ def test_an_absurd_height_ends_within_the_time_budget(cli):
 def test_the_absurd_pose_of_the_issue_under_a_memory_limit(tmp_path):
     run = limited(["trajectory", MEL, "--from", "-69,-50,1e300,85deg,10deg,0", "--to", B, "--max-seconds", "5"], tmp_path)
     refused(run, "--from")
+
+
+def test_a_polylines_violations_are_placed_by_s_and_name_their_detail(cli):
+    """On a polyline, a violation on segment 2 was printed "t in [0.549, 1]" (the segment's own t, no
+    segment named); it is placed by s = segment + t, as the undecided ranges are."""
+    run = cli("trajectory", MEL, "--from", "0,0,500,0,0,0", "--via", "-69,-50,500,85deg,10deg,0",
+              "--via", "-69,-50,500,85deg,10deg,0", "--to", "84,92,500,85deg,10deg,0")
+    answered(run)
+    doc = json.loads(cli("trajectory", MEL, "--from", "0,0,500,0,0,0", "--via", "-69,-50,500,85deg,10deg,0",
+                         "--via", "-69,-50,500,85deg,10deg,0", "--to", "84,92,500,85deg,10deg,0", "--json").out)
+    late = [v for v in doc["violations"] if v["segment"] == 2]
+    assert late and all(v["s"][0] >= 2 for v in late)
+    assert " t in [" not in run.out and "failing instants within s in [2.5" in run.out
