@@ -337,10 +337,12 @@ def write_certificate(path, document):
 
 def write_outputs(args, answer: Answer) -> None:
     """Write the files the options ask for: ``--certificate``, ``--report``, ``--plot``."""
+    written = None
     if getattr(args, "certificate", None) and answer.certificate is not None:
         write_certificate(args.certificate, answer.certificate())
+        written = args.certificate
     if getattr(args, "report", None) and answer.report is not None:
-        answer.report(args.report, getattr(args, "certificate", None))
+        answer.report(args.report, written)     # (never a file an earlier run left at that name)
     if getattr(args, "plot", None) and answer.plot is not None:
         with atomic_path(args.plot) as path:
             answer.plot(path)

@@ -115,13 +115,15 @@ def evidence_section(evidence: dict | None, budget=None, used: dict | None = Non
         if budget is not None:
             rows += [("budget: boxes", budget.max_boxes), ("budget: seconds", budget.max_seconds),
                      ("budget: smallest width split", budget.min_width)]
-        out += table(("work", "amount"), [(k, _amount(k, v)) for k, v in rows])
+        out += table(("work", "amount"), [(k.replace("_", " "), _amount(k, v)) for k, v in rows])
     return out
 
 
 def _amount(name: str, value):
     """A work figure as shown: times to the millisecond (a measurement, not a claim), other floats
-    exactly (``display.point``)."""
+    exactly (``display.point``), yes or no."""
+    if isinstance(value, bool):
+        return "yes" if value else "no"
     if isinstance(value, float):
         return f"{value:.3f}" if "seconds" in name else point(value)
     return value
@@ -130,8 +132,9 @@ def _amount(name: str, value):
 def certificate_section(path) -> str:
     """The certificate's name, size, SHA-256 and re-check command, or that none was written."""
     if not path or not Path(path).exists():
-        return ("<p>No certificate was written for this report (give <code>--certificate FILE</code> to the "
-                "command to write one).</p>")
+        return ("<p>No certificate was written for this report: the command writes one when given "
+                "<code>--certificate FILE</code> and its answer proves something (a plan that found no path "
+                "proves nothing).</p>")
     facts = file_facts(path)
     return table(("file", "size (bytes)", "SHA-256"), [(facts["file"], facts["bytes"], facts["sha256"])]) + \
         f"<p>Re-check it with the independent checker: <code>certkin check {esc(shlex.quote(str(path)))}</code> " \

@@ -1,7 +1,7 @@
 """The report of a plan: the path found (every segment certified feasible) or why none was."""
 from __future__ import annotations
 
-from .page import esc, robot_section, table, write_report
+from .page import evidence_section, robot_section, table, write_report
 from .trajectory import trajectory_sections
 
 
@@ -22,8 +22,10 @@ def plan_report(robot, result, path, certificate=None, budget=None) -> None:
     sections.append(("Question and assumptions", (
         "<p>A path from the start to the goal whose every straight segment is certified feasible for all "
         "the constraints the robot file allows to check; waypoints are searched on a grid between the two "
-        f"poses.</p>{table(('waypoint', 'pose'), rows) if rows else ''}"
-        f"<p>{esc(', '.join(f'{k}: {v}' for k, v in result.stats.items()))}</p>")))
+        f"poses.</p>{table(('waypoint', 'pose'), rows) if rows else ''}")))
+    stats = {{"edges_verified": "segments verified", "nodes_expanded": "grid nodes expanded"}.get(k, k): v
+             for k, v in result.stats.items()}
+    sections.append(("Evidence", evidence_section(None, budget, stats)))
     for k, seg in enumerate(result.segments):
         for heading, html in trajectory_sections(robot, seg, budget):
             sections.append((f"Segment {k + 1}: {heading.lower()}", html))

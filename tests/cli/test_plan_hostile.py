@@ -1,5 +1,6 @@
 """``certkin plan`` on hostile input (issue #18)."""
 import json
+from pathlib import Path
 
 import pytest
 
@@ -69,3 +70,17 @@ def test_the_largest_grid_stays_under_the_memory_ceiling(tmp_path):
     from conftest import limited
     run = limited(P + ["--divisions", "1000", "--margin", "1000", "--max-edges", "1e9", "--max-seconds", "3"], tmp_path)
     answered(run)
+
+
+def test_a_report_never_cites_a_certificate_left_by_an_earlier_run(cli, tmp_path):
+    """No path found: no certificate is written, and the report says so, even when a file of that name
+    (an earlier run's certificate) is there: it cited that file's size and SHA-256 as its own."""
+    stale = tmp_path / "np.cert"
+    stale.write_bytes(b"an earlier run's certificate")
+    seed001 = str(Path(__file__).resolve().parents[2] / "examples" / "robots" / "seed001-3rpr-planning.toml")
+    run = cli("plan", seed001, "--from", "20,0,3.0", "--to", "60,-50,6.0", "--max-seconds", "1",
+              "--report", "{tmp}/np.html", "--certificate", str(stale))
+    answered(run, "no-path-found")
+    page = (tmp_path / "np.html").read_text()
+    assert "No certificate was written for this report" in page and "np.cert" not in page
+    assert "segments verified" in page and "edges_verified" not in page and "False" not in page
