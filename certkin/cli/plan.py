@@ -22,7 +22,8 @@ def add_arguments(pl):
                     help="grid steps between start and goal, 1 to 1000 (default 6)")
     pl.add_argument("--margin", type=count(1000, least=0), default=3, metavar="N", help="grid steps beyond them, 0 to 1000 (default 3)")
     pl.add_argument("--max-edges", type=count(10 ** 9), default=4000, metavar="N",
-                    help="segments verified at most (default 4000)")
+                    help="grid segments verified at most, with the straight one (default 4000; the shortcuts of "
+                         "a path found come on top)")
     add_outputs(pl, "write the certificate of every segment of the path found to FILE")
     add_budget(pl, budgets.PLAN, boxes_help="box budget of each batch of segments verified")
 

@@ -84,3 +84,11 @@ def test_a_report_never_cites_a_certificate_left_by_an_earlier_run(cli, tmp_path
     page = (tmp_path / "np.html").read_text()
     assert "No certificate was written for this report" in page and "np.cert" not in page
     assert "segments verified" in page and "edges_verified" not in page and "False" not in page
+
+
+@pytest.mark.parametrize("n", [2, 3, 10])
+def test_max_edges_is_a_maximum(cli, n):
+    """--max-edges 2, 3, 5 or 10 each verified 27 segments (a whole expansion at once)."""
+    run = cli(*P, "--max-edges", str(n), "--json")
+    answered(run)
+    assert json.loads(run.out)["stats"]["edges_verified"] == n
