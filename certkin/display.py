@@ -181,6 +181,14 @@ def interval(iv, digits: int = DIGITS) -> str:
     return outward(lo, hi, digits)
 
 
+def size(n_bytes: float) -> str:
+    """A memory size for a person: '1 MiB', '0.5 GiB' (3 significant digits; a measure, not a claim)."""
+    for unit, scale in (("GiB", 2 ** 30), ("MiB", 2 ** 20), ("KiB", 2 ** 10)):
+        if n_bytes >= scale:
+            return f"{n_bytes / scale:.3g} {unit}"
+    return f"{n_bytes:.0f} bytes"
+
+
 def counted(n: int, noun: str) -> str:
     """``n`` and the noun, plural unless n is 1: '1 cluster', '0 clusters', '2 clusters'."""
     return f"{n} {noun}{'' if n == 1 else 's'}"

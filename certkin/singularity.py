@@ -287,10 +287,10 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
     cells = n ** int(free.sum())
     if cells > budget.max_boxes:
         raise InputError("n", "", f"{n} cells per side make {cells} cells, more than the box budget "
-                                  f"(max_boxes {budget.max_boxes}): each cell needs one box at least")
+                                  f"({budget.max_boxes} boxes): each cell needs one box at least")
     if cells * CELL_BYTES > budget.max_memory:
-        raise InputError("n", "", f"{n} cells per side make {cells} cells, about {cells * CELL_BYTES / 2 ** 30:.2g} GiB, "
-                                  f"more than the memory budget (max_memory {budget.max_memory / 2 ** 30:.3g} GiB)")
+        raise InputError("n", "", f"{n} cells per side make {cells} cells, about {display.size(cells * CELL_BYTES)}, "
+                                  f"more than the memory budget ({display.size(budget.max_memory)})")
     counts = [n if f else 1 for f in free]
     grids = [np.linspace(lo0[i], hi0[i], c + 1) for i, c in enumerate(counts)]
     for g, a, b in zip(grids, lo0, hi0):

@@ -152,3 +152,9 @@ def test_a_plotted_slice_of_cells_is_named_by_its_exact_range():
 def test_counted_is_plural_unless_one():
     from certkin.display import counted
     assert [counted(n, "cluster") for n in (0, 1, 2)] == ["0 clusters", "1 cluster", "2 clusters"]
+
+
+def test_sizes_are_shown_in_the_largest_binary_unit():
+    from certkin.display import size
+    assert size(2 ** 20) == "1 MiB" and size(1.5 * 2 ** 30) == "1.5 GiB" and size(512) == "512 bytes"
+    assert size(77.2 * 2 ** 20) == "77.2 MiB" and size(3 * 2 ** 10) == "3 KiB"
