@@ -294,6 +294,9 @@ def test_a_robot_name_that_could_forge_output_is_refused(name):
     with pytest.raises(RobotFileError, match="printable"):
         robot_from_dict(data)
     assert robot_from_dict({**data, "name": "Pétri 3-RPR (β = 2°)"}).name == "Pétri 3-RPR (β = 2°)"
+    for empty in ("", "   "):                  # every answer started with ": "
+        with pytest.raises(RobotFileError, match="name: empty"):
+            robot_from_dict({**data, "name": empty})
 
 
 def test_leg_length_arrays_of_the_wrong_shape_are_refused_saying_what_was_given():

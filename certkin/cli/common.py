@@ -220,6 +220,8 @@ def check_output_path(path, option: str, suffixes=None, parent: bool = True) -> 
     p = Path(path)
     if not str(path).strip():
         raise InputError(option, "", "empty file name")
+    if str(path) == "-":
+        raise InputError(option, "-", "a file name is needed ('-' is not standard output here)")
     if p.is_dir():
         raise InputError(option, str(path), "is a directory; give a file name")
     if suffixes is not None and p.suffix.lower() not in suffixes:

@@ -92,6 +92,8 @@ def robot_from_dict(data: dict, source: str = "<robot>") -> Robot:
     name = data.get("name", Path(source).stem)
     if not isinstance(name, str):
         raise RobotFileError(source, "name", "expected a string")
+    if not name.strip():                                  # every answer starts with it
+        raise RobotFileError(source, "name", "empty (leave it out to use the file's name)")
     if not name.isprintable() or len(name) > MAX_NAME:     # printed in every answer and certificate check
         raise RobotFileError(source, "name", f"expected one line of at most {MAX_NAME} printable characters (no "
                                              f"newline, terminal escape or bidi control), got {name[:MAX_NAME]!r}")

@@ -15,6 +15,7 @@ L = "28.99,13.66,40.53"
 F = ["fk", R2, "--lengths", L]
 
 HOSTILE = [
+    (F + ["--certificate", "-"], ["--certificate", "a file name is needed"]),      # once: a file named '-'
     (["fk", R2, "--lengths", "28.99,13.66,1e999999999"], ["--lengths", "leg 3", "out of range"]),  # once: hung
     (["fk", R2, "--lengths", "28.99,13.66,1e9999"], ["--lengths", "out of range"]),    # once: "not a finite number"
     (["fk", R2, "--lengths", "29+-1e-999999999,13.66,40.53"], ["--lengths", "below 1e-400"]),
