@@ -323,5 +323,6 @@ def table(summary: dict, out) -> str:
         lines.append("  slowest: " + ", ".join(f"{s['id']} {s['seconds']:.3f} s" for s in summary["slowest"]))
     pending = sum(r["verdict"] == PENDING for r in summary["results"])
     if summary["interrupted"]:
-        lines.append(f"  INTERRUPTED: {pending} jobs not run; the same command resumes the batch")
+        lines.append(f"  INTERRUPTED: {pending} jobs not run or not re-checked in this run (pending; files an earlier "
+                     "run wrote are kept); the same command resumes the batch")
     return "\n".join(printable(line) for line in lines)      # a jobs file's text cannot forge a line
