@@ -35,3 +35,15 @@ def test_the_bundled_robots_are_found_in_a_source_tree_or_an_installed_copy(tmp_
     assert bundled_robots_dir(tmp_path / "site-packages", str(tmp_path / "prefix")) == installed
     assert bundled_robots_dir(SOURCE_TREE, str(tmp_path / "prefix")) == SOURCE_TREE / "examples" / "robots"
     assert '"share/certkin/robots" = ["examples/robots/*.toml"]' in (SOURCE_TREE / "pyproject.toml").read_text()
+
+
+def test_a_robots_directory_runs_only_the_steps_its_robots_fit(cli, tmp_path):
+    """A spherical robot named like the planar example, a planar one named like seed 000: the demo's
+    steps matched file names and failed halfway (spherical robots have no variable 'x')."""
+    folder = tmp_path / "robots"
+    folder.mkdir()
+    examples = SOURCE_TREE / "examples" / "robots"
+    (folder / "x-planar-example-2.toml").write_bytes((examples / "seed003-spherical-example-1.toml").read_bytes())
+    (folder / "seed000-x.toml").write_bytes((examples / "seed003-planar-example-1.toml").read_bytes())
+    run = cli("demo", "--robots", str(folder), "--out", "{tmp}/demo")
+    assert run.code == 0 and "== Robots (" in run.out and "no file of this directory is one of them" in run.out, run.err
