@@ -158,3 +158,10 @@ def test_sizes_are_shown_in_the_largest_binary_unit():
     from certkin.display import size
     assert size(2 ** 20) == "1 MiB" and size(1.5 * 2 ** 30) == "1.5 GiB" and size(512) == "512 bytes"
     assert size(77.2 * 2 ** 20) == "77.2 MiB" and size(3 * 2 ** 10) == "3 KiB"
+
+
+def test_a_report_shows_a_one_sided_margin_as_proved_not_as_missing():
+    """A margin with a proved lower bound and no upper bound was shown "not computed" in reports."""
+    from certkin.report.page import enclosure
+    assert enclosure((184.0023, None)) == "[184.0022999, inf]" and enclosure((None, None)) == "not computed"
+    assert enclosure((None, 3.0)) == "[-inf, 3]"

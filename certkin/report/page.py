@@ -22,7 +22,7 @@ import numpy as np
 from .. import __version__
 from ..batch.results import file_facts
 from ..certificates import write_text
-from ..display import outward, point
+from ..display import pair, point
 from ..engine import EXCLUDED, PROVED, UNDECIDED
 from ..plots import plot_robot
 
@@ -45,11 +45,12 @@ def table(header, rows) -> str:
 
 
 def enclosure(lo_hi) -> str:
-    """An enclosure [lo, hi] printed outward (``display.outward``); ``None`` bounds shown as not computed."""
+    """An enclosure [lo, hi] printed outward (``display.outward``); a ``None`` bound is a side not
+    bounded (``display.pair``: -inf or inf), both ``None``: not computed."""
     lo, hi = lo_hi
-    if lo is None or hi is None:
+    if lo is None and hi is None:
         return "not computed"
-    return outward(lo, hi)
+    return pair((lo, hi))
 
 
 def figure(draw, alt: str) -> str:
