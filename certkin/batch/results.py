@@ -131,8 +131,8 @@ def row(job: dict, verdict: str, seconds: float, attempts: int = 1, certificate:
         error: str | None = None, resumed: bool = False, cpu_seconds: float = 0.0) -> dict:
     """One job's line of ``summary.json`` (``seconds``: wall clock, ``cpu_seconds``: CPU of its worker)."""
     command = job.get("command")
-    out = {"id": job["id"], "command": command if isinstance(command, str) else None, "verdict": verdict, "seconds": round(seconds, 6),
-           "cpu_seconds": round(cpu_seconds, 6), "attempts": attempts, "document": f"{job['id']}.json",
+    out = {"id": job["id"], "command": command if isinstance(command, str) else None, "verdict": verdict,
+           "seconds": round(seconds, 6), "cpu_seconds": round(cpu_seconds, 6), "attempts": attempts, "document": f"{job['id']}.json",
            "certificate": certificate}
     if error is not None:
         out["error"] = error

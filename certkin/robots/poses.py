@@ -53,7 +53,8 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
 
 def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval, str]:
     if isinstance(value, bool) or value is None:
-        raise RobotFileError(source, field, f"expected a number, got {'nothing' if value is None else str(value).lower()}")
+        got = "nothing" if value is None else str(value).lower()
+        raise RobotFileError(source, field, f"expected a number, got {got}")
     text = value.strip() if isinstance(value, str) else value
     if isinstance(text, str) and text.lower().endswith("deg"):
         if not angle:

@@ -189,7 +189,8 @@ class Constraints:
         with remainders; valid for τ ∈ [0, 1]).  None when the model uses a function the
         polynomials do not support.  Rows are expanded ``PIECE_ROWS`` at a time and joined (the
         products hold about 1 MiB a row while they run: a polyline of 60 segments took 0.4 GiB)."""
-        a, h = np.broadcast_to(np.asarray(a, float), (P0.shape[0],)), np.broadcast_to(np.asarray(h, float), (P0.shape[0],))
+        shape = (P0.shape[0],)
+        a, h = np.broadcast_to(np.asarray(a, float), shape), np.broadcast_to(np.asarray(h, float), shape)
         parts = []
         for k in range(0, P0.shape[0], PIECE_ROWS):
             rows = slice(k, k + PIECE_ROWS)
@@ -303,7 +304,8 @@ def _joined(parts: list):
     first = parts[0]
     if isinstance(first, Poly):
         n = max(p.lo.shape[-1] for p in parts)
-        return Poly(np.concatenate([padded(p.lo, n - 1) for p in parts]), np.concatenate([padded(p.hi, n - 1) for p in parts]))
+        return Poly(np.concatenate([padded(p.lo, n - 1) for p in parts]),
+                    np.concatenate([padded(p.hi, n - 1) for p in parts]))
     if isinstance(first, Interval):
         return Interval.from_bounds(np.concatenate([p.lo for p in parts]), np.concatenate([p.hi for p in parts]))
     if isinstance(first, (list, tuple)):
@@ -317,5 +319,6 @@ def _joined(parts: list):
         return out
     if isinstance(first, np.ndarray):
         return np.concatenate(parts)
-    assert all(p == first for p in parts), "chunks of piece_polynomials disagree"
+    if any(p != first for p in parts):
+        raise ValueError(f"chunks of piece_polynomials disagree: {parts!r:.200}")
     return first

@@ -95,8 +95,9 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
     ``robot``: a robot or a robot file's path; ``start``, ``goal``: poses (texts such as
     ``"-90,140,520,0,0,0"`` or sequences of exact values).  ``divisions`` (1 to 1000): grid steps
     between start and goal; ``margin`` (0 to 1000): grid steps beyond them; ``max_edges``: grid
-    segments verified at most (with the start-goal segment; the shortcuts of a path found come on top).  ``max_seconds`` bounds the whole plan, ``max_boxes`` and ``min_width`` each
-    batch of segments verified; ``progress(edges, nodes)`` is called after each batch.  Waypoints
+    segments verified at most (with the start-goal segment; the shortcuts of a path found come on
+    top).  ``max_seconds`` bounds the whole plan, ``max_boxes`` and ``min_width`` each batch of
+    segments verified; ``progress(edges, nodes)`` is called after each batch.  Waypoints
     are exact decimals (the grid's poses rounded to 12 digits: the poses verified are the ones
     printed).  A ``found`` result always starts at ``start``, ends at ``goal`` and has one
     ``feasible`` segment per step."""
