@@ -1045,8 +1045,11 @@ def test_tracking_reads_the_pose_in_the_robots_own_angles():
     every = forward_kinematics(robot, lengths)
     target = min(every.solutions, key=lambda s: abs(float(s["pose"]["sigma"].lo) - math.pi / 3)
                  + abs(float(s["pose"]["phi1"].lo) - math.pi / 6))
-    for pose in ("phi1=30deg,phi2=60deg,sigma=60deg", ",".join(repr(float(v.lo)) for v in target["pose"].values())):
-        r = forward_kinematics(robot, lengths, track=pose)
+    from certkin.fk import track_sequence
+    (step,) = track_sequence(robot, [lengths], "phi1=30deg,phi2=60deg,sigma=60deg", fallback=False)
+    for pose in ("phi1=30deg,phi2=60deg,sigma=60deg", ",".join(repr(float(v.lo)) for v in target["pose"].values()),
+                 None):
+        r = forward_kinematics(robot, lengths, track=pose) if pose else step    # (a sequence reads it alike)
         assert r.tracked and len(r.solutions) == 1
         (s,) = r.solutions
         assert all(float(s["pose"][k].lo) <= float(target["pose"][k].hi) and float(target["pose"][k].lo)

@@ -336,12 +336,16 @@ def _tracked_results(robot, system, texts, proofs: Proofs, rows):
 
 
 def _pose_guess(robot, previous):
-    """The pose in the variables ``FKSystem.unknowns_of_pose`` reads: the robot's own, except that
+    """The pose in the variables ``FKSystem.unknowns_of_pose`` reads (``_euler``)."""
+    return _euler(robot, _pose_values(robot, previous))
+
+
+def _euler(robot, pose):
+    """Float pose values in the robot's own variables, as ``FKSystem.unknowns_of_pose`` reads them:
     tilt-and-torsion angles (phi1, phi2, sigma) become Euler angles (phi1, phi2, phi3 = sigma - phi1)."""
-    pose = _pose_values(robot, previous)
     if "sigma" in robot.pose_names:
-        pose = pose.copy()
-        pose[2] = pose[2] - pose[0]
+        pose = np.array(pose, dtype=np.float64)
+        pose[..., 2] = pose[..., 2] - pose[..., 0]
     return pose
 
 
@@ -419,7 +423,7 @@ def track_rows(robot, lengths_rows, start_pose):
     scale = _scale(system)
     starts, xs = np.empty((M, n)), np.empty((M, n))
     converged = np.zeros(M, dtype=bool)
-    x_prev = system.unknowns_of_pose(pose.mid())
+    x_prev = system.unknowns_of_pose(_euler(robot, pose.mid()))
     velocity = None
     for k in range(M):
         ok = False
