@@ -69,3 +69,38 @@ def test_errors_name_the_parameter():
     for call, parameter in cases:
         with pytest.raises(certkin.InputError, match=f"^{parameter}"):
             call()
+
+
+def test_floats_and_numpy_scalars_stand_for_their_repr_and_their_certificates_check():
+    """A float (numpy's too) stands for its shortest repr, enclosed: the text recorded is the one
+    searched (a float32 path printed "20.1" while the search used 20.100000381...; a box of 0.1 and
+    np.float64 values gave certificates the checker rejected; np.float64 became 'np.float64(20.1)')."""
+    import proofs
+    from certkin import certify_singularity_free, load_robot, verify_trajectory
+    examples = Path(__file__).resolve().parents[1] / "examples" / "robots"
+    planar, planning = (load_robot(examples / f) for f in ("seed003-planar-example-2.toml", "seed001-3rpr-planning.toml"))
+    r = verify_trajectory(planning, np.array([20.1, 0.1, 3.0], np.float32), np.array([60.3, -50.7, 3.0], np.float32))
+    assert r.to_json()["path"][0] == {"x": repr(float(np.float32(20.1))), "y": repr(float(np.float32(0.1))), "phi": "3.0"}
+    assert proofs.check(r.certificate()).ok
+    r = verify_trajectory(planning, np.array([20.1, 0.1, 3.0]), np.array([60.3, -50.7, 3.0]))
+    assert r.to_json()["path"][0] == {"x": "20.1", "y": "0.1", "phi": "3.0"} and proofs.check(r.certificate()).ok
+    for box in ({"x": (-20, -10), "y": (20, 30), "phi": (0.1, 0.3)}, {"x": (np.float64(-20), -10), "y": (20, 30), "phi": 0.3}):
+        r = certify_singularity_free(planar, box)
+        assert r.status == "singularity-free" and proofs.check(r.certificate()).ok
+
+
+def test_decimals_no_float_can_hold_are_refused_at_once():
+    import time
+    from certkin import forward_kinematics, robot_from_dict
+    t0 = time.perf_counter()
+    with pytest.raises(certkin.InputError, match="below 1e-400"):
+        forward_kinematics(Path(__file__).resolve().parents[1] / "examples" / "robots" / "seed003-planar-example-2.toml",
+                           "1e-999999999,1,1")
+    robot = {"kind": "planar-3rpr", "base": [["1e-99999999", 4.34], [34.47, -3.78], [16.233, 34.76]],
+             "platform": [[-4.83, -3.19], [12.04, -3.19], [8.23, 12.09]]}
+    with pytest.raises(certkin.InputError, match="below 1e-400"):              # (it hung in the degeneracy check)
+        robot_from_dict(robot)
+    robot["base"][0][0] = 10 ** 5000                                    # (int to text: a ValueError)
+    with pytest.raises(certkin.InputError, match="out of range"):
+        robot_from_dict(robot)
+    assert time.perf_counter() - t0 < 30

@@ -52,6 +52,8 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
 
 
 def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval, str]:
+    if isinstance(value, np.generic) and not isinstance(value, (np.str_, np.bytes_)):
+        value = value.item()                 # a numpy scalar: the Python number of the same value
     if isinstance(value, bool) or value is None:
         got = "nothing" if value is None else str(value).lower()
         raise RobotFileError(source, field, f"expected a number, got {got}")
@@ -69,10 +71,15 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
             return Interval(0.0), text
         return Interval.from_bounds(np.array(lo), np.array(hi)) * RADIANS_PER_DEGREE, text
     if isinstance(text, float):
-        # tomllib with parse_float=Decimal never gives floats; Python callers may
+        # tomllib with parse_float=Decimal never gives floats; Python callers may: the float stands for
+        # its shortest repr, the decimal the caller wrote, enclosed outward (which holds the float too)
         if not math.isfinite(text):
-            raise RobotFileError(source, field, f"not a finite number: {value!r}")
-        return Interval(text), repr(text)
+            raise RobotFileError(source, field, f"not a finite number: {text!r}")
+        text = repr(text)
+    if isinstance(text, int) and abs(text) > MAX_MAGNITUDE:     # (before any text of its 5000 digits)
+        raise RobotFileError(source, field, f"out of range (at most {MAX_MAGNITUDE:g} in magnitude)")
+    if _below_any_float(text):
+        raise RobotFileError(source, field, f"{_shown(value)} is below 1e-400 in magnitude: write 0")
     try:
         lo, hi = enclose(text)
     except (ValueError, TypeError):
@@ -80,6 +87,16 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
     if not (math.isfinite(lo) and math.isfinite(hi)):       # a finite decimal beyond the float range
         raise RobotFileError(source, field, f"{_shown(value)} is out of range (at most {MAX_MAGNITUDE:g} in magnitude)")
     return Interval.from_bounds(np.array(lo), np.array(hi)), exact_text(text)
+
+
+def _below_any_float(text) -> bool:
+    """A nonzero decimal below 1e-400 in magnitude (no float tells it from 0; its exact value would be
+    a fraction of that many digits, which the checker refuses and ``Fraction`` takes ages to build)."""
+    try:
+        d = text if isinstance(text, Decimal) else Decimal(text.strip()) if isinstance(text, str) else None
+    except (InvalidOperation, ValueError):
+        return False
+    return d is not None and d.is_finite() and d != 0 and d.adjusted() < -400
 
 
 def _shown(value) -> str:
@@ -231,7 +248,7 @@ def parse_lengths(robot, lengths, parameter="lengths"):
         ivs, ts = [], []
         for j, v in enumerate(row):
             if isinstance(v, (float, np.floating)):
-                v = repr(float(v))  # a float is its exact binary value; keep that text
+                v = repr(float(v))  # a float stands for its shortest repr, enclosed (as ``parse_number``)
             field_name = f"[{i}][{j}]" if batch else f"leg {j + 1}"
             iv, t = _length(v, parameter, field_name)
             ivs.append(iv)
@@ -296,8 +313,8 @@ def length_enclosures(robot, lengths):
             else:
                 break
             ab = enclose_plain(t)
-            if ab is None or not (ab[0] >= 0 and ab[1] <= MAX_MAGNITUDE):
-                break
+            if ab is None or not (ab[0] >= 0 and ab[1] <= MAX_MAGNITUDE) or ab[0] == 0.0 < ab[1]:
+                break                        # (a tiny nonzero length: parse_lengths says whether it is taken)
             a, b = ab
             lo.append(a)
             hi.append(b)
