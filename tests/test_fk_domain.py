@@ -117,3 +117,24 @@ def test_an_angle_range_ending_on_a_mode_leaves_it_unresolved_never_dropped():
     assert not r.complete and len(r.unresolved) >= 1
     pose = {"phi": Interval.from_bounds(np.array(-np.pi), np.array(np.pi))}
     assert in_ranges(pose, {"phi": (0.0, 1.0)}) is None           # an enclosure of every angle: cannot tell
+
+
+@pytest.mark.parametrize("domain", ["x=1000:2000,y=-20:0,phi=0:2", "x=40:45,y=-50:50,phi=-4:4"])
+def test_a_domain_the_leg_lengths_cannot_reach_is_searched_not_called_empty(domain):
+    """A position range that misses the range the leg lengths allow made the domain 'empty', which the
+    certificate states as "these lengths allow no posture at all" (6 exist): the user's range is searched."""
+    robot = load_robot(EXAMPLES / "seed003-planar-example-2.toml")
+    r = forward_kinematics(robot, "28.991,13.66,40.53", domain=domain)
+    assert r.complete and not r.solutions
+    cert = r.certificate()
+    claim = cert.header["claims"][0]
+    assert claim["domain"] != "empty" and claim["covers"] == "box"
+    assert proofs.check(cert).ok
+
+
+def test_track_and_domain_together_are_refused():
+    from certkin import InputError
+    robot = load_robot(EXAMPLES / "seed003-planar-example-2.toml")
+    with pytest.raises(InputError) as exc:
+        forward_kinematics(robot, "28.99,13.66,40.53", track="13.3,-17,1.13", domain="x=1000:2000,y=-20:0,phi=0:2")
+    assert exc.value.source == "domain"

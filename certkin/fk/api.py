@@ -25,6 +25,7 @@ from intervals import Interval, sqr
 from ..engine import BUDGET, PROVED, RESOLUTION, UNDECIDED, Budget, budgets
 from ..certificates.fk import record_sink
 from ..engine.budgets import make_budget
+from ..errors import InputError
 from ..robots import as_robot
 from ..robots.poses import length_enclosures, parse_box
 from .angles import in_ranges
@@ -58,6 +59,9 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     """
     robot = as_robot(robot)
     keywords = dict(max_boxes=max_boxes, max_seconds=max_seconds, min_width=min_width, max_memory=max_memory)
+    if track is not None and domain is not None:      # (the tracked posture was returned outside the domain)
+        raise InputError("domain", "", "not with track (a tracked posture is proved near the previous pose, not "
+                                       "searched in a domain)")
     if track is not None and not isinstance(lengths, str) and np.asarray(lengths, dtype=object).ndim == 2:
         return track_sequence(robot, lengths, track, budget=budget, **keywords)
     system = fk_system(robot)
@@ -417,17 +421,23 @@ def _touching(lo, hi):
 
 
 def _apply_domain(robot, system, spec, lo, hi):
-    """Narrow the position unknowns to a user box; angle ranges become a solution filter."""
+    """Narrow the position unknowns to a user box; angle ranges become a solution filter.  A user
+    range that misses the range the leg lengths allow is searched as it is (its emptiness proved
+    there, by the search and its certificate): an empty domain is the claim that the leg lengths
+    allow no posture at all, which is not what the user's box shows."""
     box, _ = parse_box(spec, robot, "domain")
     lo, hi = lo.copy(), hi.copy()
+    reachable = np.all(lo <= hi, axis=1)
     angles = {}
     for k, name in enumerate(robot.pose_names):
         if name in robot.angle_names:
             angles[name] = (float(box.lo[k]), float(box.hi[k]))
         else:
             j = system.unknowns.index(name)
-            lo[:, j] = np.maximum(lo[:, j], box.lo[k])
-            hi[:, j] = np.minimum(hi[:, j], box.hi[k])
+            nlo, nhi = np.maximum(lo[:, j], box.lo[k]), np.minimum(hi[:, j], box.hi[k])
+            missed = reachable & (nlo > nhi)
+            lo[:, j] = np.where(missed, box.lo[k], nlo)
+            hi[:, j] = np.where(missed, box.hi[k], nhi)
     return lo, hi, angles
 
 
