@@ -104,3 +104,16 @@ def test_decimals_no_float_can_hold_are_refused_at_once():
     with pytest.raises(certkin.InputError, match="out of range"):
         robot_from_dict(robot)
     assert time.perf_counter() - t0 < 30
+
+
+def test_a_budget_is_checked_when_made_and_fixed_afterwards():
+    """Budget(max_seconds="5") was accepted (the docs refuse text), and b.max_boxes = -5 was then used."""
+    import dataclasses
+    for field in ("max_seconds", "min_width", "max_boxes", "max_memory"):
+        with pytest.raises(certkin.InputError) as exc:
+            certkin.Budget(**{field: "5"})
+        assert exc.value.source == field
+    b = certkin.Budget(max_boxes=10)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        b.max_boxes = -5
+    assert dataclasses.replace(b, max_boxes=20).max_boxes == 20

@@ -23,18 +23,23 @@ GiB = 2 ** 30
 MAX_MEMORY = 2 * GiB                        # default memory ceiling (bytes)
 
 
-@dataclass
+@dataclass(frozen=True)
 class Budget:
+    """A search's budget, checked when made and fixed afterwards (``dataclasses.replace`` makes another)."""
+
     max_boxes: int = 200_000                # boxes decided (all roots together)
     max_seconds: float = 60.0               # seconds of solving (math.inf: no limit)
     min_width: float = 1e-9                 # scaled width under which a box is not split
     max_memory: int = MAX_MEMORY            # bytes of search records
 
     def __post_init__(self):
-        self.max_boxes = positive_integer(self.max_boxes, "max_boxes")
-        self.max_seconds = positive_number(self.max_seconds, "max_seconds", infinite=True)
-        self.min_width = positive_number(self.min_width, "min_width")
-        self.max_memory = positive_integer(self.max_memory, "max_memory")
+        for name in ("max_boxes", "max_seconds", "min_width", "max_memory"):
+            if isinstance(getattr(self, name), (str, bytes)):     # (the command line converts its texts first)
+                raise InputError(name, "", f"expected a number, got the text {getattr(self, name)!r}")
+        for name, check in (("max_boxes", positive_integer), ("max_memory", positive_integer),
+                            ("min_width", positive_number)):
+            object.__setattr__(self, name, check(getattr(self, name), name))
+        object.__setattr__(self, "max_seconds", positive_number(self.max_seconds, "max_seconds", infinite=True))
 
     def within(self, seconds_left: float) -> Budget:
         """This budget with at most ``seconds_left`` seconds (never less than a millisecond, so a
