@@ -117,3 +117,26 @@ def test_a_budget_is_checked_when_made_and_fixed_afterwards():
     with pytest.raises(dataclasses.FrozenInstanceError):
         b.max_boxes = -5
     assert dataclasses.replace(b, max_boxes=20).max_boxes == 20
+
+
+def test_wrong_types_are_input_errors_naming_the_parameter():
+    """Each of these raised TypeError, ValueError or numpy's errors (the README: bad values raise
+    certkin.InputError naming the parameter)."""
+    planning = str(ROBOTS / "seed001-3rpr-planning.toml")
+    fk = certkin.forward_kinematics(str(ROBOTS / "seed003-planar-example-2.toml"), L)
+    calls = {"constraints": lambda: certkin.verify_trajectory(planning, "20,0,3.0", "60,-50,6.0", constraints=5),
+             "start": lambda: certkin.verify_trajectory(planning, None, "60,-50,6.0"),
+             "rtol": lambda: certkin.verify_trajectories(planning, [("20,0,3.0", "60,-50,6.0")], rtol="x"),
+             "path": lambda: fk.certificate().write(None),
+             "max_memory": lambda: certkin.certify_singularity_free(str(ROBOTS / "seed003-planar-example-2.toml"),
+                                                                  "x=-20:-10,y=20:30,phi=0:0.3", max_memory=1)}
+    for source, call in calls.items():
+        with pytest.raises(certkin.InputError) as exc:
+            call()
+        assert exc.value.source == source, (source, str(exc.value))
+    for bad in (5, None):
+        with pytest.raises(certkin.RobotFileError, match="expected a file's path"):
+            certkin.load_robot(bad)
+    with pytest.raises(certkin.RobotFileError, match="kind"):
+        certkin.robot_from_dict({"kind": ["planar-3rpr"], "base": [[0, 0], [1, 0], [0, 1]],
+                                 "platform": [[0, 0], [1, 0], [0, 1]]})

@@ -30,6 +30,8 @@ import zlib
 
 import numpy as np
 
+from ..errors import InputError
+
 FORMAT = "certkin-certificate"
 VERSION = 2
 CHUNK = 1 << 16          # rows per chunk when streaming the engine's arrays
@@ -179,6 +181,8 @@ def replaced_file(path) -> Path:
     is (as ``sed -i`` or git do: a link planted in an output directory cannot redirect a write), unless
     it leads to something that is not a regular file: ``/dev/stdout`` is a link to the process's
     output, and replacing it would break every later ``> /dev/stdout`` on the machine."""
+    if not isinstance(path, (str, os.PathLike)) or not str(path).strip():
+        raise InputError("path", "", f"expected a file name, got {path!r:.60}")
     target = Path(path)
     try:
         mode = os.lstat(target).st_mode
@@ -208,6 +212,8 @@ def _temporary(path):
             return os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666), tmp
         except FileExistsError:
             continue
+        except FileNotFoundError:        # named after the file asked for, not the temporary one
+            raise FileNotFoundError(errno.ENOENT, f"no such directory: {path.parent}", str(path)) from None
     raise FileExistsError(errno.EEXIST, f"no free temporary name beside {path}")
 
 

@@ -11,6 +11,7 @@ from decimal import Decimal
 from fractions import Fraction
 from pathlib import Path
 import itertools
+import os
 import tomllib
 
 import numpy as np
@@ -45,6 +46,8 @@ def robot_file_bytes(path) -> bytes:
 
 def load_robot(path) -> Robot:
     """Load and validate a robot file (see the format in ``docs/index.md``)."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise RobotFileError("robot file", "", f"expected a file's path, got {type(path).__name__}")
     if not str(path).strip():
         raise RobotFileError("robot file", "", "empty file name")
     path = Path(path)
@@ -86,7 +89,7 @@ def robot_from_dict(data: dict, source: str = "<robot>") -> Robot:
     kind = data.get("kind")
     if kind is None:
         raise RobotFileError(source, "kind", f"missing field (one of {', '.join(KINDS)})")
-    if kind not in KINDS:
+    if not isinstance(kind, str) or kind not in KINDS:
         raise RobotFileError(source, "kind", f"unknown kind {kind!r} (one of {', '.join(KINDS)})")
     cls = KINDS[kind]
     name = data.get("name", Path(source).stem)

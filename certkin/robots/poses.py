@@ -124,6 +124,9 @@ def parse_pose(text, robot, parameter="pose") -> tuple[Interval, list[str]]:
     """(d,) enclosure of a pose and its exact texts.  ``text``: the values in the order of the pose
     variables (``"0,0,520,85deg,10deg,0"``), or each named (``"x=0,y=0,z=520,..."``, any order, as
     in a box), or a sequence of values."""
+    if not isinstance(text, (str, list, tuple, np.ndarray)):
+        raise InputError(parameter, "", f"expected a pose (a text or a sequence of values), got "
+                                        f"{'nothing' if text is None else type(text).__name__}")
     parts = [p.strip() for p in text.split(",")] if isinstance(text, str) else list(text)
     names = robot.pose_names
     if isinstance(text, str) and any("=" in p for p in parts):

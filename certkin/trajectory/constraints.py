@@ -58,6 +58,8 @@ def constraint_names(kinds):
     text); an empty list, an empty name or a name given twice raise ``InputError``."""
     if kinds is None:
         return None
+    if not isinstance(kinds, (str, list, tuple)):
+        raise InputError("constraints", "", f"expected names (a text or a list), got {type(kinds).__name__}")
     names = [k.strip() for k in kinds.split(",")] if isinstance(kinds, str) else list(kinds)
     if not names or names == [""]:
         raise InputError("constraints", "", "empty list (leave it out to check every constraint)")

@@ -30,7 +30,7 @@ from intervals import Interval
 from intervals.rounding import down, sum_bounds, up
 
 from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, budgets, search
-from ..engine.budgets import Clock, make_budget
+from ..engine.budgets import Clock, make_budget, positive_number
 from ..errors import InputError
 from ..robots import as_robot
 from .constraints import Constraints, piece_plan
@@ -216,6 +216,8 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     paths = [as_path(robot, p, k) for k, p in enumerate(_path_list(paths))]
     if not paths:
         return []
+    if rtol is not None:
+        rtol = positive_number(rtol, "rtol")
     budget = make_budget(budgets.TRAJECTORY, budget, max_boxes=max_boxes, max_seconds=max_seconds,
                          min_width=min_width, max_memory=max_memory)
     cons = constraints if isinstance(constraints, Constraints) else Constraints.of(robot, constraints)
