@@ -40,6 +40,7 @@ from .certificates import singularity_certificate
 from .engine import OPEN, PROVED, Budget, Decisions, budgets, search
 from .engine.budgets import Clock, make_budget, positive_integer
 from .errors import InputError
+from .quiet import quiet
 from .robots import as_robot
 from .robots.poses import MAX_MAGNITUDE, inner_box, parse_box, parse_pose
 
@@ -248,6 +249,7 @@ def _verdicts(problem, tree):
     return status, signs, open_ids, starts
 
 
+@quiet
 def certify_singularity_free(robot, box, budget: Budget | None = None, progress=None, *, max_boxes=None,
                              max_seconds=None, min_width=None, max_memory=None) -> SingularityResult:
     """Prove that det(A) keeps one sign on ``box``, or exhibit a sign change.
@@ -263,6 +265,7 @@ def certify_singularity_free(robot, box, budget: Budget | None = None, progress=
                           min_width=min_width, max_memory=max_memory)[0]
 
 
+@quiet
 def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=None, *, max_boxes=None,
                    max_seconds=None, min_width=None, max_memory=None) -> list[SingularityResult]:
     """Split ``box`` into n^k cells (k: the coordinates given as ranges; a coordinate given one
@@ -343,6 +346,7 @@ def _cell_texts(robot, lo, hi):
     return {n: [str(Decimal(float(a))), str(Decimal(float(b)))] for n, a, b in zip(robot.pose_names, lo, hi)}
 
 
+@quiet
 def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, steps: int = 24, progress=None, *,
                      max_boxes=None, max_seconds=None, min_width=None, max_memory=None) -> SingularityResult:
     """The largest box ``pose ± s·scale`` proved singularity-free (bisection on s).

@@ -140,3 +140,13 @@ def test_wrong_types_are_input_errors_naming_the_parameter():
     with pytest.raises(certkin.RobotFileError, match="kind"):
         certkin.robot_from_dict({"kind": ["planar-3rpr"], "base": [[0, 0], [1, 0], [0, 1]],
                                  "platform": [[0, 0], [1, 0], [0, 1]]})
+
+
+def test_numpy_floating_point_warnings_do_not_reach_the_caller():
+    """min_width=1e300 printed numpy's "overflow encountered in accumulate" twice through the API."""
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r = certkin.verify_trajectories(str(ROBOTS / "seed001-3rpr-planning.toml"), [("20,0,3.0", "60,-50,6.0")],
+                                        min_width=1e300)
+    assert r[0].status in ("infeasible", "undecided", "feasible")

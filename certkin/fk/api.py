@@ -26,6 +26,7 @@ from ..engine import BUDGET, PROVED, RESOLUTION, UNDECIDED, Budget, budgets
 from ..certificates.fk import record_sink
 from ..engine.budgets import make_budget
 from ..errors import InputError
+from ..quiet import quiet
 from ..robots import as_robot
 from ..robots.poses import length_enclosures, parse_box
 from .angles import in_ranges
@@ -36,6 +37,7 @@ from .system import fk_system
 from .tracking import track_one, track_rows
 
 
+@quiet
 def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None, track=None, *,
                        max_boxes=None, max_seconds=None, min_width=None, max_memory=None, record: bool | str = False,
                        record_limit: int | None = None):
@@ -109,6 +111,7 @@ def _again(robot, lengths, domain, budget, record_limit, k, whole, cache):
     return out[k] if isinstance(out, list) else out
 
 
+@quiet
 def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budget: Budget | None = None, *,
                    max_boxes=None, max_seconds=None, min_width=None, max_memory=None):
     """Track the posture through a sequence of leg-length sets from ``start_pose``: one result per

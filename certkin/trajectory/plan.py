@@ -32,6 +32,7 @@ from ..certificates import trajectory_certificate
 from ..engine import Budget, budgets, interrupt
 from ..engine.budgets import Clock, make_budget
 from ..errors import InputError
+from ..quiet import quiet
 from ..robots import as_robot
 from ..robots.poses import parse_pose
 from .path import parse_path
@@ -87,6 +88,7 @@ def _checked(result: PlanResult, start, goal) -> PlanResult:
     return result
 
 
+@quiet
 def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int = 3, max_edges: int = 4000,
          budget: Budget | None = None, progress=None, *, max_boxes=None, max_seconds=None, min_width=None,
          max_memory=None) -> PlanResult:

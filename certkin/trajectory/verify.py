@@ -32,6 +32,7 @@ from intervals.rounding import down, sum_bounds, up
 from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, budgets, search
 from ..engine.budgets import Clock, make_budget, positive_number
 from ..errors import InputError
+from ..quiet import quiet
 from ..robots import as_robot
 from .constraints import Constraints, piece_plan
 from .crossings import crossing_points
@@ -201,6 +202,7 @@ class TrajectoryProblem:
         return np.where(np.isfinite(out), out, np.nan)
 
 
+@quiet
 def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = None, progress=None,
                         indices: bool = True, rtol: float = MARGIN_RTOL, *, max_boxes=None, max_seconds=None,
                         min_width=None, max_memory=None) -> list[TrajectoryResult]:
@@ -328,6 +330,7 @@ def as_path(robot, item, k: int = 0) -> Path:
         raise InputError(f"paths[{k}]", "", "expected (start, goal) or (start, via..., goal)") from None
 
 
+@quiet
 def verify_trajectory(robot, start, goal, waypoints=(), constraints=None, budget: Budget | None = None,
                       progress=None, indices: bool = True, *, max_boxes=None, max_seconds=None, min_width=None,
                       max_memory=None) -> TrajectoryResult:

@@ -18,6 +18,7 @@ from ..certificates import section_certificate
 from ..engine import Budget, budgets
 from ..engine.budgets import make_budget
 from ..errors import InputError
+from ..quiet import quiet
 from ..robots import as_robot
 from ..robots.poses import parse_height, parse_orientation
 from .annuli import ORIENTATION, Legs, check_robot, leg_data, section_domain
@@ -106,6 +107,7 @@ def _z_interval(robot, z):
     return parse_height(z)
 
 
+@quiet
 def workspace_section(robot, orientation=None, z=None, *, budget: Budget | None = None, max_boxes=None,
                       min_width=None, max_seconds=None, max_memory=None, progress=None, exact=True) -> SectionResult:
     """Certified section ``z = const`` of the constant-orientation workspace (leg-length limits).

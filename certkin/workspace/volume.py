@@ -20,6 +20,7 @@ from ..certificates import volume_certificate
 from ..engine import Budget, budgets
 from ..engine.budgets import make_budget, positive_integer
 from ..errors import InputError
+from ..quiet import quiet
 from ..robots import as_robot
 from ..robots.poses import parse_height_range, parse_orientation
 from .annuli import ORIENTATION, check_robot, leg_data, section_domain
@@ -89,6 +90,7 @@ class VolumeResult:
         return volume_certificate(self)
 
 
+@quiet
 def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS, *, budget: Budget | None = None,
                      max_boxes=None, min_width=None, max_seconds=None, max_memory=None, progress=None) -> VolumeResult:
     """Certified bracket of the volume of {C in the workspace : z_lo <= z <= z_hi} (Gough-Stewart).
