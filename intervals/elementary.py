@@ -432,7 +432,7 @@ def atan2(y, x):
 
     A box containing the origin, or containing points ``(t < 0, s = 0)`` together
     with points ``s < 0`` (the angle set then wraps around +/-pi), gives
-    ``[-pi, pi]``.  Otherwise the angle is continuous on the convex box and its
+    ``[-pi, pi]``, or ``[0, pi]`` when ``s >= 0`` on the whole box (atan2(0, 0) taken as 0).  Otherwise the angle is continuous on the convex box and its
     extremes are at corners.  Signed zeros are read as 0: ``atan2([0, 1], -1)``
     contains pi, never -pi.
     """
@@ -461,7 +461,7 @@ def atan2(y, x):
         axis = (ylo == 0) & (yhi == 0) & (xlo > 0)
         lo = np.where(axis, 0.0, lo)
         hi = np.where(axis, 0.0, hi)
-        lo = np.where(full, -_PI_HI, lo)
+        lo = np.where(full, np.where(ylo >= 0, 0.0, -_PI_HI), lo)    # (y >= 0: the upper half-plane, [0, pi])
         hi = np.where(full, _PI_HI, hi)
     lo, hi = _keep_empty(lo, hi, (ylo > yhi) | (xlo > xhi))
     return _out(lo, hi)

@@ -474,3 +474,15 @@ def test_empty_and_nan():
         assert r.shape == (2,)
     r = el.sin(nan)
     assert np.all(r.lo == -1.0) and np.all(r.hi == 1.0)
+
+
+def test_atan2_of_a_box_around_the_origin_in_the_upper_half_plane_is_0_to_pi():
+    """s >= 0 on the whole box (as sin theta = sqrt(...) in FKSystem.pose): [0, pi], not [-pi, pi] (a
+    cluster's theta was printed [-3.1416, 3.1416]); every angle of the box is inside."""
+    r = el.atan2(Interval.from_bounds(np.array([0.0, -0.0]), np.array([1.0, 2.0])),
+                 Interval.from_bounds(np.array([-1.0, -3.0]), np.array([1.0, 0.0])))
+    assert np.all(r.lo == 0.0) and np.all(r.hi == el.pi.hi)
+    for s, c in ((1e-300, -1.0), (1.0, -1e-300), (0.5, 0.5), (0.0, -1.0)):
+        assert inside(r.lo[0], r.hi[0], exact(mpmath.atan2, s, c))
+    below = el.atan2(Interval.from_bounds(np.array([-1e-9]), np.array([1.0])), Interval.from_bounds(np.array([-1.0]), np.array([1.0])))
+    assert below.lo[0] == -el.pi.hi                                   # a point below: the whole circle

@@ -300,3 +300,13 @@ def test_wide_length_ranges_are_not_said_to_exhaust_a_budget():
     r = forward_kinematics(robot, "28.9:29.1,13.66,40.53", max_seconds=20)
     assert len(r.clusters) > 1 and not r.complete
     assert "budget" not in r.message and "length ranges" in r.message and "self-motion" not in r.message
+
+
+def test_a_complete_answer_with_a_cluster_says_what_the_cluster_is_and_how_large():
+    """--min-width 1 on the 6-mode planar instance: "0 modes, 1 cluster; complete" said nothing, though
+    the cluster is the whole domain."""
+    robot = load_robot(EXAMPLES / "seed003-planar-example-2.toml")
+    r = forward_kinematics(robot, "28.99,13.66,40.53", min_width=1)
+    assert r.complete and len(r.clusters) == 1 and not r.solutions
+    assert "1 cluster at the resolution limit, holding any number of postures" in r.message
+    assert "spans 100% of the domain" in r.message and r.to_json()["message"] == r.message

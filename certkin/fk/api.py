@@ -22,6 +22,7 @@ import numpy as np
 
 from intervals import Interval, sqr
 
+from .. import display
 from ..engine import BUDGET, PROVED, RESOLUTION, UNDECIDED, Budget, budgets
 from ..certificates.fk import record_sink
 from ..engine.budgets import make_budget
@@ -328,7 +329,24 @@ def _finish(result, system, pending, angle_filter, computed=None):
             result.message = (("the budget ran out after " if result.message else "") +
                               f"the search reached the resolution limit in {len(result.clusters)} separate places "
                               f"without proving a posture there: {why}")
+    if result.clusters and not result.message:      # complete, with clusters: say what they are and how large
+        result.message = _cluster_note(result)
     result.solutions.sort(key=lambda s: [float(v.lo) for v in s["pose"].values()])
+
+
+def _cluster_note(result) -> str:
+    """What the clusters of an answer are, and how much of the domain the largest covers (a cluster as
+    large as the domain resolves nothing)."""
+    dlo, dhi = (np.asarray(v, float) for v in result.domain)
+    extent = max(float(np.max((c["box"].hi - c["box"].lo) / np.maximum(dhi - dlo, 1e-300))) for c in result.clusters)
+    share = f"; the largest spans {min(extent, 1.0):.0%} of the domain in some unknown" if extent >= 0.01 else ""
+    if any(":" in t for t in result.lengths):
+        why = "the postures of the length ranges could not be told apart there (narrower ranges resolve more)"
+    else:
+        why = "a singular pose, postures closer than the resolution, or a continuum"
+    n = len(result.clusters)
+    return (f"{display.counted(n, 'cluster')} at the resolution limit, {'each ' if n > 1 else ''}holding any number "
+            f"of postures: {why}{share}")
 
 
 BUDGET_MESSAGE = "the budget (boxes, seconds or memory) ran out before every region was decided"
