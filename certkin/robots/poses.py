@@ -58,6 +58,9 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
         got = "nothing" if value is None else str(value).lower()
         raise RobotFileError(source, field, f"expected a number, got {got}")
     text = value.strip() if isinstance(value, str) else value
+    if isinstance(text, str) and (not text.isascii() or "_" in text):   # Decimal reads '5_5' as 55, '５' as 5
+        raise RobotFileError(source, field, f"not a plain decimal number: {_shown(value)} (digits 0-9, '.', 'e', "
+                                            "a sign; no '_' or other scripts' digits)")
     if isinstance(text, str) and text.lower().endswith("deg"):
         if not angle:
             raise RobotFileError(source, field, f"'deg' is only allowed for angles, got {value!r}")
@@ -311,7 +314,7 @@ def length_enclosures(robot, lengths):
         for v in items:
             if isinstance(v, float):
                 t = repr(float(v))
-            elif isinstance(v, str):
+            elif isinstance(v, str) and v.isascii() and "_" not in v:
                 t = v.strip()
             else:
                 break

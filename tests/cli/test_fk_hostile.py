@@ -166,3 +166,9 @@ def test_an_output_that_names_the_robot_file_is_refused(cli, tmp_path):
         refused(cli(*argv), "--certificate", "the robot file itself")
     assert robot.read_bytes() == before
 
+
+
+@pytest.mark.parametrize("lengths", ["5.5,5.5,5_5", "２９,13.66,40.53"])
+def test_numbers_are_plain_ascii_decimals(cli, lengths):
+    """Python's Decimal reads '5_5' as 55 and full-width digits as digits: a typo answered another question."""
+    refused(cli("fk", R2, "--lengths", lengths), "--lengths", "not a plain decimal number")
