@@ -138,3 +138,13 @@ def test_track_and_domain_together_are_refused():
     with pytest.raises(InputError) as exc:
         forward_kinematics(robot, "28.99,13.66,40.53", track="13.3,-17,1.13", domain="x=1000:2000,y=-20:0,phi=0:2")
     assert exc.value.source == "domain"
+
+
+def test_a_posture_on_the_domains_boundary_is_unresolved_with_the_reason():
+    """The home pose of planar example 2 has x = 10: with x=10:11 it lies on the boundary; the answer is
+    incomplete (the root box crosses the bound) and now says why."""
+    robot = load_robot(EXAMPLES / "seed003-planar-example-2.toml")
+    lengths = ",".join(repr(float(v)) for v in robot.leg_lengths(robot.home_box()).mid())
+    r = forward_kinematics(robot, lengths, domain="x=10:11,y=0:20,phi=-4:4")
+    assert not r.complete and len(r.unresolved) == 1
+    assert "1 posture lies across the boundary of the domain" in r.message

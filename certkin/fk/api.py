@@ -257,6 +257,11 @@ def _merge(result, system, leaves, stars, rlo, rhi, rC, dlo, dhi, pending):
         else:
             status.append("ambiguous" if (not inside[g] or meets[g].any()) else "solution")
         result.regions[g]["status"] = status[-1]
+    across = int(np.count_nonzero(~outside & ~inside))
+    if across and not result.message:
+        result.message = (f"{display.counted(across, 'posture')} {'lies' if across == 1 else 'lie'} across the "
+                          "boundary of the domain (reported unresolved): move the domain's bounds off "
+                          f"{'it' if across == 1 else 'them'} to decide")
     index = {}
     for g, st in enumerate(status):
         glo, ghi, gC = groups[g]
