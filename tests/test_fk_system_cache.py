@@ -120,7 +120,7 @@ def test_direct_length_enclosures_equal_the_parser():
     from certkin.robots.poses import length_enclosures as _length_enclosures, parse_lengths as _parse_lengths
     robot = robot_from_dict(SIX)
     for lengths in (["14.98", "15.38", "12"], " 14.98, 15.38 ,12 ", [14.98, 15.38, 12.0],
-                    [np.float64(14.98), 0.1, 1e-300], ["-0", "0.1", "1e5"], ["1_000", "2E-3", "7"],
+                    [np.float64(14.98), 0.1, 1e-300], ["-0", "0.1", "1e5"], ["1000", "2E-3", "7"],
                     [np.float32(14.98), 1.0, 2.0], [15, 15, 12], np.array([14.98, 15.38, 12.0])):
         rho, texts, batch = _length_enclosures(robot, lengths)
         rows, ref_texts, ref_batch = _parse_lengths(robot, lengths)
@@ -128,6 +128,6 @@ def test_direct_length_enclosures_equal_the_parser():
         assert rho.lo.tolist() == [[float(v.lo) for v in r] for r in rows]
         assert rho.hi.tolist() == [[float(v.hi) for v in r] for r in rows]
     for bad in (["-1", "2", "3"], ["1", "2"], ["1", "2", "3deg"], ["1", "nan", "3"], ["1", "2", "1e400"],
-                [1.0, 2.0, -3.0]):
+                [1.0, 2.0, -3.0], ["1_000", "2E-3", "7"], ["1e-500", "1", "1"]):
         with pytest.raises(InputError):
             _length_enclosures(robot, bad)
