@@ -142,7 +142,7 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
 def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
     """Results per instance from the search tree (solutions merged, undecided boxes clustered)."""
     M = len(texts)
-    results = [FKResult(robot, system, texts[i], (lo[i], hi[i])) for i in range(M)]
+    results = [FKResult(robot, system, texts[i], (lo[i], hi[i]), user_domain=angle_filter is not None) for i in range(M)]
     for i in np.nonzero(~feasible)[0]:
         results[i].complete = True          # the leg-length balls do not meet: no posture at all
     if res is None:
@@ -260,8 +260,9 @@ def _merge(result, system, leaves, stars, rlo, rhi, rC, dlo, dhi, pending):
     across = int(np.count_nonzero(~outside & ~inside))
     if across and not result.message:
         result.message = (f"{display.counted(across, 'posture')} {'lies' if across == 1 else 'lie'} across the "
-                          "boundary of the domain (reported unresolved): move the domain's bounds off "
-                          f"{'it' if across == 1 else 'them'} to decide")
+                          "boundary of the domain (reported unresolved)" +
+                          (f": move the domain's bounds off {'it' if across == 1 else 'them'} to decide"
+                           if result.user_domain else ""))
     index = {}
     for g, st in enumerate(status):
         glo, ghi, gC = groups[g]
