@@ -9,7 +9,10 @@ def plan_verdict(result) -> str:
     if result.status == "found":
         return f"Path found: {len(result.segments)} segments, each certified feasible."
     if result.status == "infeasible-endpoint" and result.endpoint:
-        return f"No path: the {result.endpoint['pose']} pose is {result.endpoint['status']}."
+        failing = "; ".join(f"{v['constraint']} {'-'.join(map(str, v['legs']))}"
+                            for v in result.endpoint.get("violations", ()))
+        return f"No path: the {result.endpoint['pose']} pose is {result.endpoint['status']}" + \
+            (f" ({failing})." if failing else ".")
     return "No path found within the grid and the budget (this proves nothing about other paths)."
 
 

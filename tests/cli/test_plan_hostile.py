@@ -92,3 +92,10 @@ def test_max_edges_is_a_maximum(cli, n):
     run = cli(*P, "--max-edges", str(n), "--json")
     answered(run)
     assert json.loads(run.out)["stats"]["edges_verified"] == n
+
+
+def test_an_infeasible_endpoint_report_names_the_constraints(cli, tmp_path):
+    """The terminal named them; the report's verdict said only "the start pose is infeasible"."""
+    run = cli("plan", MEL, "--from", "0,0,300,0,0,0", "--to", G, "--report", "{tmp}/ie.html")
+    answered(run, "infeasible-endpoint")
+    assert "No path: the start pose is infeasible (leg-length 1; " in (tmp_path / "ie.html").read_text()
