@@ -150,3 +150,13 @@ def test_numpy_floating_point_warnings_do_not_reach_the_caller():
         r = certkin.verify_trajectories(str(ROBOTS / "seed001-3rpr-planning.toml"), [("20,0,3.0", "60,-50,6.0")],
                                         min_width=1e300)
     assert r[0].status in ("infeasible", "undecided", "feasible")
+
+
+def test_a_pose_may_be_a_mapping_of_its_variables():
+    """A dict pose gave "x: not a finite number: 'x'" (its keys were read as the values)."""
+    planning = str(ROBOTS / "seed001-3rpr-planning.toml")
+    a = certkin.verify_trajectory(planning, {"x": 20, "y": 0, "phi": "3.0"}, {"phi": 6.0, "x": 60, "y": -50})
+    b = certkin.verify_trajectory(planning, "20,0,3.0", "60,-50,6.0")
+    assert a.to_json()["path"] == b.to_json()["path"] and a.status == b.status
+    with pytest.raises(certkin.InputError, match="phi: missing"):
+        certkin.verify_trajectory(planning, {"x": 20, "y": 0}, "60,-50,6.0")

@@ -126,12 +126,15 @@ def _exact(text):
 def parse_pose(text, robot, parameter="pose") -> tuple[Interval, list[str]]:
     """(d,) enclosure of a pose and its exact texts.  ``text``: the values in the order of the pose
     variables (``"0,0,520,85deg,10deg,0"``), or each named (``"x=0,y=0,z=520,..."``, any order, as
-    in a box), or a sequence of values."""
-    if not isinstance(text, (str, list, tuple, np.ndarray)):
-        raise InputError(parameter, "", f"expected a pose (a text or a sequence of values), got "
+    in a box), a sequence of values, or a mapping {name: value}."""
+    if not isinstance(text, (str, list, tuple, dict, np.ndarray)):
+        raise InputError(parameter, "", f"expected a pose (a text, a sequence of values or a mapping), got "
                                         f"{'nothing' if text is None else type(text).__name__}")
-    parts = [p.strip() for p in text.split(",")] if isinstance(text, str) else list(text)
     names = robot.pose_names
+    if isinstance(text, dict):
+        parts = _named_values(text.items(), names, parameter)
+    else:
+        parts = [p.strip() for p in text.split(",")] if isinstance(text, str) else list(text)
     if isinstance(text, str) and any("=" in p for p in parts):
         parts = _named(parts, names, parameter)
     if len(parts) != len(names):
@@ -147,12 +150,19 @@ def parse_pose(text, robot, parameter="pose") -> tuple[Interval, list[str]]:
 
 def _named(parts, names, parameter) -> list[str]:
     """The values of a pose given as ``name=value`` parts, in the order of ``names``."""
-    given = {}
+    pairs = []
     for part in parts:
         if "=" not in part:
             raise InputError(parameter, part, f"expected name=value for every variable ({','.join(names)}) "
                                               "or values alone")
-        name, value = (t.strip() for t in part.split("=", 1))
+        pairs.append(tuple(t.strip() for t in part.split("=", 1)))
+    return _named_values(pairs, names, parameter)
+
+
+def _named_values(pairs, names, parameter) -> list:
+    """The values of (name, value) pairs in the order of ``names``: each variable once, none missing."""
+    given = {}
+    for name, value in pairs:
         if name not in names:
             raise InputError(parameter, name, f"not a pose variable of this robot ({','.join(names)})")
         if name in given:
