@@ -160,3 +160,15 @@ def test_a_pose_may_be_a_mapping_of_its_variables():
     assert a.to_json()["path"] == b.to_json()["path"] and a.status == b.status
     with pytest.raises(certkin.InputError, match="phi: missing"):
         certkin.verify_trajectory(planning, {"x": 20, "y": 0}, "60,-50,6.0")
+
+
+def test_robot_points_may_be_tuples_or_arrays_and_a_volume_is_never_below_zero():
+    """Tuples and numpy arrays of points were refused ("got no list"); a one-slab volume showed an inner
+    bound of -4.94066e-324 (a volume's lower bound is at least 0)."""
+    d = {"kind": "planar-3rpr", "base": ((3.78, 4.34), (34.47, -3.78), (16.233, 34.76)),
+         "platform": np.array([[-4.83, -3.19], [12.04, -3.19], [8.23, 12.09]])}
+    assert certkin.robot_from_dict(d).base[0] == ("3.78", "4.34")
+    from certkin.workspace import workspace_volume
+    r = workspace_volume(str(ROBOTS / "seed004-micro-manipulator.toml"), z_range="20000:20010", slabs=1)
+    assert r.to_json()["volume"]["inner"] == 0.0 and "1 slab," in repr(r)
+    assert proofs.check(r.certificate()).ok

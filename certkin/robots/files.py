@@ -123,11 +123,15 @@ def parse_points(data, key: str, count: int, dim: int, source: str):
     if key not in data:
         raise RobotFileError(source, key, "missing field")
     pts = data[key]
+    if isinstance(pts, (tuple, np.ndarray)):           # a Python caller's tuples or array: as lists
+        pts = [list(p) if isinstance(p, (tuple, list, np.ndarray)) else p for p in pts]
     if not isinstance(pts, list) or len(pts) != count:
         n = len(pts) if isinstance(pts, list) else "no list"
         raise RobotFileError(source, key, f"expected {count} points, got {n}")
     out = []
     for i, p in enumerate(pts):
+        if isinstance(p, (tuple, np.ndarray)):
+            p = list(p)
         if not isinstance(p, list) or len(p) != dim:
             raise RobotFileError(source, f"{key}[{i}]", f"expected {dim} coordinates, got {p!r}")
         row = []

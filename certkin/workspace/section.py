@@ -103,7 +103,7 @@ def _z_interval(robot, z):
             raise InputError("z", "z", "a planar robot has no z: leave it out")
         return Interval(0), None
     if z is None:
-        raise InputError("z", "z", "missing: give the height of the section")
+        raise InputError("z", "", "missing: give the height of the section")
     return parse_height(z)
 
 

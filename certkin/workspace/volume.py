@@ -57,7 +57,8 @@ class VolumeResult:
         ar = np.array(self.areas()).reshape(-1, 2)
         lo = np.maximum(down(hlo * ar[:, 0]), 0.0)
         hi = up(hhi * ar[:, 1])
-        return float(np.nextafter(math.fsum(lo), -np.inf)), float(np.nextafter(math.fsum(hi), np.inf))
+        inner = math.fsum(lo)               # (a volume is >= 0: a lower bound below 0 is 0)
+        return (float(np.nextafter(inner, -np.inf)) if inner > 0 else 0.0), float(np.nextafter(math.fsum(hi), np.inf))
 
     def counts(self) -> dict:
         out = {"inner_boxes": 0, "boundary_boxes": 0, "outside_boxes": 0}
@@ -69,7 +70,8 @@ class VolumeResult:
 
     def __repr__(self):
         vin, vout = self.volume()
-        return (f"<VolumeResult {self.status}: z in [{self.z_range[0]}, {self.z_range[1]}], {len(self.pavings)} slabs, "
+        return (f"<VolumeResult {self.status}: z in [{self.z_range[0]}, {self.z_range[1]}], "
+                f"{display.counted(len(self.pavings), 'slab')}, "
                 f"volume in [{display.lower(vin, 6)}, {display.upper(vout, 6)}]>")
 
     def to_json(self) -> dict:
@@ -110,7 +112,7 @@ def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS,
         raise InputError("z_range", "z", "only spatial (gough-stewart) robots have a volume")
     angles, texts = parse_orientation(robot, orientation)
     if z_range is None:
-        raise InputError("z_range", "z", "missing: give lo:hi")
+        raise InputError("z_range", "", "missing: give lo:hi")
     (zl, tl), (zh, th) = parse_height_range(z_range)
     budget = make_budget(budgets.WORKSPACE, budget, max_boxes=max_boxes, max_seconds=max_seconds,
                          min_width=min_width, max_memory=max_memory)
