@@ -172,3 +172,15 @@ def test_robot_points_may_be_tuples_or_arrays_and_a_volume_is_never_below_zero()
     r = workspace_volume(str(ROBOTS / "seed004-micro-manipulator.toml"), z_range="20000:20010", slabs=1)
     assert r.to_json()["volume"]["inner"] == 0.0 and "1 slab," in repr(r)
     assert proofs.check(r.certificate()).ok
+
+
+def test_a_single_waypoint_text_and_a_text_fallback_are_refused():
+    """waypoints="40,-20,4.0" was read letter by letter; fallback="no" was taken as true."""
+    from certkin.fk import track_sequence
+    planning = str(ROBOTS / "seed001-3rpr-planning.toml")
+    with pytest.raises(certkin.InputError) as exc:
+        certkin.verify_trajectory(planning, "20,0,3.0", "60,-50,6.0", waypoints="40,-20,4.0")
+    assert exc.value.source == "waypoints"
+    with pytest.raises(certkin.InputError) as exc:
+        track_sequence(str(ROBOTS / "seed003-planar-example-2.toml"), [L.split(",")], "13.3,-17,1.13", fallback="no")
+    assert exc.value.source == "fallback"

@@ -122,6 +122,8 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
     together as one batch, with ``budget``), or are reported not proved (no solution, ``complete``
     false)."""
     robot = as_robot(robot)
+    if not isinstance(fallback, (bool, np.bool_)):
+        raise InputError("fallback", "", f"expected True or False, got {fallback!r:.40}")
     make_budget(budgets.FORWARD_KINEMATICS, budget, max_boxes=max_boxes, max_seconds=max_seconds,
                 min_width=min_width, max_memory=max_memory)      # a bad budget is refused even when no search runs
     t0 = time.perf_counter()

@@ -12,6 +12,7 @@ import numpy as np
 
 from intervals import Interval
 
+from ..errors import InputError
 from ..robots.poses import parse_pose
 
 
@@ -47,6 +48,8 @@ def angle_step(robot, D: Interval) -> float:
 
 def parse_path(robot, start, goal, waypoints=()) -> Path:
     """``start``, ``goal`` and optional ``waypoints`` (pose texts or sequences) -> ``Path``."""
+    if isinstance(waypoints, (str, dict)):         # one pose, not a list of them (a text was read letter by letter)
+        raise InputError("waypoints", "", "expected a list of poses: give [pose] for one")
     items = [("start", start)] + [(f"waypoints[{k}]", w) for k, w in enumerate(waypoints or ())] + [("goal", goal)]
     ivs, texts = [], []
     for parameter, pose in items:
