@@ -22,8 +22,9 @@ def add_arguments(f):
     f.add_argument("robot", help="robot file (TOML)")
     f.add_argument("--lengths", required=True, metavar="L1,L2,...",
                    help="leg lengths (exact decimals); a range 'lo:hi' or 'value+-tolerance' for an uncertain leg")
-    f.add_argument("--domain", help='narrow the search: "x=a:b,..." (positions narrow the box; angles filter the '
-                                    'modes, modulo 2 pi and over both Euler-angle triples of a rotation)')
+    f.add_argument("--domain", help='narrow the search: "x=a:b,..." for the variables it narrows (positions narrow '
+                                    'the box; angles filter the modes, modulo 2 pi and over both Euler-angle triples '
+                                    'of a rotation)')
     f.add_argument("--track", metavar="POSE", help="previous pose: prove the unique posture near it first")
     f.add_argument("--angles", choices=["zyz", "tilt-torsion"], help="spherical robots: pose angles of the output")
     add_outputs(f)

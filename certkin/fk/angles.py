@@ -63,11 +63,13 @@ def _triple_in(triple: dict, ranges: dict):
 def _angle_in(lo: float, hi: float, a: float, b: float):
     """Is every angle of [lo, hi] + 2πk inside [a, b] for one integer k (True), is no angle of it in
     [a, b] for any k (False), or neither (None)?"""
-    slack = SLACK * (1.0 + abs(lo) + abs(hi) + abs(a) + abs(b))
-    if not all(math.isfinite(t) for t in (lo, hi, a, b)) or slack > 1.0:
+    if not all(math.isfinite(t) for t in (lo, hi, a, b)):
         return None
+    slack = SLACK * (1.0 + abs(lo) + abs(hi) + abs(a) + abs(b))
     if b - a >= TWO_PI + slack:                             # the range holds every angle
         return True
+    if slack > 1.0:
+        return None
     if hi - lo >= TWO_PI - slack:                           # the enclosure may hold every angle
         return None
     inside, meets = False, False

@@ -29,7 +29,7 @@ from ..engine.budgets import make_budget
 from ..errors import InputError
 from ..quiet import quiet
 from ..robots import as_robot
-from ..robots.poses import length_enclosures, parse_box
+from ..robots.poses import MAX_MAGNITUDE, length_enclosures, parse_box
 from .angles import in_ranges
 from .result import FKResult, robot_pose
 from .search import FKProblem, search_instances
@@ -454,7 +454,7 @@ def _apply_domain(robot, system, spec, lo, hi):
     range that misses the range the leg lengths allow is searched as it is (its emptiness proved
     there, by the search and its certificate): an empty domain is the claim that the leg lengths
     allow no posture at all, which is not what the user's box shows."""
-    box, _ = parse_box(spec, robot, "domain")
+    box, _ = parse_box(_every_variable(spec, robot), robot, "domain")
     lo, hi = lo.copy(), hi.copy()
     reachable = np.all(lo <= hi, axis=1)
     angles = {}
@@ -468,6 +468,20 @@ def _apply_domain(robot, system, spec, lo, hi):
             lo[:, j] = np.where(missed, box.lo[k], nlo)
             hi[:, j] = np.where(missed, box.hi[k], nhi)
     return lo, hi, angles
+
+
+def _every_variable(spec, robot):
+    """A domain names only the variables it narrows: the others get the widest range of values
+    (positions are then bounded by the leg lengths, angles not filtered)."""
+    def wide(name):     # (an angle range of 8 rad holds every angle)
+        return (-4, 4) if name in robot.angle_names else (-int(MAX_MAGNITUDE), int(MAX_MAGNITUDE))
+    if isinstance(spec, str) and spec.strip():
+        named = {part.split("=", 1)[0].strip() for part in spec.split(",") if "=" in part}
+        missing = [n for n in robot.pose_names if n not in named]
+        return spec + "".join(f",{n}={wide(n)[0]}:{wide(n)[1]}" for n in missing) if named and missing else spec
+    if isinstance(spec, dict) and spec:
+        return {**{n: wide(n) for n in robot.pose_names}, **spec}
+    return spec
 
 
 def _clusters(lo, hi, limit: int = 2000):
