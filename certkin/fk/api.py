@@ -454,6 +454,8 @@ def _apply_domain(robot, system, spec, lo, hi):
     range that misses the range the leg lengths allow is searched as it is (its emptiness proved
     there, by the search and its certificate): an empty domain is the claim that the leg lengths
     allow no posture at all, which is not what the user's box shows."""
+    if (isinstance(spec, str) and not spec.strip()) or (isinstance(spec, dict) and not spec):
+        raise InputError("domain", "", "empty (leave it out to search every posture)")
     box, _ = parse_box(_every_variable(spec, robot), robot, "domain")
     lo, hi = lo.copy(), hi.copy()
     reachable = np.all(lo <= hi, axis=1)

@@ -40,6 +40,7 @@ HOSTILE = [
     (["fk", R2, "--lengths", "29+-1e300,13.66,40.53"], ["--lengths", "out of range"]),   # once: 300 digits
     (F + ["--max-seconds", "-inf"], ["--max-seconds"]),
     (F + ["--domain", "x=0:50,q=-10:20"], ["--domain", "q"]),          # (a domain names only what it narrows)
+    (F + ["--domain", ""], ["--domain", "empty"]),
     (F + ["--domain", "x=0:1e300,y=-10:20,phi=0:1"], ["--domain", "x"]),
     (F + ["--angles", "zyz"], ["--angles"]),
     (F + ["--certificate", "{tmp}"], ["--certificate", "directory"]),
