@@ -184,3 +184,13 @@ def test_a_single_waypoint_text_and_a_text_fallback_are_refused():
     with pytest.raises(certkin.InputError) as exc:
         track_sequence(str(ROBOTS / "seed003-planar-example-2.toml"), [L.split(",")], "13.3,-17,1.13", fallback="no")
     assert exc.value.source == "fallback"
+
+
+def test_angles_are_refused_beyond_where_a_certificate_can_be_checked():
+    """phi = 1e9 rad gave a singularity answer whose certificate the checker could not verify (its sine
+    reduces arguments below 2^22 pi/2 only): angles above 1e6 rad are refused; 1e5 rad checks."""
+    planar = str(ROBOTS / "seed003-planar-example-2.toml")
+    with pytest.raises(certkin.InputError, match="out of range for an angle"):
+        certkin.certify_singularity_free(planar, "x=-50:50,y=-50:50,phi=1e9:1000000001")
+    r = certkin.certify_singularity_free(planar, "x=-50:50,y=-50:50,phi=1e5:100001")
+    assert proofs.check(r.certificate()).ok

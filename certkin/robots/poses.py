@@ -26,6 +26,8 @@ from ..errors import InputError, RobotFileError
 
 RADIANS_PER_DEGREE = PI / Interval(180)   # an enclosure of π/180 (outward division)
 MAX_MAGNITUDE = 1e12                       # |value| above this is far outside any robot: refused
+MAX_ANGLE = 1e6                            # |angle| in radians above this is refused: the checker's sine and
+                                           # cosine reduce arguments below 2^22 pi/2 only (proofs/arith.py)
 
 
 # ----------------------------------------------------------------- numbers
@@ -42,12 +44,15 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
     Accepts ints, exact decimals, decimal strings and, when ``angle`` is set,
     strings with a ``deg`` suffix (``"85deg"``, converted with a rigorous π).
     Returns the enclosure and the exact text.  Raises ``RobotFileError``, also for a magnitude
-    above ``MAX_MAGNITUDE`` (1e12: millimetres or radians that large describe no robot, and
-    their squares and products would lose every digit or overflow).
+    above ``MAX_MAGNITUDE`` (1e12: millimetres that large describe no robot, and their squares
+    and products would lose every digit or overflow), or an angle above ``MAX_ANGLE`` radians.
     """
     iv, text = _parse_number(value, source, field, angle)
     if not (abs(float(iv.lo)) <= MAX_MAGNITUDE and abs(float(iv.hi)) <= MAX_MAGNITUDE):
         raise RobotFileError(source, field, f"{text} is out of range (at most {MAX_MAGNITUDE:g} in magnitude)")
+    if angle and not (abs(float(iv.lo)) <= MAX_ANGLE and abs(float(iv.hi)) <= MAX_ANGLE):
+        raise RobotFileError(source, field, f"{text} is out of range for an angle (at most {MAX_ANGLE:g} rad in "
+                                            "magnitude, where a certificate can still be checked)")
     return iv, text
 
 
