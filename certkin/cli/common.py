@@ -180,7 +180,8 @@ def add_budget(p, default, boxes_help="box budget", seconds_help="time budget of
                width_help="smallest scaled box width that is still split"):
     boxes, secs, width = default["max_boxes"], default["max_seconds"], default["min_width"]
     p.add_argument("--max-boxes", type=count(), default=boxes, metavar="N", help=f"{boxes_help} (default {boxes})")
-    p.add_argument("--max-seconds", type=seconds, default=secs, metavar="S", help=f"{seconds_help} (default {secs:g})")
+    p.add_argument("--max-seconds", type=seconds, default=secs, metavar="S",
+                   help=f"{seconds_help} (default {secs:g}; inf: no time limit, the other budgets still bound the work)")
     p.add_argument("--min-width", type=positive, default=width, metavar="W", help=f"{width_help} (default {width:g})")
     p.add_argument("--max-memory", type=memory, default=MAX_MEMORY, metavar="SIZE",
                    help="memory ceiling of the search records, e.g. 512MiB (default 2GiB): "
