@@ -254,9 +254,9 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     problem.piece_segment = piece_segment
     problem.seed_best(lo, hi, piece_segment)
     searched = replace(budget.within(clock.left()), max_memory=max(1, int(budget.max_memory * SEARCH_SHARE)))
-    batch = PIECE_BATCH if problem.pieces else 4096     # moving orientation: about 0.4 MiB a box while decided
-    found = search(problem, lo, hi, scale=np.ones(1), budget=searched, batch=batch, progress=progress, min_batch=64,
-                   max_rounds=5)
+    batch = {"batch": PIECE_BATCH} if problem.pieces else {}    # moving orientation: about 0.4 MiB a box while decided
+    found = search(problem, lo, hi, scale=np.ones(1), budget=searched, progress=progress, min_batch=64, max_rounds=5,
+                   **batch)
     leaves, segment, tlo, thi, state, mlo, mhi = _leaf_states(problem, found.tree, piece_segment, cons.K, rtol, clock)
     results = []
     for p_index, path in enumerate(paths):
