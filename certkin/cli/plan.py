@@ -58,6 +58,5 @@ def describe(robot, result):
     for w in result.waypoints:
         lines.append("  " + ",".join(w))
     if result.endpoint:
-        lines.append(f"  the {result.endpoint['pose']} pose is {result.endpoint['status']}: " +
-                     "; ".join(f"{v['constraint']} {'-'.join(map(str, v['legs']))}" for v in result.endpoint["violations"]))
+        lines.append(f"  the {result.endpoint['pose']} pose is {result.endpoint['status']}: {result.failing}")
     return "\n".join(lines)

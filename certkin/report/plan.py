@@ -9,10 +9,8 @@ def plan_verdict(result) -> str:
     if result.status == "found":
         return f"Path found: {len(result.segments)} segments, each certified feasible."
     if result.status == "infeasible-endpoint" and result.endpoint:
-        failing = "; ".join(f"{v['constraint']} {'-'.join(map(str, v['legs']))}"
-                            for v in result.endpoint.get("violations", ()))
         return f"No path: the {result.endpoint['pose']} pose is {result.endpoint['status']}" + \
-            (f" ({failing})." if failing else ".")
+            (f" ({result.failing})." if result.failing else ".")
     return "No path found within the grid and the budget (this proves nothing about other paths)."
 
 

@@ -48,6 +48,12 @@ class PlanResult:
     endpoint: dict | None = None                    # the verdict on a failing end pose
     stats: dict = field(default_factory=dict)
 
+    @property
+    def failing(self) -> str:
+        """The constraints an end pose fails, in words ("leg-length 3; interference 1-2"), or ""."""
+        return "; ".join(f"{v['constraint']} {'-'.join(map(str, v['legs']))}"
+                         for v in (self.endpoint or {}).get("violations", ()))
+
     def __repr__(self):
         return (f"<PlanResult {self.status}: {display.counted(len(self.waypoints), 'waypoint')}, "
                 f"{display.counted(len(self.segments), 'segment')} certified feasible>")
