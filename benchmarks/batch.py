@@ -17,6 +17,10 @@ Methods, the same jobs and the same solve with the same options (default budgets
   writes per job; the certificate's search tree is the same, the document without the job echo);
 - batch, W workers: ``certkin batch JOBS --out DIR --workers W``, the whole process from start-up
   to exit (imports, fork server, workers, every document and certificate written);
+- batch on Dask (``--dask``): ``certkin batch JOBS --out DIR --scheduler ADDRESS`` on a Dask
+  ``LocalCluster`` of W single-thread worker processes started (and their imports done) before the
+  clock starts; CPU: the batch process, the workers' own count (``client.run(time.process_time)``)
+  and the scheduler (this process's CPU meanwhile: it runs the cluster's scheduler);
 - CLI calls: ``certkin fk|trajectory ... --json --certificate FILE``, one process per job, W at a time.
 
 The compiled robot models are on disk (``certkin.robots.models``) once the API's first call has
@@ -26,7 +30,7 @@ the API) / (CPU per job of the method, every process of it counted: the batch pr
 as the batch reports them, its fork server sampled with psutil twice a second), which a shared
 machine distorts less.  Each figure is the
 median of ``--repeat`` runs.  Usage: ``python benchmarks/batch.py [--jobs 1000] [--workers 2]
-[--cli-calls 1000] [--repeat 1]``.
+[--cli-calls 1000] [--repeat 1] [--dask]``.
 """
 from __future__ import annotations
 
@@ -166,6 +170,33 @@ def batch(jobs, workers: int, directory: Path):
     return wall, cpu
 
 
+def dask_batch(jobs, client, address: str, directory: Path):
+    """Wall and CPU seconds of ``certkin batch --scheduler`` on a running cluster (see the docstring)."""
+    path = directory / "jobs.jsonl"
+    path.write_text("".join(dumps(j) + "\n" for j in jobs))
+    out = directory / "out"
+    shutil.rmtree(out, ignore_errors=True)
+    workers0, own0 = sum(client.run(time.process_time).values()), time.process_time()
+    c, w = children_cpu(), time.perf_counter()
+    p = subprocess.run(CERTKIN + ["batch", str(path), "--out", str(out), "--scheduler", address],
+                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    wall = time.perf_counter() - w
+    assert p.returncode == 0, p.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["jobs"] == len(jobs) and not summary["errors"] and not summary["failed"]
+    cpu = children_cpu() - c + sum(client.run(time.process_time).values()) - workers0 + time.process_time() - own0
+    return wall, cpu
+
+
+def dask_cluster(workers: int):
+    """A ``LocalCluster`` of ``workers`` single-thread processes with certkin's batch imported, and its client."""
+    from dask.distributed import Client, LocalCluster
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    client = Client(cluster)
+    client.run(lambda: __import__("certkin.cli.batch"))
+    return cluster, client
+
+
 def cli_argv(job, cert):
     argv = CERTKIN + [job["command"], job["robot"], "--json", "--certificate", str(cert)]
     if job["command"] == "fk":
@@ -191,7 +222,9 @@ def main():
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--cli-calls", type=int, default=1000)
     ap.add_argument("--repeat", type=int, default=1, help="runs of each method (medians)")
+    ap.add_argument("--dask", action="store_true", help="also certkin batch on a Dask LocalCluster of --workers")
     args = ap.parse_args()
+    cluster, client = dask_cluster(args.workers) if args.dask else (None, None)
     print(describe(), time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), flush=True)
     rows = []
     for name, (robot, jobs) in workloads(args.jobs).items():
@@ -210,6 +243,10 @@ def main():
                     (d / f"b{w}").mkdir(exist_ok=True)
                     runs.setdefault(f"certkin batch, {w} worker{'s' if w > 1 else ''}", []).append(
                         (*batch(jobs, w, d / f"b{w}"), w))
+                if client is not None:
+                    (d / "dask").mkdir(exist_ok=True)
+                    runs.setdefault(f"batch, Dask, {args.workers} workers", []).append(
+                        (*dask_batch(jobs, client, cluster.scheduler_address, d / "dask"), args.workers))
                 print(f"{name}: run {_ + 1} of {args.repeat} done", file=sys.stderr, flush=True)
             calls = jobs[:args.cli_calls]
             if calls:
@@ -235,15 +272,19 @@ def main():
     same = {(name, method): (wall, cpu) for name, method, count, wall, cpu, cores, base, n in rows}
     for name in dict.fromkeys(r[0] for r in rows):
         a = same.get((name, f"API, {args.workers} processes at once"))
-        b = same.get((name, f"certkin batch, {args.workers} workers"))
-        if a and b:
-            print(f"{name}: certkin batch, {args.workers} workers / API, {args.workers} processes at once (the same "
-                  f"core count): wall ratio {a[0] / b[0]:.2f}, CPU ratio {a[1] / b[1]:.2f}")
+        for method in (f"certkin batch, {args.workers} workers", f"batch, Dask, {args.workers} workers"):
+            b = same.get((name, method))
+            if a and b:
+                print(f"{name}: {method} / API, {args.workers} processes at once (the same core count): wall ratio "
+                      f"{a[0] / b[0]:.2f}, CPU ratio {a[1] / b[1]:.2f}")
     print("wall ratio: (jobs per second per core of the method) / (jobs per second of the in-process API on one core); "
           "target >= 0.8 against the API answering only; meaningful on a quiet machine only.\n"
           "CPU ratio: (CPU per job of the API) / (CPU per job of the method); batch rows: every process of the batch "
           "(start-up, fork server, workers: the batch's own count, slightly over); CLI rows: the calls' processes (start-up included).\n"
           f"medians of {args.repeat} run(s) per method (CLI calls: one run).")
+    if client is not None:
+        client.close()
+        cluster.close()
 
 
 if __name__ == "__main__":

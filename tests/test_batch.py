@@ -193,6 +193,37 @@ def test_short_jobs_run_in_chunks_and_a_killer_inside_a_chunk_is_found_alone():
     assert again and chunk == list(range(chunk[0], chunk[-1] + 1)) and len(chunk) <= local.MAX_CHUNK
 
 
+def test_on_a_dask_cluster_jobs_run_in_chunks_and_a_killing_job_fails_alone():
+    """Dask runs short jobs in chunks too; the jobs of a task whose workers die on every try (Dask
+    charges every task a dying worker held) run again one at a time: the killer fails after the
+    allowed failures, the others answer (``attempts`` 2), none is failed for another's death."""
+    distributed = pytest.importorskip("dask.distributed", reason="the dask extra is not installed")
+    import dask
+    from certkin.batch.cluster import run_dask
+    tasks = [({"id": "boom" if k == 300 else f"j{k}", "x": k}, "unused") for k in range(400)]
+    reports, sizes = [], []
+    real_chunk = local.TaskQueue.chunk
+
+    def chunk(self, workers):
+        out = real_chunk(self, workers)
+        sizes.append(len(out))
+        return out
+    with dask.config.set({"distributed.scheduler.allowed-failures": 2}), \
+            distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                     dashboard_address=None) as cluster, \
+            pytest.MonkeyPatch.context() as mp:
+        mp.setattr(local.TaskQueue, "chunk", chunk)
+        assert not run_dask(tasks, square_or_die, distributed.Client(cluster.scheduler_address),
+                            lambda i, v: reports.append((i, v)))
+    assert sorted(i for i, _ in reports) == list(range(400))
+    values = dict(reports)
+    assert isinstance(values[300], local.Died) and values[300].attempts == 3 and "died 3 times" in values[300].reason
+    again = sorted(k for k in range(400) if k != 300 and values[k].pop("attempts", 1) == 2)
+    assert all(values[k] == {"id": f"j{k}", "square": k * k} for k in range(400) if k != 300)
+    assert again and all(abs(k - 300) <= 2 * local.IN_FLIGHT * local.MAX_CHUNK for k in again)   # tasks held near it
+    assert max(sizes) > 1 and len(sizes) < 400        # chunks, not one task per job
+
+
 def test_chunks_last_about_chunk_seconds_and_suspects_run_alone():
     q = local.TaskQueue(1000)
     assert q.chunk(2) == [0]                                     # nothing timed yet: one job

@@ -1,19 +1,26 @@
 """Jobs on a Dask cluster (the ``dask`` extra: ``dask.distributed``, imported here only).
 
-``dask.distributed.Client(address)`` runs one task per job; Dask itself moves the tasks of a worker
-that dies to another one, up to the scheduler's ``distributed.scheduler.allowed-failures`` (3 by
-default; start the scheduler with ``DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES=2`` for the local
-pool's rule: a job tried three times, then failed), and then gives up with ``KilledWorker``, which
-is reported as ``Died``.  The work function writes each job's files, so the output directory and
-the robot files must be reachable by the workers at the same paths (one machine, or a shared file
-system).
+``dask.distributed.Client(address)`` runs the jobs in chunks, as the local pool does (``local.TaskQueue``:
+consecutive jobs for about ``local.CHUNK_SECONDS``, at most ``local.IN_FLIGHT`` chunks per worker
+thread handed out at once, each run by ``local.run_chunk``): one Dask task per short job cost about a
+third more CPU than the job itself.  Dask moves the task of a worker that dies to another one, up
+to the scheduler's ``distributed.scheduler.allowed-failures`` (3 by default; start the scheduler
+with ``DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES=2`` for the local pool's rule: a job tried
+three times, then failed), and then gives up with ``KilledWorker``.  Dask charges a death to every
+task its worker held, running or waiting, so a ``KilledWorker`` does not name the job that kills:
+the jobs of that task become *suspects*, each run with nothing else in flight on the cluster (the
+jobs they had finished are found done on disk and skipped), where a death is the job's own and a
+``KilledWorker`` is reported as ``Died``.  The work function writes each job's files, so the output
+directory and the robot files must be reachable by the workers at the same paths (one machine, or a
+shared file system).
 """
 from __future__ import annotations
 
+from collections import deque
 import threading
 
 from ..errors import InputError
-from .local import Died
+from .local import IN_FLIGHT, Died, TaskQueue, run_chunk
 
 
 def connect(address: str):
@@ -53,26 +60,50 @@ def connect(address: str):
 
 def run_dask(tasks: list, work, client, report) -> bool:
     """Run ``work(*tasks[i])`` for every i on the Dask cluster of ``client`` (``connect``), closed at
-    the end; ``report(i, value)`` as each ends.  Returns True when Ctrl-C stopped the run."""
+    the end; ``report(i, value)`` as each chunk ends.  Returns True when Ctrl-C stopped the run."""
     from dask.distributed import as_completed
     from distributed.scheduler import KilledWorker
 
     with client:
-        futures = {client.submit(work, *task, pure=False): i for i, task in enumerate(tasks)}
+        slots = max(1, sum(client.nthreads().values()))
+        queue, running, finished, suspects = TaskQueue(len(tasks)), {}, as_completed(), deque()
+
+        def submit(chunk, alone):
+            future = client.submit(run_chunk, work, [tasks[i] for i in chunk], pure=False)
+            running[future] = (chunk, alone)
+            finished.add(future)
+
+        def hand_out():
+            if suspects:                    # one at a time, once nothing else runs
+                if not running:
+                    submit([suspects.popleft()], True)
+                return
+            while queue and len(running) < IN_FLIGHT * slots:
+                submit(queue.chunk(slots), False)
         try:
-            for future in as_completed(futures):
-                i = futures[future]
+            hand_out()
+            for future in finished:
+                chunk, alone = running.pop(future)
                 try:
-                    value = future.result()
+                    values, seconds = future.result()
+                    queue.jobs, queue.seconds = queue.jobs + len(chunk), queue.seconds + seconds
                 except KilledWorker:
+                    if not alone:           # which job of the task killed its workers is not known
+                        suspects.extend(chunk)
+                        hand_out()
+                        continue
                     tries = client.run_on_scheduler(_allowed_failures) + 1
-                    value = Died(tries, f"its worker process died {tries} times while running it (killed, or out "
-                                        "of memory)")
-                except Exception as exc:        # a bug in the work function
-                    value = Died(1, f"{type(exc).__name__}: {exc}")
-                report(i, value)
+                    values = [Died(tries, f"its worker process died {tries} times while running it (killed, or "
+                                          "out of memory)")]
+                except Exception as exc:    # a bug in the work function
+                    values = [Died(1, f"{type(exc).__name__}: {exc}")] * len(chunk)
+                for i, value in zip(chunk, values):
+                    if alone and isinstance(value, dict) and not value.get("resumed"):
+                        value["attempts"] = 2   # run again after a worker died
+                    report(i, value)
+                hand_out()
         except KeyboardInterrupt:
-            client.cancel(list(futures))
+            client.cancel(list(running))
             return True
     return False
 
