@@ -28,8 +28,6 @@ from mpmath import iv, mp
 
 TINY = 2.0 ** -1022
 INF = np.inf
-
-
 PHI = 2.0 ** -53 + 2.0 ** -105   # u (1 + 2u)
 
 
@@ -49,9 +47,7 @@ def enclose_fraction(q: Fraction):
         f = float(q)
     except OverflowError:
         return (float(np.finfo(float).max), INF) if q > 0 else (-INF, -float(np.finfo(float).max))
-    if Fraction(f) == q:
-        return f, f
-    return (f, float(np.nextafter(f, INF))) if Fraction(f) < q else (float(np.nextafter(f, -INF)), f)
+    return (f, f) if Fraction(f) == q else (f, float(np.nextafter(f, INF))) if Fraction(f) < q else (float(np.nextafter(f, -INF)), f)
 
 
 class Iv:
@@ -90,9 +86,8 @@ class Iv:
     def __add__(self, o):
         if not isinstance(o, _OPERANDS):
             return NotImplemented
-        if isinstance(o, Iv):
-            return Iv(dn(self.lo + o.lo), up(self.hi + o.hi))
-        return Iv(dn(self.lo + o), up(self.hi + o))
+        olo, ohi = (o.lo, o.hi) if isinstance(o, Iv) else (o, o)
+        return Iv(dn(self.lo + olo), up(self.hi + ohi))
 
     __radd__ = __add__
 
@@ -188,11 +183,9 @@ def pmatmul(P, B: Iv) -> Iv:
     [Σ P⁺ B̲ + P⁻ B̄, Σ P⁺ B̄ + P⁻ B̲], each a dot product of length 2k computed by one float matrix
     product, widened by the bound of its rounding error (products included, underflow covered by
     the constant of ``_bound``; §12)."""
-    pp, pn = np.maximum(P, 0.0), np.minimum(P, 0.0)
-    Q = np.concatenate([pp, pn], -1)
+    Q = np.concatenate([np.maximum(P, 0.0), np.minimum(P, 0.0)], -1)
     Qa = np.abs(Q)
-    lo_ops = np.concatenate([B.lo, B.hi], -2)
-    hi_ops = np.concatenate([B.hi, B.lo], -2)
+    lo_ops, hi_ops = np.concatenate([B.lo, B.hi], -2), np.concatenate([B.hi, B.lo], -2)
     m = 2 * P.shape[-1]
     with np.errstate(all="ignore"):
         lo = dn(Q @ lo_ops - _bound(Qa @ np.abs(lo_ops), m))

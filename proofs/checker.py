@@ -27,18 +27,21 @@ def check(source, robot=None, progress=None) -> Report:
     ``progress(done, total)`` is called as the trees are walked.  Never raises on a malformed
     certificate (the report names the failing step); an unreadable file raises ``Unreadable``.
     """
-    source = container.read(source) if isinstance(source, (str, Path)) else source
-    cert = source if isinstance(source, container.Certificate) else container.Certificate(
-        source.header, source.arrays) if hasattr(source, "header") and hasattr(source, "arrays") else container.Certificate(source)
-    report = Report(False, "", {"claims": 0, "undecided": 0, "leaves": 0, "pieces": 0, "witnesses": 0})
-    report.progress = progress
+    report = Report(False, "", {"claims": 0, "undecided": 0, "leaves": 0, "pieces": 0, "witnesses": 0}, progress=progress)
     try:
+        source = container.read(source) if isinstance(source, (str, Path)) else source
+        cert = source if isinstance(source, container.Certificate) else container.Certificate(
+            source.header, source.arrays) if hasattr(source, "header") and hasattr(source, "arrays") else container.Certificate(source)
         with np.errstate(all="ignore"):
             _check(cert, robot, report)
+    except Unreadable:
+        raise
     except Rejected as exc:
         report.step = exc.step
     except (RecursionError, MemoryError) as exc:
         report.step = f"certificate: {'nested too deeply' if isinstance(exc, RecursionError) else 'too large'}"
+    except Exception as exc:        # any other failure a malformed certificate provokes: rejected, never accepted
+        report.step = f"certificate: malformed ({type(exc).__name__}: {str(exc)[:120]})"
     else:
         report.ok = True
     return report
@@ -56,7 +59,7 @@ def _check(cert, robot_file, report):
     if type(h.get("version")) is not int or h["version"] != 2:
         raise Rejected(f"version: unknown version {json.dumps(h.get('version'), default=str):.60} (known: 2)")
     problem = h.get("problem")
-    if problem not in PROBLEMS:
+    if not isinstance(problem, str) or problem not in PROBLEMS:
         raise Rejected(f"problem: unknown problem {json.dumps(problem, default=str):.60} (known: {', '.join(PROBLEMS)})")
     robot = h.get("robot")
     if not isinstance(robot, dict):
@@ -64,7 +67,8 @@ def _check(cert, robot_file, report):
     segments, names = h.get("segments", 1), h.get("arrays") if isinstance(h.get("arrays"), dict) else {}
     if type(segments) is not int or not 1 <= segments <= (1 << 20 if problem == "forward-kinematics" else 1):
         raise Rejected("segments: expected a positive integer (more than 1 only for forward-kinematics)")
-    stray = [a for a in names if a.startswith("segment") and a.split("/")[0][7:] not in map(str, range(1, segments))]
+    stray = [a for a in names if a.startswith("segment") and not ((k := a.split("/")[0][7:]).isascii() and k.isdigit()
+                                                                  and len(k) < 8 and k == str(int(k)) and 0 < int(k) < segments)]
     if stray:
         raise Rejected(f"body: array {stray[0]} belongs to no segment (the header says {segments})")
     claims = h.get("claims")
@@ -98,7 +102,7 @@ def geometry_canonical(robot: dict) -> str:
             return v
         try:
             return canonical(v)
-        except (ValueError, ArithmeticError, TypeError):
+        except (ValueError, ArithmeticError, TypeError, Rejected):
             return str(v)
     geo = {k: canon(robot[k]) for k in ("kind", "base", "platform", "limits") if k in robot}
     return json.dumps(geo, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
@@ -129,8 +133,7 @@ def read_robot(path) -> dict:
     if not isinstance(data.get("kind"), str):
         raise UnreadableRobot(f"not a robot file (no kind, or larger than {MAX_ROBOT >> 20} MiB)")
     robot = {k: data[k] for k in ("name", "kind", "base", "platform", "limits") if k in data}
-    limits = robot.get("limits")
-    if isinstance(limits, dict):                  # the file's shorthands: one radius for every leg; comments
+    if isinstance(limits := robot.get("limits"), dict):                  # the file's shorthands: one radius for every leg; comments
         limits = robot["limits"] = dict(limits)
         if "leg_radius" in limits and not isinstance(limits["leg_radius"], list):
             limits["leg_radius"] = [limits["leg_radius"]] * len(robot.get("base", []))

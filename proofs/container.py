@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import zipfile
 import zlib
 
@@ -36,6 +37,10 @@ class Certificate:
 
     def __init__(self, header, arrays=None, archive=None):
         self.header, self._arrays, self._archive, self._read = header, dict(arrays or {}), archive, {}
+
+    @property
+    def size(self) -> int:          # bytes of the file, or of the arrays given in memory: what trees are weighed against
+        return os.path.getsize(self._archive.filename) if self._archive else sum(getattr(a, "nbytes", 0) for a in self._arrays.values())
 
     @property
     def version(self):
@@ -104,6 +109,8 @@ def _member(archive, member, size, each=None) -> bytes:
     """The bytes of ``member`` (``size`` of them), or b"" after handing them to ``each`` piece by piece."""
     data, n = b"", 0
     try:
+        if archive.getinfo(member).compress_type not in (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED):
+            raise Rejected(f"body: member {member} is neither stored nor deflated")
         with archive.open(member) as fh:
             while each and n <= size and (piece := fh.read(min(1 << 24, size + 1 - n))):
                 each(piece)

@@ -10,7 +10,6 @@ docs/certificates.md.
 """
 from __future__ import annotations
 
-
 import numpy as np
 from mpmath import iv
 
@@ -149,9 +148,9 @@ def _read_claim(system, cert, raw, where):
         raise Rejected(f"{where}.clusters: expected a list of boxes")
     cl.clusters = np.array([np.stack(tree.read_box(c, system.n, f"{where}.clusters[{j}]"), -1) for j, c in enumerate(clusters)]
                            or np.zeros((0, system.n, 2)))
-    cl.tree = raw.get("tree") is not None
-    if cert.version == 2 and raw.get("tree") not in (True, None):
-        raise Rejected(f"{where}.tree: expected true (the tree is in the body) or null")
+    cl.tree = True                    # a domain is proved only by its tree: never without one
+    if raw.get("tree") is None or (cert.version == 2 and raw.get("tree") is not True):
+        raise Rejected(f"{where}.tree: expected true (the tree of the domain is in the body)")
     return cl
 
 

@@ -64,7 +64,7 @@ def canonical(value) -> str:
     """The canonical text of an exact decimal (``3.780`` → ``3.78``, ``1e1`` → ``10``; ``deg`` kept)."""
     text = str(value).strip()
     suffix = "deg" if text.lower().endswith("deg") else ""
-    q = Fraction(text[:-3] if suffix else text)
+    q = exact(text[:-3] if suffix else text, "decimal")     # (its limits: no gigantic integer is built)
     sign, q = ("-" if q < 0 else ""), abs(q)
     whole, rest = divmod(q.numerator, q.denominator)
     digits = ""
@@ -81,5 +81,5 @@ def inside(value, lo: float, hi: float, where: str) -> bool:
     if deg:
         x = enclose(value, where, True)
         return bool(x.lo >= lo and x.hi <= hi)
-    f = float(q)                  # correctly rounded and monotone: lo < f ⇒ lo < q, f < hi ⇒ q < hi
-    return (lo < f or (f == lo and Fraction(lo) <= q)) and (f < hi or (f == hi and q <= Fraction(hi)))
+    return (lo == -math.inf or (math.isfinite(lo) and Fraction(lo) <= q)) and \
+        (hi == math.inf or (math.isfinite(hi) and q <= Fraction(hi)))

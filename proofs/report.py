@@ -38,14 +38,9 @@ class Report:
         if not self.ok:
             return self.step
         c = self.checked
-        text = f"{c.get('claims', 0)} claims, {c.get('leaves', 0)} leaves re-verified"
-        if c.get("solutions"):
-            text += f", {c['solutions']} solutions proved unique"
-        if c.get("witnesses"):
-            text += f", {c['witnesses']} witness pairs"
-        if c.get("undecided"):
-            text += f", {c['undecided']} undecided (nothing claimed)"
-        return text
+        return f"{c.get('claims', 0)} claims, {c.get('leaves', 0)} leaves re-verified" + "".join(
+            f", {c[k]} {what}" for k, what in (("solutions", "solutions proved unique"), ("witnesses", "witness pairs"),
+                                               ("undecided", "undecided (nothing claimed)")) if c.get(k))
 
     def __str__(self) -> str:
         return ("OK: " if self.ok else "REJECTED: ") + self.summary()
@@ -54,14 +49,9 @@ class Report:
         """The full account printed by ``certkin check``: robot, question, verdicts, result; any character of
         the certificate that is not printable (a newline, a terminal escape, a bidi control) escaped."""
         a = self.about
-        out = []
-        if a.get("robot") is not None:
-            out.append(f"robot: {a['robot']} ({a.get('kind')}), geometry SHA-256 {a.get('geometry_sha256')}")
-        if a.get("robot_file"):
-            out.append(f"robot file: {a['robot_file']}: same geometry")
-        if a.get("question"):
-            out.append(f"question: {a['question']}")
-        out += [f"proved: {p}" for p in self.proved] if self.ok else []
+        out = [f"robot: {a['robot']} ({a.get('kind')}), geometry SHA-256 {a.get('geometry_sha256')}"] if a.get("robot") is not None else []
+        out += [f"robot file: {a['robot_file']}: same geometry"] if a.get("robot_file") else []
+        out += ([f"question: {a['question']}"] if a.get("question") else []) + [f"proved: {p}" for p in self.proved] * self.ok
         return ["".join(c if c.isprintable() else ascii(c)[1:-1] for c in line) for line in out + [str(self)]]
 
     def to_json(self) -> dict:

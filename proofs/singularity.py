@@ -62,8 +62,7 @@ def check(cert, report) -> None:
         roots.append((k, lo, hi, claim.get("tree")))
         signs.append(s)
     if witnesses:                        # all witness poses in one batch: +, − per claim
-        got = robot.det(np.concatenate([w[0] for w in witnesses]), np.concatenate([w[1] for w in witnesses]))
-        got = got.sign().reshape(-1, 2)
+        got = robot.det(np.concatenate([w[0] for w in witnesses]), np.concatenate([w[1] for w in witnesses])).sign().reshape(-1, 2)
         bad = np.nonzero(np.any(got != [1, -1], axis=1))[0]
         if len(bad):
             where, k = witnesses[bad[0]][2], int(got[bad[0], 0] == 1)

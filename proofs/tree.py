@@ -26,6 +26,7 @@ from .report import Rejected
 SPLIT, CUT, CONTRACT, LEAF, CONTINUED = 0, 1, 2, 3, 4
 SPLIT_RATIO = 0.4921875
 BATCH = 8192
+MAX_DEPTH = 1 << 16     # levels of a segment (genuine trees: a few hundred)
 
 
 class Forest:
@@ -46,9 +47,10 @@ class Forest:
             raise Rejected(f"{t}: {t}.kind and {t}.code must be two arrays of one length")
         for i in np.nonzero(self.kind > CONTINUED)[0][:1]:
             raise Rejected(f"{t}: node {i}: unknown kind {self.kind[i]}")
-        rows = {name: np.zeros(len(self.kind), np.int64) for name in self.shapes}
-        rows["tree.cut"] = (self.kind == CUT).astype(np.int64)
-        rows["tree.box"] = (self.kind == CONTRACT).astype(np.int64)
+        if len(self.kind) > max(1 << 22, 16 * cert.size):      # ~4 genuine nodes a byte at most: a bomb
+            raise Rejected(f"{t}: {len(self.kind)} nodes in a certificate of {cert.size} bytes")
+        rows = {name: np.zeros(len(self.kind), np.uint8) for name in self.shapes}      # (rows per node: 0 to 2)
+        rows["tree.cut"], rows["tree.box"] = (self.kind == CUT).view(np.uint8), (self.kind == CONTRACT).view(np.uint8)
         for kind, table in ((LEAF, self.leaves), (CONTRACT, self.contractions)):
             mine = self.kind == kind
             unknown = mine & ~np.isin(self.code, list(table))
@@ -57,15 +59,16 @@ class Forest:
             for c, (_, uses) in table.items():
                 for name, k in uses.items():
                     rows[name][mine & (self.code == c)] += k
-        self.offset, self.evidence = {}, {}
+        self.users, self.offset, self.evidence = {}, {}, {}
         shapes = {"tree.cut": ((), ("<f8",)), "tree.box": ((self.d, 2), ("<u8",)), **self.shapes}
-        for name, per_node in rows.items():
-            total, (tail, dtypes) = int(per_node.sum()), shapes[name]
+        for name, per_node in rows.items():    # the nodes using each array, and their first rows
+            users = self.users[name] = np.nonzero(per_node)[0]
+            self.offset[name] = np.concatenate([[0], np.cumsum(per_node[users], dtype=np.int64)])
+            total, (tail, dtypes) = int(self.offset[name][-1]), shapes[name]
             arr = cert.array(prefix + name, dtypes, tail) if total or cert.has(prefix + name) else np.zeros((0,) + tail)
             if len(arr) != total:
                 raise Rejected(f"{t}: {prefix + name} has {len(arr)} rows, the nodes use {total}")
             self.evidence[name] = arr
-            self.offset[name] = np.concatenate([[0], np.cumsum(per_node)])
         self.nodes = len(self.kind)
 
     def at(self, node, root):
@@ -75,7 +78,7 @@ class Forest:
 
     def rows(self, name, ids, k=0):
         """Row k of evidence ``name`` of each node ``ids``."""
-        return self.evidence[name][self.offset[name][ids] + k]
+        return self.evidence[name][self.offset[name][np.searchsorted(self.users[name], ids)] + k]
 
     def walk(self, visit, progress=None):
         """Call ``visit(kind, code, ids, lo, hi, claim, child)`` on batches of leaves (child None) and
@@ -99,7 +102,11 @@ class Forest:
     def _walk(self, visit, progress, lo, hi, claim):
         """One segment from the roots ``lo``, ``hi``; returns its continued leaves in order."""
         start, pending, size, level, cont = 0, {}, 0, 0, []
+        if self.nodes != (want := len(lo) + 2 * np.count_nonzero(self.kind <= CUT) + np.count_nonzero(self.kind == CONTRACT)):
+            raise Rejected(f"{self.t}: {self.nodes} nodes, but {len(lo)} roots and the splits and contractions make {want}")
         while len(lo):
+            if level > MAX_DEPTH or len(lo) > max(1 << 20, 8 * self.cert.size):    # (memory: a few bombs' bytes)
+                raise Rejected(f"{self.t}: level {level} of {len(lo)} boxes: deeper or wider than {self.cert.size} bytes hold")
             m = len(lo)
             if start + m > self.nodes:
                 raise Rejected(f"{self.t}: level {level} needs {m} nodes, only {self.nodes - start} are left")

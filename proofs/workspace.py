@@ -20,7 +20,8 @@ or one slab (``slab``: [lo, hi] floats, z ranging over it), with
   ``outer`` ≥ the exact sum over inside and boundary boxes (integers).
 
 A volume certificate's slabs are contiguous and cover ``requested.z``; its
-``volume`` bounds Σ (hi − lo) × those sums, exactly.
+``volume`` bounds Σ (hi − lo) × those sums, exactly, the inner one with each
+slab's part of ``requested.z`` only.
 """
 from __future__ import annotations
 
@@ -137,8 +138,9 @@ def check(cert, report) -> None:
     zl, zh = exact(req["z"][0], "requested.z"), exact(req["z"][1], "requested.z")
     if not (Fraction(float(Z[0].lo)) <= zl < zh <= Fraction(float(Z[-1].hi))):
         raise Rejected(f"requested.z: [{req['z'][0]}, {req['z'][1]}] is not covered by the slabs")
-    dz = [Fraction(float(z.hi)) - Fraction(float(z.lo)) for z in Z]
-    _bounds(h.get("volume"), sum(d * t[0] for d, t in zip(dz, totals)), sum(d * t[1] for d, t in zip(dz, totals)), "volume")
+    dz = [(max(min(Fraction(float(z.hi)), zh) - max(Fraction(float(z.lo)), zl), 0), Fraction(float(z.hi)) - Fraction(float(z.lo)))
+          for z in Z]     # inner: the slab's part in the requested range; outer: the whole slab
+    _bounds(h.get("volume"), sum(d[0] * t[0] for d, t in zip(dz, totals)), sum(d[1] * t[1] for d, t in zip(dz, totals)), "volume")
     report.proved.append(f"{len(claims)} slabs covering z in [{req['z'][0]}, {req['z'][1]}]: volume in "
                          f"[{h['volume']['inner']!r}, {h['volume']['outer']!r}]")
 

@@ -90,10 +90,26 @@ def test_fk_removed_node_and_swapped_split(files):
     for name in ("tree.kind", "tree.code"):
         removed.arrays[name] = np.delete(removed.arrays[name], i)
     step = removed.check().step                       # the nodes after it shift: the first misplaced one fails
-    assert step.startswith("tree: level ") or step.startswith("claims[0].tree: node "), step
+    assert step.startswith("tree: ") or step.startswith("claims[0].tree: node "), step
     swapped = doc.copy()
     swapped.arrays["tree.code"][0] = (swapped.arrays["tree.code"][0] + 1) % 4
     assert swapped.check().step.startswith("claims[0].tree: node ")
+
+
+def test_fk_claim_without_its_tree_is_rejected(files, tmp_path):
+    """A domain with no tree (and no regions) would claim "no posture anywhere, complete"."""
+    def strip(h):
+        claim = h["claims"][0]
+        claim.pop("tree")
+        claim.pop("figures", None)
+        claim.update(regions=[0, 0], solutions=[])
+
+    def no_nodes(arrays):
+        for name in list(arrays):
+            if name.startswith("tree."):
+                del arrays[name]
+        arrays["tree.kind"], arrays["tree.code"] = np.zeros(0, np.uint8), np.zeros(0, np.uint8)
+    rejected(forged(files["fk-ranges"], tmp_path, strip, no_nodes), "claims[0].tree: expected true")
 
 
 def test_singularity_removed_node_swapped_split_reused_flags(files):

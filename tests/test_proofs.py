@@ -10,6 +10,7 @@ import json
 import math
 import subprocess
 import sys
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -184,7 +185,7 @@ def test_flipped_sign_rejected(planar):
 def test_removed_leaf_rejected(planar):
     for name in ("tree.kind", "tree.code"):
         planar.arrays[name] = planar.arrays[name][:-1]
-    assert rejected(planar) == "tree: level 1 needs 2 nodes, only 1 are left"
+    assert rejected(planar) == "tree: 2 nodes, but 1 roots and the splits and contractions make 3"
 
 
 def test_changed_geometry_rejected(planar):
@@ -364,3 +365,53 @@ def test_cli_exit_codes(planar, tmp_path):
         assert r.returncode == 2 and r.stdout == "" and r.stderr.count("\n") == 1, r
     with pytest.raises(ValueError):
         proofs.check_file(nan)
+
+
+# ----- hostile files: rejected at once, with little memory, never a traceback ------------------
+def test_members_compressed_otherwise_than_deflate_are_rejected(planar, tmp_path):
+    """bzip2 or LZMA expand a few bytes into gigabytes: only stored and deflated members are read."""
+    path = planar.write(tmp_path / "ok.cert")
+    assert proofs.check(path).ok
+    with zipfile.ZipFile(path) as z, zipfile.ZipFile(tmp_path / "bz2.cert", "w") as out:
+        for info in z.infolist():
+            out.writestr(info.filename, z.read(info), compress_type=zipfile.ZIP_STORED if info.filename == "header.json"
+                         else zipfile.ZIP_BZIP2)
+    assert "neither stored nor deflated" in proofs.check(tmp_path / "bz2.cert").step
+
+
+def test_trees_that_do_not_add_up_or_outgrow_their_file_are_rejected_before_they_are_walked(planar, monkeypatch):
+    bomb = planar.copy()            # a million splits: their 2 million children would be walked level by level
+    bomb.arrays["tree.kind"] = np.zeros(1 << 20, np.uint8)
+    bomb.arrays["tree.code"] = np.zeros(1 << 20, np.uint8)
+    bomb.arrays.pop("tree.cut")
+    assert rejected(bomb) == "tree: 1048576 nodes, but 1 roots and the splits and contractions make 2097153"
+    monkeypatch.setattr(proofs.tree, "MAX_DEPTH", 0)       # a chain of contractions deeper than allowed
+    assert "level 1 of 2 boxes: deeper or wider than" in rejected(planar.copy())
+    monkeypatch.setattr(proofs.tree, "MAX_DEPTH", 1 << 16)
+    big = planar.copy()             # more nodes than 16 a byte of the file (in memory: of its arrays)
+    big.arrays["tree.kind"] = np.full((1 << 22) + 1, 3, np.uint8)
+    big.arrays["tree.code"] = np.zeros((1 << 22) + 1, np.uint8)
+    monkeypatch.setattr(proofs.container.Certificate, "size", property(lambda self: 1000))
+    assert rejected(big) == "tree: 4194305 nodes in a certificate of 1000 bytes"
+
+
+def test_malformed_values_are_rejections_not_tracebacks_nor_hangs(planar):
+    import time
+    t = time.perf_counter()
+    huge = planar.copy()            # canonical form of 1e100000000: never built (it took minutes)
+    huge.header["robot"]["base"][0][0] = "1e100000000"
+    huge.robot_edited()
+    assert not huge.check().ok
+    far = planar.copy()             # beyond the float range: compared exactly, no OverflowError
+    far.claim()["requested"]["x"][1] = "1e400"
+    assert not far.check().ok
+    listed = planar.copy()
+    listed.header["problem"] = ["singularity"]
+    assert rejected(listed).startswith("problem: unknown problem")
+    stray = planar.copy()           # many array names against a million segments: no loop over the segments
+    stray.header.update(segments=1, arrays={f"segment{i}x/t": {} for i in range(2000)})
+    assert rejected(stray).startswith("body: array segment0x/t belongs to no segment")
+    odd = planar.copy()             # arrays that are not arrays, given in memory
+    odd.arrays["tree.kind"] = [3, 3]
+    assert not odd.check().ok and odd.check().step.startswith("certificate: malformed")
+    assert time.perf_counter() - t < 20

@@ -291,6 +291,9 @@ def test_volume_certificate_checks_and_rejects_a_raised_bound(micro):
     bad = cert.copy()
     bad.header["requested"]["z"] = ["19999", "20010"]
     assert "requested.z" in bad.check().step
+    bad = cert.copy()             # a requested range narrower than the slabs: their inner volume is not its own
+    bad.header["requested"]["z"] = ["20001", "20001.001"]
+    assert "volume.inner" in bad.check().step
 
 
 def test_domains_without_time_for_the_candidates_are_wider_and_still_check(micro, monkeypatch):

@@ -52,8 +52,14 @@ class VolumeResult:
         return self._areas
 
     def volume(self) -> tuple[float, float]:
+        """(inner, outer) bounds of the volume for z in ``z_range``: the outer one over the whole slabs
+        (they cover the range), the inner one over each slab's part inside the range (the first and
+        last slabs start and end on the floats around the range's decimal ends)."""
         h = np.diff(self.bounds)
-        hlo, hhi = down_sum(h), up_sum(h)
+        hhi = up_sum(h)
+        ql, qh = (Fraction(t) for t in self.z_range)
+        hlo = np.array([_below(max(Fraction(0), min(Fraction(float(b)), qh) - max(Fraction(float(a)), ql)))
+                        for a, b in zip(self.bounds[:-1], self.bounds[1:])])
         ar = np.array(self.areas()).reshape(-1, 2)
         lo = np.maximum(down(hlo * ar[:, 0]), 0.0)
         hi = up(hhi * ar[:, 1])
@@ -93,6 +99,12 @@ class VolumeResult:
 
 
 @quiet
+def _below(q: Fraction) -> float:
+    """The largest float at most q."""
+    f = float(q)
+    return float(np.nextafter(f, -np.inf)) if Fraction(f) > q else f
+
+
 def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS, *, budget: Budget | None = None,
                      max_boxes=None, min_width=None, max_seconds=None, max_memory=None, progress=None) -> VolumeResult:
     """Certified bracket of the volume of {C in the workspace : z_lo <= z <= z_hi} (Gough-Stewart).
