@@ -8,7 +8,8 @@ whatever the budget.  Each root of one search is one section or one z-slab.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
+from itertools import chain
 import math
 import time
 
@@ -19,6 +20,10 @@ from intervals.rounding import down, down_sum, up, up_sum
 
 from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Decisions, search
 from .annuli import Legs
+
+AREA_CHUNK = 1 << 18     # boxes whose areas are computed at once
+SEARCH_SHARE = 0.6       # of the time left and of the memory budget, for the paving's search: the rest is for
+                         # its answer (areas, the certificate's tree, the JSON document), which grows with the boxes
 
 REASONS = ("inside: every leg length within its limits on the whole box",
            "outside: one leg length outside its limits on the whole box")
@@ -58,6 +63,7 @@ class Paving:
 
     tree: object
     root: int
+    _areas: dict = field(default_factory=dict, repr=False, compare=False)   # computed once
 
     def leaves(self, kind):
         ids, starts = self.tree.leaves_by_root(kind)
@@ -67,24 +73,33 @@ class Paving:
         return {"inner_boxes": int(len(self.leaves(PROVED))), "boundary_boxes": int(len(self.leaves(UNDECIDED))),
                 "outside_boxes": int(len(self.leaves(EXCLUDED)))}
 
-    def _areas(self, ids):
+    def _bounds(self, ids, upper: bool):
+        """The areas of the boxes ``ids``, each rounded down (or up), ``AREA_CHUNK`` boxes at a time: a paving
+        of millions of boxes needs no temporary arrays of its size."""
         t = self.tree
-        w = t.hi[ids] - t.lo[ids]
-        wlo, whi = down_sum(w), up_sum(w)
-        lo = np.maximum(down(wlo[:, 0] * wlo[:, 1]), 0.0)
-        hi = up(whi[:, 0] * whi[:, 1])
-        return lo, hi
+        for k in range(0, len(ids), AREA_CHUNK):
+            w = t.hi[ids[k:k + AREA_CHUNK]] - t.lo[ids[k:k + AREA_CHUNK]]
+            if upper:
+                w = up_sum(w)
+                yield up(w[:, 0] * w[:, 1])
+            else:
+                w = down_sum(w)
+                yield np.maximum(down(w[:, 0] * w[:, 1]), 0.0)
 
     def inner_area(self) -> float:
-        """A lower bound of the area of the inside boxes (rounded down)."""
-        lo, _ = self._areas(self.leaves(PROVED))
-        return float(np.nextafter(math.fsum(lo), -np.inf)) if len(lo) else 0.0
+        """A lower bound of the area of the inside boxes (rounded down; ``math.fsum`` is exact until its
+        one rounding)."""
+        if "inner" not in self._areas:
+            total = math.fsum(chain.from_iterable(self._bounds(self.leaves(PROVED), False)))
+            self._areas["inner"] = float(np.nextafter(total, -np.inf)) if total > 0 else 0.0
+        return self._areas["inner"]
 
     def outer_area(self) -> float:
         """An upper bound of the area of the inside and boundary boxes (rounded up)."""
-        ids = np.concatenate([self.leaves(PROVED), self.leaves(UNDECIDED)])
-        _, hi = self._areas(ids)
-        return float(np.nextafter(math.fsum(hi), np.inf)) if len(hi) else 0.0
+        if "outer" not in self._areas:
+            ids = np.concatenate([self.leaves(PROVED), self.leaves(UNDECIDED)])
+            self._areas["outer"] = float(np.nextafter(math.fsum(chain.from_iterable(self._bounds(ids, True))), np.inf)) if len(ids) else 0.0
+        return self._areas["outer"]
 
     def boxes(self, kind) -> tuple[np.ndarray, np.ndarray]:
         ids = self.leaves(kind)
@@ -115,5 +130,6 @@ def pave(legs, Z, lo, hi, budget, progress, floor=0.0):
         scale = np.where(hull > 0, np.minimum(hull, scale), scale)
     left = budget.max_seconds - (time.perf_counter() - t0)
     min_width = max(budget.min_width, min(float(np.max(floor / scale)), 1.0 / 64))
-    budget = replace(budget.within(left), min_width=min_width)
+    budget = replace(budget.within(SEARCH_SHARE * left), min_width=min_width,
+                     max_memory=int(SEARCH_SHARE * budget.max_memory))
     return search(problem, lo, hi, scale=scale, budget=budget, progress=progress)
