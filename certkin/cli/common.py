@@ -184,7 +184,8 @@ def add_budget(p, default, boxes_help="box budget", seconds_help="time budget of
                    help=f"{seconds_help} (default {secs:g}; inf: no time limit, the other budgets still bound the work)")
     p.add_argument("--min-width", type=positive, default=width, metavar="W", help=f"{width_help} (default {width:g})")
     p.add_argument("--max-memory", type=memory, default=MAX_MEMORY, metavar="SIZE",
-                   help="memory ceiling of the search records, e.g. 512MiB (default 2GiB): "
+                   help="memory ceiling of the work (the search records and the answer built from them; the "
+                        "process's start-up, about 0.1 to 0.2 GB, comes on top), e.g. 512MiB (default 2GiB): "
                         "work that would need more is refused or ends undecided")
 
 
