@@ -223,7 +223,9 @@ class SingularityResult:
 
 SINGULAR, UNDECIDED_, FREE = 0, 1, 2
 STATUS = {SINGULAR: "singular", UNDECIDED_: "undecided", FREE: "singularity-free"}
-CELL_BYTES = 3000          # memory of one cell's result, its record and its JSON (measured: about 2.5 kB)
+CELL_BYTES = 7000          # memory of one cell's result, its record, JSON and certificate (measured: 5 to 6.4 kB)
+CELL_SECONDS = 15e-6       # per pose variable: time to build, print and write one cell's answer after the search
+                           # (measured with a certificate and JSON: planar 47 µs, Gough-Stewart 77 to 175 µs)
 
 
 def _verdicts(problem, tree):
@@ -273,7 +275,8 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
 
     Each cell is a root of one search; cells the budget does not reach are ``undecided``.  More
     cells than ``max_boxes`` (each needs one box at least) or than ``max_memory`` holds
-    (``CELL_BYTES`` each) are refused (``InputError`` naming ``n``)."""
+    (``CELL_BYTES`` each), or whose answers take longer than ``max_seconds`` (``CELL_SECONDS`` each,
+    kept from the search's time), are refused (``InputError`` naming ``n``)."""
     robot = as_robot(robot)
     budget = make_budget(budgets.SINGULARITY, budget, max_boxes=max_boxes, max_seconds=max_seconds,
                          min_width=min_width, max_memory=max_memory)
@@ -295,6 +298,10 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
         what = f"{n} cells per side make {cells} cells, about" if n > 1 else "the box needs about"
         raise InputError("n" if n > 1 else "max_memory", "", f"{what} {display.size(cells * CELL_BYTES)}, more than "
                          f"the memory budget ({display.size(budget.max_memory)})")
+    reserve = CELL_SECONDS * len(free) * cells if cells > 1 else 0.0     # the cells' answers, after the search
+    if reserve > clock.left():
+        raise InputError("n", "", f"{n} cells per side make {cells} cells, whose answers take about {reserve:.3g} s, "
+                         f"more than the time budget ({budget.max_seconds:g} s)")
     counts = [n if f else 1 for f in free]
     grids = [np.linspace(lo0[i], hi0[i], c + 1) for i, c in enumerate(counts)]
     for g, a, b in zip(grids, lo0, hi0):
@@ -305,7 +312,7 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
     inner = inner_box(texts, robot) if len(idx) == 1 else None      # cells: their float bounds are exact
     problem = SingularityProblem(robot, len(idx), inner)
     scale = np.where(free, hi0 - lo0, np.inf)         # a fixed coordinate is never bisected
-    res = search(problem, clo, chi, scale=scale, budget=budget.within(clock.left()), progress=progress)
+    res = search(problem, clo, chi, scale=scale, budget=budget.within(clock.left() - reserve), progress=progress)
     tree = res.tree
     status, signs, open_ids, starts = _verdicts(problem, tree)
     per_cell_seconds = res.seconds / len(idx)
