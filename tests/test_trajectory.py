@@ -574,3 +574,20 @@ def test_a_polyline_too_long_for_the_memory_ceiling_is_refused_before_it_starts(
     r = verify_trajectory(robot, "0,0,500,0,0,0", "84,92,500,85deg,10deg,0",
                           waypoints=["-69,-50,500,85deg,10deg,0"] * 5, max_memory=256 * 2 ** 20, max_seconds=30)
     assert r.path.segments == 6
+
+
+def test_a_polyline_that_takes_longer_to_prepare_than_max_seconds_is_refused_before_it_starts():
+    """420 via points with a moving orientation took 30 s at --max-seconds 0.01: their polynomials are
+    built before the search, which the clock cannot stop.  Refused at once, naming max_seconds; a short
+    polyline at the same budget is answered (undecided where the time ran out) within a second or two."""
+    import time
+    robot = load_robot(MEL)
+    via = [f"{(i * 37) % 150 - 70},{(i * 53) % 140 - 50},500,{i % 90}deg,{i % 20}deg,{i % 45}deg" for i in range(120)]
+    t = time.perf_counter()
+    with pytest.raises(InputError) as exc:
+        verify_trajectory(robot, "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0", waypoints=via, max_seconds=0.01)
+    assert exc.value.source == "max_seconds" and "121 segments" in exc.value.problem
+    assert time.perf_counter() - t < 1
+    r = verify_trajectory(robot, "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0", waypoints=via[:5],
+                          max_seconds=0.01)
+    assert r.stats["budget_exhausted"] and r.path.segments == 6

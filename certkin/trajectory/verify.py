@@ -49,6 +49,8 @@ INDEX_SEGMENTS = 8   # segments evaluated at once for them
 PIECE_BATCH = 512    # boxes decided at once with a moving orientation (each holds its polynomials' products)
 PIECE_BYTES = 8 * 2 ** 10    # held per piece and constraint with a moving orientation, at most (the MEL robot,
                              # 22 constraints, 301 segments of 8 pieces: 0.45 GiB at the peak, 6.7 KiB each)
+PIECE_SECONDS = 130e-6       # to build the polynomials of a piece and constraint before the search starts (the
+                             # MEL robot: 121 segments of 16 pieces, 22 constraints, 5.5 s; 421 segments, 30 s)
 
 
 class TrajectoryProblem:
@@ -205,7 +207,7 @@ class TrajectoryProblem:
 @quiet
 def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = None, progress=None,
                         indices: bool = True, rtol: float = MARGIN_RTOL, *, max_boxes=None, max_seconds=None,
-                        min_width=None, max_memory=None) -> list[TrajectoryResult]:
+                        min_width=None, max_memory=None, refuse_slow: bool = True) -> list[TrajectoryResult]:
     """Verify many paths in one search (the batch path).
 
     ``robot``: a robot or a robot file's path.  ``paths``: a list whose items are each a ``Path``,
@@ -213,7 +215,9 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     ``"-69,-50,500,85deg,10deg,0"`` or sequences of exact values), or a mapping with ``start``,
     ``goal`` and optional ``via``.  ``constraints``: names (``"leg-length"``,
     ``"leg-length,joints"`` or a list; default all).  The budget (``budget`` or the keywords)
-    bounds the whole call: when it runs out the t-ranges left are ``undecided``."""
+    bounds the whole call: when it runs out the t-ranges left are ``undecided``; segments with a moving
+    orientation whose polynomials would take longer to build than ``max_seconds`` (and 1 s) are refused
+    (``InputError`` naming max_seconds) unless ``refuse_slow`` is false (``plan``: its own clock decides)."""
     robot = as_robot(robot)
     paths = [as_path(robot, p, k) for k, p in enumerate(_path_list(paths))]
     if not paths:
@@ -247,6 +251,11 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
         raise InputError("max_memory", "", f"{n_seg} segments with a moving orientation need about {need:.0f} MiB "
                                            "(their polynomials, held while the paths are verified): give more, or "
                                            "verify fewer segments at a time")
+    prepare = n_seg * pieces * cons.K * PIECE_SECONDS if linear is None else 0.0
+    if refuse_slow and prepare > max(budget.max_seconds, 1.0):      # (built before the search: no clock stops it)
+        raise InputError("max_seconds", "", f"{n_seg} segments with a moving orientation take about {prepare:.3g} s to "
+                                            f"prepare (their polynomials), more than the time budget "
+                                            f"({budget.max_seconds:g} s): give more, or verify fewer segments at a time")
     lo = np.tile(edges[:-1], n_seg)[:, None]
     hi = np.tile(edges[1:], n_seg)[:, None]
     problem = TrajectoryProblem(cons, P0, D, piece_segment, seg_path, len(paths), rtol, budget.min_width, linear)
