@@ -115,3 +115,22 @@ def test_ctrl_c_stops_a_plan(monkeypatch, capsys):
     import certkin          # the request ends with the command: a later search in this process runs in full
     r = certkin.certify_singularity_free(PLANAR, "x=-20:-10,y=20:30,phi=0:0.3")
     assert r.status == "singularity-free"
+
+
+def test_ctrl_c_after_the_search_ended_is_not_swallowed(monkeypatch, tmp_path, capsys):
+    """A Ctrl-C while the answer of a finished search was being built left no trace (exit 0, nothing
+    said).  The answer, whole, is printed and written; stderr says so; the exit code is 130."""
+    from certkin import singularity
+    real = singularity._verdicts
+
+    def verdicts(problem, tree):             # right after the search: a real SIGINT
+        os.kill(os.getpid(), signal.SIGINT)
+        return real(problem, tree)
+    monkeypatch.setattr(singularity, "_verdicts", verdicts)
+    cert = tmp_path / "whole.cert"
+    argv = ["singular", PLANAR, "--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "4", "--certificate", str(cert)]
+    assert main(argv) == 130
+    out, err = capsys.readouterr()
+    assert "Ctrl-C came after the searches had ended: the answer below is complete" in err
+    assert not out.startswith("INTERRUPTED") and "64 cells" in out
+    assert proofs.check_file(cert).ok

@@ -377,7 +377,11 @@ def run_answer(args, compute, names: dict, out=None) -> int:
     that still checks) and printed, marked interrupted, and the exit code is 130."""
     with interrupt.interruptible():
         answer = compute(args)
+        late = interrupt.requested() and not interrupt.cut_short()   # Ctrl-C once the searches had ended
     stopped = interrupt.cut_short()
+    if late:        # the answer is whole: it is printed and written; a second Ctrl-C aborts (nothing half-written)
+        sys.stderr.write("certkin: Ctrl-C came after the searches had ended: the answer below is complete "
+                         "(Ctrl-C again aborts without writing it)\n")
     if stopped:
         source = answer.document_source
         answer.document_source = (lambda: {**(source() if callable(source) else source), "interrupted": True})
@@ -386,7 +390,7 @@ def run_answer(args, compute, names: dict, out=None) -> int:
                                    "not finished are undecided\n" + describe())
     with options(names):
         show(args, answer, out)
-    return 130 if stopped else 0
+    return 130 if stopped or late else 0
 
 
 def refuse(args, option: str, reason: str, *given: str) -> None:
