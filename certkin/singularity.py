@@ -31,6 +31,7 @@ from decimal import Decimal
 from fractions import Fraction
 import math
 
+import mpmath
 import numpy as np
 
 from intervals import Interval
@@ -186,6 +187,14 @@ class SingularityResult:
     scale_factor: float | None = None  # for largest_free_box
     exact_values: dict = field(default_factory=dict)   # witness coordinates that are an exact text ({name: text})
 
+    def witness(self, key: str, text: bool = False) -> list:
+        """The witness pose ``key`` ("positive", "negative"): floats, except the coordinates given one
+        exact value (a fixed ``phi=0.001``), which are their text (``text``) or the float nearest to it,
+        never the bound of their enclosure (the sign is proved on the whole enclosure, which lies partly
+        outside the box asked about)."""
+        return [(t if text else _nearest(t)) if (t := self.exact_values.get(n)) is not None else float(v)
+                for n, v in zip(self.robot.pose_names, self.witnesses[key])]
+
     @property
     def box(self) -> dict:
         """The exact texts {name: [lo, hi]} of the box (a cell's: the exact values of its floats)."""
@@ -206,7 +215,7 @@ class SingularityResult:
         if self.status == "singularity-free":
             out["sign"] = self.sign
         if self.witnesses:
-            out["witnesses"] = {k: dict(zip(names, map(float, v))) for k, v in self.witnesses.items()}
+            out["witnesses"] = {k: dict(zip(names, self.witness(k))) for k in self.witnesses}
         if self.status == "undecided":
             out["undecided_boxes"] = [{n: [float(a), float(b)] for n, a, b in zip(names, l, h)}
                                       for l, h in self.undecided[:100]]
@@ -331,6 +340,16 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
         out[0].boxes, out[0].seconds = res.boxes, res.seconds
         out[0].exact_values = {name: texts[name][0] for name, e in zip(robot.pose_names, inner[2]) if e}
     return out
+
+
+def _nearest(text: str) -> float:
+    """The float nearest to an exact decimal, or to q·π/180 for ``<q>deg``."""
+    t = text.strip()
+    if not t.lower().endswith("deg"):
+        return float(Fraction(Decimal(t)))
+    q = Fraction(Decimal(t[:-3]))
+    with mpmath.workdps(40):
+        return float(mpmath.mpf(q.numerator) / q.denominator * mpmath.pi / 180)
 
 
 def _same(a, b) -> bool:

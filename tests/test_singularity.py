@@ -261,3 +261,22 @@ def test_budget_keywords_and_paths_are_accepted():
     with pytest.raises(InputError) as exc:
         classify_cells(str(path), "x=-1:1,y=0:1,phi=0:0.1", 1000, max_boxes=10 ** 10)
     assert exc.value.source == "n"
+
+
+ISOSCELES = {"name": "isosceles mirror", "kind": "planar-3rpr", "base": [[-10, 0], [10, 0], [0, 15]],
+             "platform": [[-3, 0], [3, 0], [0, 4]]}
+
+
+@pytest.mark.parametrize("phi, value", [("0.001", 0.001), ("0.1deg", float(np.pi / 1800))])
+def test_a_witness_on_a_fixed_coordinate_shows_its_value_not_the_bound_of_its_enclosure(phi, value):
+    """A mirror-symmetric robot, singular on x = 0 near phi = 0: the witnesses' phi was printed as the
+    lower bound of the enclosure of 0.001 (0.0009999999999999998, outside the box asked about)."""
+    from certkin.cli.singular import describe
+    robot = robot_from_dict(ISOSCELES)
+    r = certify_singularity_free(robot, f"x=-3:3,y=-3:3,phi={phi}")
+    assert r.status == "singular"
+    doc = r.to_json()
+    for key in ("positive", "negative"):
+        assert doc["witnesses"][key]["phi"] == value
+    assert describe(robot, r).count(f"{phi})") == 2
+    assert proofs.check(r.certificate()).ok

@@ -93,8 +93,8 @@ def describe(robot, r):
     if r.status == "singularity-free":
         line += f" (det(A) {'>' if r.sign > 0 else '<'} 0 on the whole box)"
     elif r.status == "singular":
-        p = ", ".join(display.point(v) for v in r.witnesses["positive"])
-        q = ", ".join(display.point(v) for v in r.witnesses["negative"])
+        p, q = (", ".join(v if isinstance(v, str) else display.point(v) for v in r.witness(k, text=True))
+                for k in ("positive", "negative"))
         line += f" (det(A) > 0 at ({p}), < 0 at ({q}))"
     elif r.status == "undecided":
         line += f" ({len(r.undecided)} boxes left undecided)"
