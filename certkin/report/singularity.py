@@ -52,8 +52,9 @@ def singularity_report(robot, results, path, certificate=None, budget=None) -> N
         r = results[0]
         rows = [("box", _box_text(robot, r.lo, r.hi, r.status == "singularity-free"))]
         if r.witnesses:
-            rows += [(f"det(A) {'>' if k == 'positive' else '<'} 0 at", ", ".join(point(x) for x in v))
-                     for k, v in r.witnesses.items()]
+            rows += [(f"det(A) {'>' if k == 'positive' else '<'} 0 at",
+                      ", ".join(x if isinstance(x, str) else point(x) for x in r.witness(k, text=True)))
+                     for k in r.witnesses]
         sections.append(("Answer", table(("", ""), rows)))
     else:
         sections.append(("Cell classification", figure(lambda p: plot_cells(robot, results, p),
