@@ -109,7 +109,9 @@ def _typed(check):
 
 
 def _integer(text):
-    """An integer written in decimal (``200000``, ``2e5``, ``200_000``)."""
+    """An integer written in decimal with ASCII digits (``200000``, ``2e5``, ``200_000``)."""
+    if not text.isascii():
+        raise InputError("", "", f"expected a positive integer, got {text!r}")
     try:
         return int(text)
     except ValueError:
@@ -143,7 +145,8 @@ positive = _typed(lambda text: positive_number(text, ""))
 seconds = _typed(lambda text: positive_number(text, "", infinite=True))
 
 UNITS = {"": 1, "b": 1, "k": 2 ** 10, "kb": 10 ** 3, "kib": 2 ** 10, "m": 2 ** 20, "mb": 10 ** 6, "mib": 2 ** 20,
-         "g": 2 ** 30, "gb": 10 ** 9, "gib": 2 ** 30, "t": 2 ** 40, "tb": 10 ** 12, "tib": 2 ** 40}
+         "g": 2 ** 30, "gb": 10 ** 9, "gib": 2 ** 30, "t": 2 ** 40, "tb": 10 ** 12, "tib": 2 ** 40,
+         "p": 2 ** 50, "pb": 10 ** 15, "pib": 2 ** 50}
 
 
 def _memory(text):

@@ -62,7 +62,7 @@ def positive_integer(value, parameter: str, most: int | None = None) -> int:
 
 def positive_number(value, parameter: str, infinite: bool = False) -> float:
     """A number > 0 (finite unless ``infinite``); bools, nan and text are refused."""
-    if isinstance(value, bool):
+    if isinstance(value, bool) or isinstance(value, str) and not value.isascii():    # (float() reads '１' as 1)
         raise InputError(parameter, "", f"expected a positive number, got {value!r}")
     try:
         x = float(value)

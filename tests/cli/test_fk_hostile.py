@@ -27,6 +27,10 @@ HOSTILE = [
     (F + ["--min-width", "nan"], ["--min-width"]),
     (F + ["--max-memory", "0"], ["--max-memory"]),
     (F + ["--max-memory", "1000TiB"], ["--max-memory", "this machine's memory"]),
+    (F + ["--max-memory", "1PiB"], ["--max-memory", "this machine's memory"]),     # once: "a size such as 2GiB"
+    (F + ["--max-boxes", "１０"], ["--max-boxes", "positive integer"]),             # once: full-width digits read as 10
+    (F + ["--max-seconds", "１"], ["--max-seconds", "positive number"]),
+    (F + ["--min-width", "１e-9"], ["--min-width", "positive number"]),
     (F + ["--lengths", "1,2,3"], ["--lengths", "twice"]),
     (["fk", R2, "--lengths", "-28.99,13.66,40.53"], ["--lengths", "negative"]),
     (["fk", R2, "--lengths", "1e300,13.66,40.53"], ["--lengths", "out of range"]),
