@@ -59,4 +59,15 @@ def describe(robot, result):
         lines.append("  " + ",".join(w))
     if result.endpoint:
         lines.append(f"  the {result.endpoint['pose']} pose is {result.endpoint['status']}: {result.failing}")
+    stopped = result.stats.get("stopped")
+    if stopped:
+        lines.append("  " + STOPPED[stopped])
     return "\n".join(lines)
+
+
+STOPPED = {"time": "the time budget ran out (--max-seconds): a longer run may find a path",
+           "max-edges": "the segment budget ran out (--max-edges): a larger one may find a path",
+           "interrupted": "stopped by Ctrl-C",
+           "grid": "every segment of the grid reachable from the start was tried: a finer grid (--divisions) or a "
+                   "wider one (--margin) may find a path",
+           "undecided": "the end pose could not be decided within the budget (--min-width, --max-boxes)"}

@@ -132,9 +132,11 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
     for name, r in zip(("start", "goal"), ends):
         if r.status != "feasible":
             failing = [v for v in r.violations if v.get("certain")] or r.violations
+            stats = {"seconds": clock.elapsed()}
+            if r.status != "infeasible":
+                stats["stopped"] = "interrupted" if interrupt.requested() else "time" if clock.out() else "undecided"
             return PlanResult(robot, "infeasible-endpoint" if r.status == "infeasible" else "no-path-found",
-                              endpoint={"pose": name, "status": r.status, "violations": failing},
-                              stats={"seconds": clock.elapsed()})
+                              endpoint={"pose": name, "status": r.status, "violations": failing}, stats=stats)
     straight = verify([parse_path(robot, s_txt, g_txt)])[0]
     if straight.status == "feasible":
         return _checked(PlanResult(robot, "found", [s_txt, g_txt], [straight],
@@ -266,7 +268,9 @@ def _astar(robot, grid: _Grid, verify, max_edges, clock):
                 edge_result[(node, nb)] = r
                 heapq.heappush(frontier, (c + grid.distance(nb, grid.goal), c, nb))
     stats = {"edges_verified": edges, "nodes_expanded": len(closed)}
-    if not found:
+    if not found:       # what ended the search: a budget, or every reachable node of the grid expanded
+        stats["stopped"] = ("interrupted" if interrupt.requested() else "time" if clock.out() else
+                            "max-edges" if edges >= max_edges else "grid")
         return None, edge_result, stats
     nodes = [grid.goal]
     while parent[nodes[-1]] is not None:

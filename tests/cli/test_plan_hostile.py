@@ -99,3 +99,16 @@ def test_an_infeasible_endpoint_report_names_the_constraints(cli, tmp_path):
     run = cli("plan", MEL, "--from", "0,0,300,0,0,0", "--to", G, "--report", "{tmp}/ie.html")
     answered(run, "infeasible-endpoint")
     assert "No path: the start pose is infeasible (leg-length 1; " in (tmp_path / "ie.html").read_text()
+
+
+@pytest.mark.parametrize("budget, stopped, words", [
+    (["--max-seconds", "0.01"], "time", "the time budget ran out"),
+    (["--max-edges", "3"], "max-edges", "the segment budget ran out"),
+])
+def test_no_path_found_says_which_budget_ended_the_search(cli, budget, stopped, words):
+    """``no-path-found`` looked the same whether the grid was exhausted or a budget cut the search."""
+    argv = ["plan", MEL, "--from", "-90,140,520,0,0,0", "--to", "55,140,520,0,0,0"] + budget
+    run = cli(*argv)
+    answered(run, "no-path-found", words)
+    run = cli(*argv, "--json")
+    assert json.loads(run.out)["stats"]["stopped"] == stopped
