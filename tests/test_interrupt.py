@@ -131,6 +131,6 @@ def test_ctrl_c_after_the_search_ended_is_not_swallowed(monkeypatch, tmp_path, c
     argv = ["singular", PLANAR, "--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "4", "--certificate", str(cert)]
     assert main(argv) == 130
     out, err = capsys.readouterr()
-    assert "Ctrl-C came after the searches had ended: the answer below is complete" in err
+    assert "Ctrl-C came after the searches had ended: the answer below is theirs, unchanged" in err
     assert not out.startswith("INTERRUPTED") and "64 cells" in out
     assert proofs.check_file(cert).ok

@@ -383,8 +383,8 @@ def run_answer(args, compute, names: dict, out=None) -> int:
         late = interrupt.requested() and not interrupt.cut_short()   # Ctrl-C once the searches had ended
     stopped = interrupt.cut_short()
     if late:        # the answer is whole: it is printed and written; a second Ctrl-C aborts (nothing half-written)
-        sys.stderr.write("certkin: Ctrl-C came after the searches had ended: the answer below is complete "
-                         "(Ctrl-C again aborts without writing it)\n")
+        sys.stderr.write("certkin: Ctrl-C came after the searches had ended: the answer below is theirs, "
+                         "unchanged (Ctrl-C again aborts without writing it)\n")
     if stopped:
         source = answer.document_source
         answer.document_source = (lambda: {**(source() if callable(source) else source), "interrupted": True})
