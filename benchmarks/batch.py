@@ -170,8 +170,19 @@ def batch(jobs, workers: int, directory: Path):
     return wall, cpu
 
 
-def dask_batch(jobs, client, address: str, directory: Path):
-    """Wall and CPU seconds of ``certkin batch --scheduler`` on a running cluster (see the docstring)."""
+def dask_batch(jobs, workers: int, directory: Path):
+    """Wall and CPU seconds of ``certkin batch --scheduler`` on a cluster started for it (see the docstring;
+    started and closed around each run: idle Dask workers take about a tenth of a core each, which the
+    other methods would pay)."""
+    cluster, client = dask_cluster(workers)
+    try:
+        return _dask_run(jobs, client, cluster.scheduler_address, directory)
+    finally:
+        client.close()
+        cluster.close()
+
+
+def _dask_run(jobs, client, address: str, directory: Path):
     path = directory / "jobs.jsonl"
     path.write_text("".join(dumps(j) + "\n" for j in jobs))
     out = directory / "out"
@@ -224,7 +235,6 @@ def main():
     ap.add_argument("--repeat", type=int, default=1, help="runs of each method (medians)")
     ap.add_argument("--dask", action="store_true", help="also certkin batch on a Dask LocalCluster of --workers")
     args = ap.parse_args()
-    cluster, client = dask_cluster(args.workers) if args.dask else (None, None)
     print(describe(), time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), flush=True)
     rows = []
     for name, (robot, jobs) in workloads(args.jobs).items():
@@ -243,10 +253,10 @@ def main():
                     (d / f"b{w}").mkdir(exist_ok=True)
                     runs.setdefault(f"certkin batch, {w} worker{'s' if w > 1 else ''}", []).append(
                         (*batch(jobs, w, d / f"b{w}"), w))
-                if client is not None:
+                if args.dask:
                     (d / "dask").mkdir(exist_ok=True)
                     runs.setdefault(f"batch, Dask, {args.workers} workers", []).append(
-                        (*dask_batch(jobs, client, cluster.scheduler_address, d / "dask"), args.workers))
+                        (*dask_batch(jobs, args.workers, d / "dask"), args.workers))
                 print(f"{name}: run {_ + 1} of {args.repeat} done", file=sys.stderr, flush=True)
             calls = jobs[:args.cli_calls]
             if calls:
@@ -282,9 +292,6 @@ def main():
           "CPU ratio: (CPU per job of the API) / (CPU per job of the method); batch rows: every process of the batch "
           "(start-up, fork server, workers: the batch's own count, slightly over); CLI rows: the calls' processes (start-up included).\n"
           f"medians of {args.repeat} run(s) per method (CLI calls: one run).")
-    if client is not None:
-        client.close()
-        cluster.close()
 
 
 if __name__ == "__main__":
