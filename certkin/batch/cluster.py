@@ -2,8 +2,8 @@
 
 ``dask.distributed.Client(address)`` runs the jobs in chunks, as the local pool does (``local.TaskQueue``:
 consecutive jobs for about ``local.CHUNK_SECONDS``, at most ``local.IN_FLIGHT`` chunks per worker
-thread handed out at once, each run by ``local.run_chunk``): one Dask task per short job cost about a
-third more CPU than the job itself.  Dask moves the task of a worker that dies to another one, up
+thread handed out at once, each run by ``local.run_chunk``): one Dask task per small planar FK job
+cost its workers 15 % more CPU and the batch 30 % more time (docs/benchmarks.md).  Dask moves the task of a worker that dies to another one, up
 to the scheduler's ``distributed.scheduler.allowed-failures`` (3 by default; start the scheduler
 with ``DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES=2`` for the local pool's rule: a job tried
 three times, then failed), and then gives up with ``KilledWorker``.  Dask charges a death to every
