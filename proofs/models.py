@@ -95,9 +95,7 @@ def rot(axis: str, c, s, v):
     x, y, z = v
     if axis == "z":
         return (c * x - s * y, s * x + c * y, z)
-    if axis == "y":
-        return (c * x + s * z, y, c * z - s * x)
-    return (x, c * y - s * z, s * y + c * z)
+    return (c * x + s * z, y, c * z - s * x) if axis == "y" else (x, c * y - s * z, s * y + c * z)
 
 
 def cross(a, b):

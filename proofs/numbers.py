@@ -18,7 +18,7 @@ from fractions import Fraction
 from .arith import PI, Iv
 from .report import Rejected
 
-_DECIMAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?")
+_DECIMAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?", re.ASCII)   # (\d alone: any script's digits)
 MAX_TEXT = 200
 MAX_EXPONENT = 400
 

@@ -49,7 +49,7 @@ class Report:
         """The full account printed by ``certkin check``: robot, question, verdicts, result; any character of
         the certificate that is not printable (a newline, a terminal escape, a bidi control) escaped."""
         a = self.about
-        out = [f"robot: {a['robot']} ({a.get('kind')}), geometry SHA-256 {a.get('geometry_sha256')}"] if a.get("robot") is not None else []
+        out = [f"robot: {a.get('robot')} ({a.get('kind')}), geometry SHA-256 {a.get('geometry_sha256')}"] * (a.get("robot") is not None)
         out += [f"robot file: {a['robot_file']}: same geometry"] if a.get("robot_file") else []
         out += ([f"question: {a['question']}"] if a.get("question") else []) + [f"proved: {p}" for p in self.proved] * self.ok
         return ["".join(c if c.isprintable() else ascii(c)[1:-1] for c in line) for line in out + [str(self)]]

@@ -146,9 +146,7 @@ def _le(a, b, x, where, flip=False):
     """a ≤ b exactly, for decimal texts (``deg`` allowed) and floats (``x``: the float bound of the witness)."""
     if isinstance(b if not flip else a, str):
         (qa, da), (qb, db) = angle(a, where), angle(b, where)
-        if da == db:
-            return qa <= qb
-        return bool(enclose(a, where, True).hi <= enclose(b, where, True).lo)
+        return qa <= qb if da == db else bool(enclose(a, where, True).hi <= enclose(b, where, True).lo)
     return inside(a, -np.inf, x, where) if not flip else inside(b, x, np.inf, where)
 
 

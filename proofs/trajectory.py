@@ -38,6 +38,7 @@ and |q×σ|² − r²|σ|² ≥ 0); proved ``-`` by two points closer than r.
 """
 from __future__ import annotations
 
+from bisect import bisect_left, bisect_right
 import itertools
 from fractions import Fraction
 
@@ -506,7 +507,7 @@ def _violations(insts, seg, lo, hi, states, value, where):
         regions[idx].append(region)
         if item["certain"]:
             certain[idx].append((v, region))
-    # leaf s-intervals as exact rationals only where compared: segment + t (floats: exact)
+    A, B = ([s + Fraction(x) for s, x in zip(seg.tolist(), t.tolist())] for t in (lo, hi))  # leaf s, exact, in order
     for k, inst in enumerate(insts):
         bad = states[:, k] == 0 if inst.constraint == "singularity" else states[:, k] != 1
         merged = []
@@ -515,14 +516,13 @@ def _violations(insts, seg, lo, hi, states, value, where):
                 merged[-1][1] = max(merged[-1][1], b)
             else:
                 merged.append([a, b])
+        starts = [m[0] for m in merged]        # disjoint, sorted: only the last one starting at or before a leaf may cover it
         for i in np.nonzero(bad)[0]:
-            a, b = seg[i] + Fraction(lo[i]), seg[i] + Fraction(hi[i])
-            if not any(m0 <= a and b <= m1 for m0, m1 in merged):
+            if (m := bisect_right(starts, A[i]) - 1) < 0 or B[i] > merged[m][1]:
                 raise Rejected(f"{where}: leaf {i} (segment {seg[i]}, t = [{float(lo[i])!r}, {float(hi[i])!r}]) is "
                                f"'{'?+-'[states[i, k]]}' for {inst.label} but no violation interval covers it")
-        for v, (a, b) in certain[k]:
-            meets = {int(states[i, k]) for i in range(len(seg))
-                     if seg[i] + Fraction(lo[i]) <= b and a <= seg[i] + Fraction(hi[i])}
+        for v, (a, b) in certain[k]:        # the leaves meeting [a, b]: a run of them (they tile, in order)
+            meets = set(states[bisect_left(B, a):bisect_right(A, b), k].tolist())
             if not (2 in meets and (inst.constraint != "singularity" or 1 in meets)):
                 raise Rejected(f"{where}[{v}]: marked certain, but no leaf in its interval proves it")
 

@@ -65,6 +65,8 @@ class Forest:
             users = self.users[name] = np.nonzero(per_node)[0]
             self.offset[name] = np.concatenate([[0], np.cumsum(per_node[users], dtype=np.int64)])
             total, (tail, dtypes) = int(self.offset[name][-1]), shapes[name]
+            if (n := (cert._entries().get(prefix + name) or {"shape": [total]})["shape"][:1]) != [total]:   # not read
+                raise Rejected(f"{t}: {prefix + name} has {n[0] if n else 0} rows, the nodes use {total}")
             arr = cert.array(prefix + name, dtypes, tail) if total or cert.has(prefix + name) else np.zeros((0,) + tail)
             if len(arr) != total:
                 raise Rejected(f"{t}: {prefix + name} has {len(arr)} rows, the nodes use {total}")
@@ -160,10 +162,12 @@ class Forest:
         return [np.concatenate([c[k] for c in cont] or [empty]) for k, empty in enumerate((self.lo0[:0],) * 2 + (claim,))]
 
     @staticmethod
-    def _flush(pending, visit):
+    def _flush(pending, visit):     # BATCH nodes a call: a rule's temporaries stay small, however wide the level
         for (kd, cd), parts in pending.items():
-            cat = lambda k: np.concatenate([p[k] for p in parts])  # noqa: E731
-            visit(kd, cd, cat(0), cat(1), cat(2), cat(3), (cat(4), cat(5)) if kd == CONTRACT else None)
+            cols = [np.concatenate([p[k] for p in parts]) for k in range(6 if kd == CONTRACT else 4)]
+            for s in range(0, len(cols[0]), BATCH):
+                c = [x[s:s + BATCH] for x in cols]
+                visit(kd, cd, *c[:4], (c[4], c[5]) if kd == CONTRACT else None)
 
 
 def read_box(value, d, where):

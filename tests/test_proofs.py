@@ -415,3 +415,27 @@ def test_malformed_values_are_rejections_not_tracebacks_nor_hangs(planar):
     odd.arrays["tree.kind"] = [3, 3]
     assert not odd.check().ok and odd.check().step.startswith("certificate: malformed")
     assert time.perf_counter() - t < 20
+
+
+def test_a_wide_level_is_visited_in_batches_and_a_misdeclared_array_is_never_read(planar, tmp_path, monkeypatch):
+    """A level of a million leaves of one rule went to the rule in one call (a 26 KB file: 10 GiB);
+    an array declared with other rows than the nodes use was read whole before being refused."""
+    calls = []
+    parts = [(np.arange(20000), np.zeros((20000, 3)), np.ones((20000, 3)), np.zeros(20000, int))]
+    proofs.tree.Forest._flush({(proofs.tree.LEAF, 0): parts}, lambda kind, code, ids, *rest: calls.append(len(ids)))
+    assert calls == [8192, 8192, 3616]
+    big = planar.copy()
+    big.arrays["tree.cut"] = np.zeros(1 << 20)             # 8 MiB of zeros: the tree uses one cut
+    path = big.write(tmp_path / "cut.cert")
+    read = []
+    real = proofs.container.Certificate.array
+    monkeypatch.setattr(proofs.container.Certificate, "array", lambda self, name, *a: (read.append(name), real(self, name, *a))[1])
+    assert "tree: tree.cut has 1048576 rows, the nodes use 1" in proofs.check(path).step
+    assert "tree.cut" not in read
+
+
+def test_decimals_in_other_scripts_than_ascii_are_not_decimals(planar):
+    """'৪0.53' (a Bengali 4, like an 8) was read as 40.53 and printed as it was written."""
+    odd = planar.copy()
+    odd.claim()["requested"]["x"][0] = "৪.9"
+    assert "not an exact decimal" in rejected(odd)

@@ -313,3 +313,26 @@ def _segment_distance(A1, B1, A2, B2):
         m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
         lo, hi = (lo, m2) if f(m1) < f(m2) else (m1, hi)
     return f((lo + hi) / 2)
+
+
+def test_many_undecided_leaves_against_many_violations_are_checked_in_a_sweep(feasible):
+    """'?' leaves were each compared with every violation interval in Python (20 000 leaves and 8 000
+    intervals: 245 s for a 795 KB file).  Sorted once, then a bisection per leaf: about a second."""
+    import time
+    cert = feasible.copy()
+    claim = cert.claim()
+    claim.update(instances=[claim["instances"][0]], status="undecided", leaves=[0, 20000])
+    edges = np.linspace(0.0, 1.0, 20001)
+    cert.arrays.update({"traj.segment": np.zeros(20000, np.int32), "traj.t": np.stack([edges[:-1], edges[1:]], 1),
+                        "traj.state": np.zeros((20000, 1), np.uint8)})
+    key = {k: claim["instances"][0][k] for k in ("constraint", "legs", "detail") if k in claim["instances"][0]}
+    cert.arrays["traj.state"][0] = PLUS                          # leaf 0 proved (the path is feasible)
+    tiny = [float(np.nextafter(0.0, 1.0)) * (2 * k + 1) for k in range(8000)]      # disjoint, within leaf 0
+    claim["violations"] = [{**key, "s": [x, x], "certain": False} for x in tiny] + \
+        [{**key, "s": [float(edges[1]), 1.0], "certain": False}]
+    t = time.perf_counter()
+    report = cert.check()
+    assert report.ok, report.step
+    assert time.perf_counter() - t < 30
+    claim["violations"][-1]["s"] = [float(edges[2]), 1.0]       # leaf 1 is '?' and now covered by nothing
+    assert "leaf 1 (segment 0" in rejected(cert, "no violation interval covers it")
