@@ -131,6 +131,24 @@ def test_ctrl_c_after_the_search_ended_is_not_swallowed(monkeypatch, tmp_path, c
     argv = ["singular", PLANAR, "--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "4", "--certificate", str(cert)]
     assert main(argv) == 130
     out, err = capsys.readouterr()
-    assert "Ctrl-C came after the searches had ended: the answer below is theirs, unchanged" in err
+    assert "Ctrl-C came after the searches had ended: the answer above is theirs, unchanged" in err
     assert not out.startswith("INTERRUPTED") and "64 cells" in out
+    assert proofs.check_file(cert).ok
+
+
+def test_ctrl_c_while_the_answer_is_written_leaves_it_whole(monkeypatch, tmp_path, capsys):
+    """Building and writing the answer of many cells took most of a run; a Ctrl-C then aborted with
+    nothing written.  Now the first one there leaves the answer whole (exit 130, stderr says so)."""
+    from certkin.cli import singular as singular_cli
+    real = singular_cli._text
+
+    def text(*args):                          # while the answer is shown: a real SIGINT
+        os.kill(os.getpid(), signal.SIGINT)
+        return real(*args)
+    monkeypatch.setattr(singular_cli, "_text", text)
+    cert = tmp_path / "whole.cert"
+    argv = ["singular", PLANAR, "--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "4", "--certificate", str(cert)]
+    assert main(argv) == 130
+    out, err = capsys.readouterr()
+    assert "answer above is theirs, unchanged" in err and "64 cells" in out
     assert proofs.check_file(cert).ok

@@ -378,21 +378,21 @@ def run_answer(args, compute, names: dict, out=None) -> int:
     """``compute(args)``, then write and print its answer.  Ctrl-C while it computes stops the
     searches (``engine.interrupt``): the answer proved so far is written (a partial certificate
     that still checks) and printed, marked interrupted, and the exit code is 130."""
-    with interrupt.interruptible():
-        answer = compute(args)
-        late = interrupt.requested() and not interrupt.cut_short()   # Ctrl-C once the searches had ended
-    stopped = interrupt.cut_short()
-    if late:        # the answer is whole: it is printed and written; a second Ctrl-C aborts (nothing half-written)
-        sys.stderr.write("certkin: Ctrl-C came after the searches had ended: the answer below is theirs, "
-                         "unchanged (Ctrl-C again aborts without writing it)\n")
-    if stopped:
-        source = answer.document_source
-        answer.document_source = (lambda: {**(source() if callable(source) else source), "interrupted": True})
-        describe = answer.describe
-        answer.describe = lambda: ("INTERRUPTED (Ctrl-C): what was proved before the interrupt; the boxes "
-                                   "not finished are undecided\n" + describe())
-    with options(names):
-        show(args, answer, out)
+    with interrupt.interruptible():         # (also while the answer is built and written: a first Ctrl-C
+        answer = compute(args)              # there leaves it whole; a second one aborts)
+        stopped = interrupt.cut_short()
+        if stopped:
+            source = answer.document_source
+            answer.document_source = (lambda: {**(source() if callable(source) else source), "interrupted": True})
+            describe = answer.describe
+            answer.describe = lambda: ("INTERRUPTED (Ctrl-C): what was proved before the interrupt; the boxes "
+                                       "not finished are undecided\n" + describe())
+        with options(names):
+            show(args, answer, out)
+        late = interrupt.requested() and not stopped        # Ctrl-C once the searches had ended
+    if late:        # the answer is whole: printed and written as the searches left it
+        sys.stderr.write("certkin: Ctrl-C came after the searches had ended: the answer above is theirs, "
+                         "unchanged\n")
     return 130 if stopped or late else 0
 
 
