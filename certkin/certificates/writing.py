@@ -116,19 +116,23 @@ class Document:
         """Write the archive atomically (a temporary file renamed into place).  (size, SHA-256) of the
         file written when it was assembled in memory (a small body), else None."""
         header = self._entries()
+        text = json.dumps(header, separators=(",", ":"), ensure_ascii=False)
+        if len(text.encode()) > MAX_HEADER:         # (a claim per cell: more than about 100 000 cells)
+            raise InputError("certificate", str(path), f"its header would hold {len(text.encode()) / 2 ** 20:.0f} MiB "
+                             f"of claims, more than the {MAX_HEADER >> 20} MiB a checker reads (proofs/container.py): "
+                             "ask for fewer cells, or split the box")
         with atomic_file(path) as fh:
             if self._kept is None:                     # a large body: streamed to the file, produced again
-                self._zip(fh, header)
+                self._zip(fh, text)
                 return None
             buffer = io.BytesIO()                      # a small one: assembled in memory, written at once
-            self._zip(buffer, header)
+            self._zip(buffer, text)
             fh.write(buffer.getbuffer())
         return buffer.getbuffer().nbytes, hashlib.sha256(buffer.getbuffer()).hexdigest()
 
-    def _zip(self, target, header) -> None:
+    def _zip(self, target, header: str) -> None:
         with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED, allowZip64=True, compresslevel=LEVEL) as z:
-            z.writestr(zipfile.ZipInfo("header.json"), json.dumps(header, separators=(",", ":"), ensure_ascii=False),
-                       compress_type=zipfile.ZIP_STORED)
+            z.writestr(zipfile.ZipInfo("header.json"), header, compress_type=zipfile.ZIP_STORED)
             for a in self.body:
                 info = a.name + ".bin"                 # deflated at LEVEL (the archive's default)
                 if a.name in self._stored:
@@ -218,6 +222,7 @@ def _temporary(path):
 
 
 TRIES = 100     # random temporary names tried (as tempfile.mkstemp)
+MAX_HEADER = 64 << 20   # bytes of header.json the checker reads (proofs.container.MAX_HEADER)
 
 
 def temporary_of(name: str) -> str | None:

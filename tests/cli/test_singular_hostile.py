@@ -156,3 +156,16 @@ def test_a_reader_that_closes_the_pipe_after_a_few_bytes_gets_exit_141():
     err = p.stderr.read().decode()
     assert first == b'{"problem"'
     assert p.wait(timeout=300) == 141 and err == "", err
+
+
+def test_a_certificate_whose_header_no_checker_reads_is_not_written(monkeypatch, tmp_path, capsys):
+    """166 375 cells wrote an 86 MB header.json, which the checker refuses to read (64 MiB): such a
+    certificate is refused, nothing is left behind (the ceiling lowered here to keep the test short)."""
+    from certkin.certificates import writing
+    from certkin.cli import main
+    monkeypatch.setattr(writing, "MAX_HEADER", 4000)
+    cert = tmp_path / "c.cert"
+    assert main(S + ["--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "4", "--certificate", str(cert)]) == 2
+    err = capsys.readouterr().err
+    assert "certkin: error: certificate: " in err and "more than the 0 MiB a checker reads" in err
+    assert list(tmp_path.iterdir()) == []
