@@ -233,8 +233,9 @@ class SingularityResult:
 SINGULAR, UNDECIDED_, FREE = 0, 1, 2
 STATUS = {SINGULAR: "singular", UNDECIDED_: "undecided", FREE: "singularity-free"}
 CELL_BYTES = 7000          # memory of one cell's result, its record, JSON and certificate (measured: 5 to 6.4 kB)
-CELL_SECONDS = 15e-6       # per pose variable: time to build, print and write one cell's answer after the search
-                           # (measured with a certificate and JSON: planar 47 µs, Gough-Stewart 77 to 175 µs)
+CELL_SECONDS = 20e-6       # per pose variable: time to build, print and write one cell's answer after the search
+                           # (measured with a certificate and JSON: planar 47 µs, Gough-Stewart 77 to 175 µs;
+                           # a plot or a report comes on top)
 
 
 def _verdicts(problem, tree):

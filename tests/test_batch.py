@@ -614,3 +614,17 @@ def test_a_job_whose_files_cannot_be_written_says_why_not_internal_error():
     from certkin.cli.batch import _message
     assert _message(OSError(28, "No space left on device", "out/b.json")) == "out/b.json: No space left on device"
     assert _message(ValueError("x")).startswith("internal error: ValueError")
+
+
+def test_on_a_dask_cluster_relative_paths_are_the_batchs(tmp_path, monkeypatch):
+    """Jobs naming their robot file relative to the batch's directory all failed on Dask workers
+    started elsewhere ("no such file"): each chunk runs in the batch's working directory."""
+    distributed = pytest.importorskip("dask.distributed", reason="the dask extra is not installed")
+    import shutil
+    shutil.copy(PLANAR, tmp_path / "robot.toml")
+    jobs = [{"id": f"j{k}", "command": "fk", "robot": "robot.toml", "lengths": f"28.9{k},13.66,40.53"} for k in range(4)]
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        monkeypatch.chdir(tmp_path)                  # the workers were started in another directory
+        summary = run_batch(jobs, "out", run_job, scheduler=cluster.scheduler_address)
+    assert [r["verdict"] for r in summary["results"]] == ["complete"] * 4, summary["results"]
+    assert proofs.check_file(tmp_path / "out" / "j0.cert").ok

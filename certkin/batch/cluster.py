@@ -17,6 +17,7 @@ shared file system).
 from __future__ import annotations
 
 from collections import deque
+import os
 import threading
 
 from ..errors import InputError
@@ -69,7 +70,7 @@ def run_dask(tasks: list, work, client, report) -> bool:
         queue, running, finished, suspects = TaskQueue(len(tasks)), {}, as_completed(), deque()
 
         def submit(chunk, alone):
-            future = client.submit(run_chunk, work, [tasks[i] for i in chunk], pure=False)
+            future = client.submit(_run_chunk_in, os.getcwd(), work, [tasks[i] for i in chunk], pure=False)
             running[future] = (chunk, alone)
             finished.add(future)
 
@@ -106,6 +107,13 @@ def run_dask(tasks: list, work, client, report) -> bool:
             client.cancel(list(running))
             return True
     return False
+
+
+def _run_chunk_in(directory: str, work, tasks: list):
+    """``local.run_chunk`` in the batch's working directory: jobs may name their robot files and the
+    output directory relative to it, and a Dask worker was started elsewhere."""
+    os.chdir(directory)
+    return run_chunk(work, tasks)
 
 
 def _allowed_failures(dask_scheduler) -> int:
