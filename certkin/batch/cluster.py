@@ -21,7 +21,7 @@ import os
 import threading
 
 from ..errors import InputError
-from .local import IN_FLIGHT, Died, TaskQueue, run_chunk
+from .local import IN_FLIGHT, Died, TaskQueue, run_chunk, times
 
 
 def connect(address: str):
@@ -94,7 +94,7 @@ def run_dask(tasks: list, work, client, report) -> bool:
                         hand_out()
                         continue
                     tries = client.run_on_scheduler(_allowed_failures) + 1
-                    values = [Died(tries, f"its worker process died {tries} times while running it (killed, or "
+                    values = [Died(tries, f"its worker process died {times(tries)} while running it (killed, or "
                                           "out of memory)")]
                 except Exception as exc:    # a bug in the work function
                     values = [Died(1, f"{type(exc).__name__}: {exc}")] * len(chunk)

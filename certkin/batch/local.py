@@ -103,6 +103,11 @@ def run_chunk(work, tasks: list) -> tuple[list, float]:
     return values, time.perf_counter() - t0
 
 
+def times(n: int) -> str:
+    """'once', 'twice' or 'N times'."""
+    return {1: "once", 2: "twice"}.get(n, f"{n} times")
+
+
 def _raised(exc: Exception) -> Died:
     return Died(1, f"the job raised {type(exc).__name__}: {exc}")
 
@@ -216,7 +221,7 @@ def _collect(worker, report, queue, attempts, retries) -> bool:
     (i,) = running
     attempts[i] += 1
     if attempts[i] > retries:
-        report(i, Died(attempts[i], f"its worker process died {attempts[i]} times while running it (killed, or out "
+        report(i, Died(attempts[i], f"its worker process died {times(attempts[i])} while running it (killed, or out "
                                     "of memory)"))
     else:
         queue.again([i], alone=True)
