@@ -21,7 +21,7 @@ import certkin
 import proofs
 from certfile import Doc
 from certkin import InputError, robot_from_dict
-from certkin.engine import EXCLUDED, PROVED
+from certkin.engine import EXCLUDED, PROVED, UNDECIDED
 from certkin.cli.workspace import add_arguments, describe, run
 from certkin.workspace import workspace_section, workspace_volume
 
@@ -473,3 +473,30 @@ def test_the_memory_ceiling_bounds_the_whole_command_not_only_the_paving(tmp_pat
     assert rc == 0 and json.loads(done.stdout)["stats"]["exhausted"]
     assert extra <= ceiling, extra
     assert proofs.check_file(tmp_path / "w.cert").ok
+
+
+def test_a_paving_of_many_boxes_is_drawn_as_an_image_with_boundary_on_top(micro, monkeypatch, tmp_path):
+    """Millions of boxes drawn one by one took 172 s and 3.6 GB after a 5 s search: past
+    ``MAX_PATCHES`` the paving is an image; a pixel touched by a boundary box is never shown inside."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from certkin.plots import workspace as wplot
+    r = workspace_section(micro, "0,0,0", "20005", min_width=1e-3)
+    monkeypatch.setattr(wplot, "MAX_PATCHES", 10)
+    monkeypatch.setattr(wplot, "PIXELS", 200)
+    fig, ax = plt.subplots()
+    dlo, dhi = r.domain
+    wplot._raster(ax, r.paving, dlo, dhi)
+    rgb = ax.get_images()[0].get_array()
+    colour = {n: np.array([int(wplot.COLOURS[n][k:k + 2], 16) / 255 for k in (1, 3, 5)]) for n in wplot.COLOURS}
+    shown = {n: np.all(np.isclose(rgb, c), axis=-1) for n, c in colour.items() if n != "arc"}
+    assert all(m.any() for m in shown.values())
+    lo, hi = r.paving.boxes(UNDECIDED)                       # one boundary box's pixels: none shown inside
+    step = (np.asarray(dhi) - np.asarray(dlo)) / 200
+    i0, j0 = np.floor((lo[0] - dlo) / step).astype(int)
+    i1, j1 = np.ceil((hi[0] - dlo) / step).astype(int)
+    assert shown["boundary"][j0:j1, i0:i1].all()
+    plt.close(fig)
+    wplot.plot_section(r, tmp_path / "p.png")
+    assert (tmp_path / "p.png").stat().st_size > 10_000

@@ -22,16 +22,44 @@ def _rects(ax, lo, hi, colour, edge):
     ax.add_collection(PatchCollection(patches, facecolor=colour, edgecolor=edge, linewidth=0.2))
 
 
+MAX_PATCHES = 20_000     # boxes drawn one by one; a larger paving is drawn as an image (boxes far below a pixel)
+PIXELS = 1200
+
+
+def _raster(ax, paving, dlo, dhi):
+    """The paving as an image of ``PIXELS`` squared: each box colours every pixel it touches (rounded
+    outward), outside first, then inside, then boundary on top: a pixel shows "inside" only where no
+    boundary box touches it.  Boxes are added with a summed-area table, so millions take a second."""
+    rgb = np.ones((PIXELS, PIXELS, 3))
+    step = np.maximum((np.asarray(dhi) - np.asarray(dlo)) / PIXELS, 1e-300)
+    for kind, name in ((EXCLUDED, "outside"), (PROVED, "inside"), (UNDECIDED, "boundary")):
+        lo, hi = paving.boxes(kind)
+        if not len(lo):
+            continue
+        a = np.clip(np.floor((lo - dlo) / step), 0, PIXELS).astype(np.int64)
+        b = np.clip(np.ceil((hi - dlo) / step), 0, PIXELS).astype(np.int64)
+        table = np.zeros((PIXELS + 1, PIXELS + 1), np.int64)
+        for (i, j), sign in (((a[:, 1], a[:, 0]), 1), ((a[:, 1], b[:, 0]), -1), ((b[:, 1], a[:, 0]), -1),
+                             ((b[:, 1], b[:, 0]), 1)):
+            np.add.at(table, (i, j), sign)
+        covered = np.cumsum(np.cumsum(table, 0), 1)[:PIXELS, :PIXELS] > 0
+        rgb[covered] = [int(COLOURS[name][k:k + 2], 16) / 255 for k in (1, 3, 5)]
+    ax.imshow(rgb, extent=(dlo[0], dhi[0], dlo[1], dhi[1]), origin="lower", interpolation="nearest")
+
+
 def plot_section(result, path):
     """The paving (inside green, boundary yellow, outside grey) and the exact arcs (dark blue)."""
     plt = pyplot()
     from matplotlib.patches import Patch
     fig, ax = plt.subplots(figsize=(6.4, 6.0))
     if result.paving is not None:
-        for kind, name in ((EXCLUDED, "outside"), (UNDECIDED, "boundary"), (PROVED, "inside")):
-            lo, hi = result.paving.boxes(kind)
-            _rects(ax, lo, hi, COLOURS[name], "white" if name != "outside" else "#f7f7f7")
         dlo, dhi = result.domain
+        if sum(result.paving.counts().values()) > MAX_PATCHES:
+            _raster(ax, result.paving, dlo, dhi)
+        else:
+            for kind, name in ((EXCLUDED, "outside"), (UNDECIDED, "boundary"), (PROVED, "inside")):
+                lo, hi = result.paving.boxes(kind)
+                _rects(ax, lo, hi, COLOURS[name], "white" if name != "outside" else "#f7f7f7")
         ax.set_xlim(dlo[0], dhi[0])
         ax.set_ylim(dlo[1], dhi[1])
     for arc in result.boundary.arcs if result.boundary.decided else []:
