@@ -280,3 +280,29 @@ def test_a_witness_on_a_fixed_coordinate_shows_its_value_not_the_bound_of_its_en
         assert doc["witnesses"][key]["phi"] == value
     assert describe(robot, r).count(f"{phi})") == 2
     assert proofs.check(r.certificate()).ok
+
+
+def test_a_projected_cell_grid_shows_the_least_favourable_status_of_its_cells(tmp_path, monkeypatch):
+    """Cells of a 6-D grid drawn on (x, y) slices overlapped: the last drawn won, and a free square could
+    cover a singular cell.  Each square now shows the worst status of the cells drawn on it."""
+    from types import SimpleNamespace
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import to_hex
+    from certkin.plots import singularity as splot
+    robot = SimpleNamespace(name="r", pose_names=["x", "y", "z", "psi"], angle_names=["psi"])
+    cell = lambda psi, status, sign=0: SimpleNamespace(lo=np.array([0.0, 0.0, 0.0, psi]),   # noqa: E731
+                                                       hi=np.array([1.0, 1.0, 1.0, psi + 1.0]), status=status, sign=sign)
+    results = [cell(0.0, "singular"), cell(1.0, "singularity-free", 1), cell(2.0, "undecided")]
+    drawn = []
+    real = plt.subplots
+
+    def subplots(*a, **k):
+        fig, axes = real(*a, **k)
+        drawn.append(axes)
+        return fig, axes
+    monkeypatch.setattr(plt, "subplots", subplots)
+    splot.plot_cells(robot, results, tmp_path / "c.png")
+    patches = drawn[0].flat[0].patches
+    assert len(patches) == 1 and to_hex(patches[0].get_facecolor()) == splot.COLOURS["singular"]

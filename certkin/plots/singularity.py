@@ -2,7 +2,10 @@
 
 Cells are drawn with their certified status: singularity-free cells in
 blue (det > 0) or green (det < 0), singular cells in red, undecided ones in
-grey.  A 3-D cell grid is shown as 2-D slices along its last variable.
+grey.  A 3-D cell grid is shown as 2-D slices along its last variable; a grid
+of more dimensions is projected onto them, each drawn square showing the least
+favourable status of the cells it stands for (singular, then undecided, then
+free), never a free square over a singular cell.
 """
 from __future__ import annotations
 
@@ -12,6 +15,7 @@ from ..display import point
 from .figure import pyplot
 
 COLOURS = {"free+": "#4c72b0", "free-": "#55a868", "singular": "#c44e52", "undecided": "#bbbbbb"}
+WORST = ("free+", "free-", "undecided", "singular")       # the order in which a projection keeps the last
 
 
 def _key(r):
@@ -47,12 +51,16 @@ def plot_cells(robot, results, path, max_slices: int = 6):
     cols = min(3, len(slabs))
     rows = int(np.ceil(len(slabs) / cols))
     fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 4 * rows), squeeze=False)
+    rank = np.array([WORST.index(_key(r)) for r in results])
     for a, slab in zip(axes.flat, slabs):
-        for r, l, h in zip(results, lo, hi):
-            if slab is not None and (l[k], h[k]) != slab:
-                continue
-            a.add_patch(Rectangle((l[ax_x], l[ax_y]), h[ax_x] - l[ax_x], h[ax_y] - l[ax_y],
-                                  facecolor=COLOURS[_key(r)], edgecolor="white", linewidth=0.3))
+        mine = np.ones(len(results), bool) if slab is None else (lo[:, k] == slab[0]) & (hi[:, k] == slab[1])
+        square = np.stack([lo[mine, ax_x], lo[mine, ax_y], hi[mine, ax_x], hi[mine, ax_y]], 1)
+        squares, which = np.unique(square, axis=0, return_inverse=True)     # the cells drawn on one square
+        worst = np.zeros(len(squares), np.int64)
+        np.maximum.at(worst, which.ravel(), rank[mine])
+        for (x0, y0, x1, y1), w in zip(squares, worst):
+            a.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, facecolor=COLOURS[WORST[w]], edgecolor="white",
+                                  linewidth=0.3))
         a.set_xlim(lo[:, ax_x].min(), hi[:, ax_x].max())
         a.set_ylim(lo[:, ax_y].min(), hi[:, ax_y].max())
         a.set_xlabel(_label(robot, names[ax_x]))
