@@ -23,7 +23,7 @@ def _rects(ax, lo, hi, colour, edge):
 
 
 MAX_PATCHES = 20_000     # boxes drawn one by one; a larger paving is drawn as an image (boxes far below a pixel)
-PIXELS = 1200
+PIXELS = 400            # fewer than the axes have on the page (about 600 at 120 dpi): every pixel is seen
 
 
 def _raster(ax, paving, dlo, dhi):
