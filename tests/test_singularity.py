@@ -304,5 +304,5 @@ def test_a_projected_cell_grid_shows_the_least_favourable_status_of_its_cells(tm
         return fig, axes
     monkeypatch.setattr(plt, "subplots", subplots)
     splot.plot_cells(robot, results, tmp_path / "c.png")
-    patches = drawn[0].flat[0].patches
-    assert len(patches) == 1 and to_hex(patches[0].get_facecolor()) == splot.COLOURS["singular"]
+    squares = drawn[0].flat[0].collections[0]
+    assert len(squares.get_paths()) == 1 and to_hex(squares.get_facecolor()[0]) == splot.COLOURS["singular"]
