@@ -492,10 +492,10 @@ def test_a_paving_of_many_boxes_is_drawn_as_an_image_with_boundary_on_top(micro,
     colour = {n: np.array([int(wplot.COLOURS[n][k:k + 2], 16) / 255 for k in (1, 3, 5)]) for n in wplot.COLOURS}
     shown = {n: np.all(np.isclose(rgb, c), axis=-1) for n, c in colour.items() if n != "arc"}
     assert all(m.any() for m in shown.values())
-    lo, hi = r.paving.boxes(UNDECIDED)                       # one boundary box's pixels: none shown inside
-    step = (np.asarray(dhi) - np.asarray(dlo)) / 200
-    i0, j0 = np.floor((lo[0] - dlo) / step).astype(int)
-    i1, j1 = np.ceil((hi[0] - dlo) / step).astype(int)
+    lo, hi = r.paving.boxes(UNDECIDED)       # a boundary box's pixels and their neighbours: none shown inside
+    step = float(np.max(np.asarray(dhi) - np.asarray(dlo))) / 200
+    i0, j0 = np.maximum(np.floor((lo[0] - dlo) / step).astype(int) - 1, 0)
+    i1, j1 = np.ceil((hi[0] - dlo) / step).astype(int) + 1
     assert shown["boundary"][j0:j1, i0:i1].all()
     plt.close(fig)
     wplot.plot_section(r, tmp_path / "p.png")
