@@ -117,8 +117,8 @@ class Document:
         file written when it was assembled in memory (a small body), else None."""
         header = self._entries()
         text = json.dumps(header, separators=(",", ":"), ensure_ascii=False)
-        if len(text.encode()) > MAX_HEADER:         # (a claim per cell: more than about 100 000 cells)
-            raise InputError("certificate", str(path), f"its header would hold {len(text.encode()) / 2 ** 20:.0f} MiB "
+        if (size := len(text.encode())) > MAX_HEADER:      # (a claim per cell: more than about 100 000 cells)
+            raise InputError("certificate", str(path), f"its header would hold {size / 2 ** 20:.0f} MiB "
                              f"of claims, more than the {MAX_HEADER >> 20} MiB a checker reads (proofs/container.py): "
                              "ask for fewer cells, or split the box")
         with atomic_file(path) as fh:

@@ -98,7 +98,8 @@ class Paving:
         """An upper bound of the area of the inside and boundary boxes (rounded up)."""
         if "outer" not in self._areas:
             ids = np.concatenate([self.leaves(PROVED), self.leaves(UNDECIDED)])
-            self._areas["outer"] = float(np.nextafter(math.fsum(chain.from_iterable(self._bounds(ids, True))), np.inf)) if len(ids) else 0.0
+            total = math.fsum(chain.from_iterable(self._bounds(ids, True)))
+            self._areas["outer"] = float(np.nextafter(total, np.inf)) if len(ids) else 0.0
         return self._areas["outer"]
 
     def boxes(self, kind) -> tuple[np.ndarray, np.ndarray]:
