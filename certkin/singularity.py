@@ -38,6 +38,8 @@ from intervals import Interval
 
 from . import display
 from .certificates import singularity_certificate
+from .certificates.singularity import least_header
+from .certificates import writing
 from .engine import OPEN, PROVED, Budget, Decisions, budgets, search
 from .engine.budgets import Clock, make_budget, positive_integer
 from .errors import InputError
@@ -279,14 +281,16 @@ def certify_singularity_free(robot, box, budget: Budget | None = None, progress=
 
 @quiet
 def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=None, *, max_boxes=None,
-                   max_seconds=None, min_width=None, max_memory=None) -> list[SingularityResult]:
+                   max_seconds=None, min_width=None, max_memory=None, certificate=False) -> list[SingularityResult]:
     """Split ``box`` into n^k cells (k: the coordinates given as ranges; a coordinate given one
     value is fixed, never split) and decide each one.
 
     Each cell is a root of one search; cells the budget does not reach are ``undecided``.  More
     cells than ``max_boxes`` (each needs one box at least) or than ``max_memory`` holds
     (``CELL_BYTES`` each), or whose answers take longer than ``max_seconds`` (``CELL_SECONDS`` each,
-    kept from the search's time), are refused (``InputError`` naming ``n``)."""
+    kept from the search's time), are refused (``InputError`` naming ``n``); with ``certificate``
+    (the answers are to be written as one), so are more cells than the header a checker reads holds
+    (``certificates.singularity.fits_header``), before anything is searched."""
     robot = as_robot(robot)
     budget = make_budget(budgets.SINGULARITY, budget, max_boxes=max_boxes, max_seconds=max_seconds,
                          min_width=min_width, max_memory=max_memory)
@@ -308,14 +312,18 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
         what = f"{n} cells per side make {cells} cells, about" if n > 1 else "the box needs about"
         raise InputError("n" if n > 1 else "max_memory", "", f"{what} {display.size(cells * CELL_BYTES)}, more than "
                          f"the memory budget ({display.size(budget.max_memory)})")
-    reserve = CELL_SECONDS * len(free) * cells if cells > 1 else 0.0     # the cells' answers, after the search
-    if reserve > clock.left():
-        raise InputError("n", "", f"{n} cells per side make {cells} cells, whose answers take about {reserve:.3g} s, "
-                         f"more than the time budget ({budget.max_seconds:g} s)")
     counts = [n if f else 1 for f in free]
     grids = [np.linspace(lo0[i], hi0[i], c + 1) for i, c in enumerate(counts)]
     for g, a, b in zip(grids, lo0, hi0):
         g[0], g[-1] = a, b  # the outer faces are exactly the box's
+    if certificate and cells > 1 and least_header(robot.pose_names, grids) > writing.MAX_HEADER:
+        raise InputError("n", "", f"{n} cells per side make {cells} cells, more claims than a certificate's "
+                         f"header holds (a checker reads {writing.MAX_HEADER >> 20} MiB of it): ask for fewer cells, or "
+                         "split the box")
+    reserve = CELL_SECONDS * len(free) * cells if cells > 1 else 0.0     # the cells' answers, after the search
+    if reserve > clock.left():
+        raise InputError("n", "", f"{n} cells per side make {cells} cells, whose answers take about {reserve:.3g} s, "
+                         f"more than the time budget ({budget.max_seconds:g} s)")
     idx = np.stack(np.meshgrid(*[np.arange(c) for c in counts], indexing="ij"), -1).reshape(-1, len(counts))
     clo = np.stack([grids[i][idx[:, i]] for i in range(len(counts))], axis=1)
     chi = np.stack([grids[i][idx[:, i] + 1] for i in range(len(counts))], axis=1)

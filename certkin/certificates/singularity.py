@@ -3,6 +3,10 @@ search tree whose every leaf proves the sign of det(A) (rule and monotonicity fl
 poses of opposite certified signs inside the requested box (``proofs.singularity`` re-checks them)."""
 from __future__ import annotations
 
+from decimal import Decimal
+import json
+import math
+
 import numpy as np
 
 from ..engine import PROVED
@@ -36,6 +40,23 @@ def singularity_claim(result) -> dict:
         claim["witnesses"] = {k: [result.exact_values.get(n, float(v)) for n, v in zip(names, w)]
                               for k, w in result.witnesses.items()}
     return claim
+
+
+def least_header(names, grids) -> int:
+    """A lower bound of the bytes the claims of the cells of a grid take in a certificate's header
+    (``MAX_HEADER`` of which a checker reads).  ``grids``: per pose variable, the float faces of its
+    cells (one cell per consecutive pair; a fixed variable: one pair).  A cell's claim holds its box (JSON floats) and
+    requested box (the exact decimals of the same floats, ``classify_cells``), written here as
+    ``Document.write`` writes them, and a status at least as long as "singular" (no sign, tree
+    or witness counted)."""
+    cells = math.prod(len(g) - 1 for g in grids)
+    fixed = len('{"box":[],"status":"singular","requested":{}},') + 2 * (len(grids) - 1)
+    total = cells * fixed
+    for name, g in zip(names, grids):
+        faces = [len(repr(float(v))) + len(str(Decimal(float(v)))) for v in g]
+        per_cell = len(json.dumps(name)) + len('[,]:["",""]')
+        total += cells // (len(g) - 1) * ((len(g) - 1) * per_cell + sum(faces[:-1]) + sum(faces[1:]))
+    return total
 
 
 def singularity_certificate(results) -> Document:

@@ -49,7 +49,8 @@ def compute(args, robot=None) -> Answer:
             bar = progress(args.progress, "boxes tried", "scale")
             results = [largest_free_box(robot, args.around, scale=args.scale, budget=budget(args), progress=bar)]
         else:
-            results = classify_cells(robot, args.box, args.cells or 1, budget(args), progress(args.progress))
+            results = classify_cells(robot, args.box, args.cells or 1, budget(args), progress(args.progress),
+                                     certificate=bool(args.certificate))
     counts = _counts(results)
     if args.cells:
         def doc():          # built only when printed (--json) or written (batch): 64 000 cells take seconds

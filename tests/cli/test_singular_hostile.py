@@ -160,12 +160,53 @@ def test_a_reader_that_closes_the_pipe_after_a_few_bytes_gets_exit_141():
 
 def test_a_certificate_whose_header_no_checker_reads_is_not_written(monkeypatch, tmp_path, capsys):
     """166 375 cells wrote an 86 MB header.json, which the checker refuses to read (64 MiB): such a
-    certificate is refused, nothing is left behind (the ceiling lowered here to keep the test short)."""
+    certificate is refused, nothing is left behind (the ceiling lowered here to keep the test short; the
+    refusal before the search, from a lower bound of the claims' size, is left out to reach the writer's)."""
+    from certkin import singularity
     from certkin.certificates import writing
     from certkin.cli import main
     monkeypatch.setattr(writing, "MAX_HEADER", 4000)
+    monkeypatch.setattr(singularity, "least_header", lambda names, grids: 0)
     cert = tmp_path / "c.cert"
     assert main(S + ["--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "4", "--certificate", str(cert)]) == 2
     err = capsys.readouterr().err
     assert "certkin: error: certificate: " in err and "more than the 0 MiB a checker reads" in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_grid_whose_claims_no_checker_reads_is_refused_before_the_search(tmp_path, capsys):
+    """56^3 cells wanted a certificate: it was refused only once every cell had been decided (minutes with
+    --max-seconds inf); the claims' least size is known from the grid, so the request is refused at once."""
+    import time
+    from certkin.cli import main
+    cert = tmp_path / "c.cert"
+    start = time.perf_counter()
+    assert main(S + ["--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "56", "--max-seconds", "inf",
+                     "--certificate", str(cert)]) == 2
+    assert time.perf_counter() - start < 5
+    err = capsys.readouterr().err
+    assert "certkin: error: --cells: 56 cells per side make 175616 cells, more claims than a certificate's header" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("box", ["x=-50:50,y=-50:50,phi=0:0.7853981634", "x=-5.1:5.3,y=2,phi=-1deg:1deg"])
+def test_the_least_header_of_a_grid_is_at_most_its_claims(tmp_path, box):
+    """``least_header`` (the refusal above) never exceeds the bytes the claims really take."""
+    import zipfile
+    import numpy as np
+    from certkin import load_robot
+    from certkin.certificates.singularity import least_header
+    from certkin.robots.poses import parse_box
+    from certkin.singularity import classify_cells, singularity_certificate
+    robot = load_robot(R2)
+    results = classify_cells(robot, box, 7)
+    singularity_certificate(results).write(tmp_path / "c.cert")
+    claims = json.loads(zipfile.ZipFile(tmp_path / "c.cert").read("header.json"))["claims"]
+    written = len(json.dumps(claims, separators=(",", ":"), ensure_ascii=False))
+    iv, texts = parse_box(box, robot)
+    grids = [np.linspace(a, b, 8) if a < b and texts[n][0] != texts[n][1] else np.array([a, b])
+             for n, a, b in zip(robot.pose_names, iv.lo, iv.hi)]
+    for g, a, b in zip(grids, iv.lo, iv.hi):
+        g[0], g[-1] = a, b
+    assert len(claims) == np.prod([len(g) - 1 for g in grids])
+    assert 0.7 * written < least_header(robot.pose_names, grids) <= written
