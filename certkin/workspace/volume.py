@@ -44,6 +44,7 @@ class VolumeResult:
     stats: dict
     status: str = "undecided"
     _areas: list | None = field(default=None, repr=False, compare=False)
+    _volume: tuple | None = field(default=None, repr=False, compare=False)
 
     def areas(self):
         """Per slab, (inner, outer) area bounds of its section (computed once)."""
@@ -54,7 +55,12 @@ class VolumeResult:
     def volume(self) -> tuple[float, float]:
         """(inner, outer) bounds of the volume for z in ``z_range``: the outer one over the whole slabs
         (they cover the range), the inner one over each slab's part inside the range (the first and
-        last slabs start and end on the floats around the range's decimal ends)."""
+        last slabs start and end on the floats around the range's decimal ends; computed once)."""
+        if self._volume is None:
+            self._volume = self._bracket()
+        return self._volume
+
+    def _bracket(self) -> tuple[float, float]:
         h = np.diff(self.bounds)
         hhi = up_sum(h)
         ql, qh = (Fraction(t) for t in self.z_range)
