@@ -646,3 +646,23 @@ def test_on_a_dask_cluster_relative_paths_are_the_batchs(tmp_path, monkeypatch):
         summary = run_batch(jobs, "out", run_job, scheduler=cluster.scheduler_address)
     assert [r["verdict"] for r in summary["results"]] == ["complete"] * 4, summary["results"]
     assert proofs.check_file(tmp_path / "out" / "j0.cert").ok
+
+
+def test_workers_that_cannot_start_stop_the_batch_with_a_clear_error(tmp_path):
+    """A batch run from a script on standard input: every worker died as it started (it cannot import
+    the main module ``<stdin>``) and was started again, tens of thousands of times, before a traceback
+    (``BrokenProcessPool``).  Three such deaths in a row now stop the batch with one error naming the
+    cause, and no job is charged with them."""
+    script = ("from batch_work import square_or_die\n"
+              "from certkin.batch.local import run_local\n"
+              "from certkin.errors import InputError\n"
+              "try:\n"
+              "    run_local([({'id': f'j{k}', 'x': k}, 'unused') for k in range(50)], square_or_die, 2, print)\n"
+              "except InputError as exc:\n"
+              "    print('refused:', exc)\n")
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(__file__).parent), str(ROOT)])}
+    done = subprocess.run([sys.executable, "-"], input=script, capture_output=True, text=True, timeout=120, env=env,
+                          cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.startswith("refused: workers: 3 worker processes in a row died as they started"), done.stdout
+    assert done.stderr.count("FileNotFoundError") <= 4

@@ -10,7 +10,9 @@ jobs it had finished are found done on disk and skipped); a job that runs alone 
 most ``RETRIES`` times, then reported as ``Died``.  The other tasks of that worker go back to the
 queue uncharged, and a fresh worker takes its place.  Workers are started by a fork server that has
 imported the work function's module (and ``preload``) once, so a new worker costs no start-up;
-robots are loaded once per worker by the work function's own cache.  Workers ignore Ctrl-C (the parent decides what
+robots are loaded once per worker by the work function's own cache.  Workers that die before they
+start (``START_FAILURES`` in a row: a main module the fork server cannot import) stop the batch
+with ``WorkersCannotStart`` instead of being started again and again.  Workers ignore Ctrl-C (the parent decides what
 an interrupt means) and exit when the parent process goes away.
 """
 from __future__ import annotations
@@ -25,7 +27,10 @@ import signal
 import threading
 import time
 
+from ..errors import InputError
+
 RETRIES = 2             # a job whose worker dies is tried again at most this many times
+START_FAILURES = 3      # workers in a row that die before they start: the batch stops
 IN_FLIGHT = 2           # tasks handed to a worker at once: the next one is ready when a task ends
 CHUNK_SECONDS = 0.25    # wanted run time of a chunk of jobs
 MAX_CHUNK = 32          # jobs per chunk at most
@@ -55,6 +60,16 @@ def _worker_setup(batch_pid: int):
     threading.Thread(target=watch, daemon=True).start()
 
 
+class WorkersCannotStart(InputError):
+    """Worker processes that die as they start, ``START_FAILURES`` in a row: no job can run."""
+
+    def __init__(self):
+        super().__init__("workers", "", f"{START_FAILURES} worker processes in a row died as they started, before "
+                         "any job (see the errors above): calling the batch from a script, guard the call with "
+                         "`if __name__ == \"__main__\":` (each worker imports the main module), and run that script "
+                         "from a file, not from standard input")
+
+
 class _Worker:
     """One worker process and the tasks handed to it, oldest first."""
 
@@ -63,6 +78,10 @@ class _Worker:
                                             initargs=(os.getpid(),))
         self.pid = self.executor.submit(os.getpid)
         self.tasks = deque()                # (task index, future)
+
+    def started(self) -> bool:
+        """Whether the worker process ran at all (it answered its first task, its pid)."""
+        return self.pid.done() and self.pid.exception() is None
 
     def stop(self):
         if self.pid.done() and not self.pid.exception():
@@ -152,6 +171,15 @@ def run_local(tasks: list, work, workers: int, report, retries: int = RETRIES,
     queue = TaskQueue(len(tasks))
     attempts = [0] * len(tasks)
     pool = [_Worker(context) for _ in range(max(1, min(workers, len(tasks))))]
+    unstarted = 0                               # workers in a row that died before they started
+
+    def replace(k):
+        nonlocal unstarted
+        unstarted = 0 if pool[k].started() else unstarted + 1
+        pool[k].stop()
+        if unstarted >= START_FAILURES:
+            raise WorkersCannotStart()
+        pool[k] = _Worker(context)
     try:
         while queue or any(w.tasks for w in pool):
             for k, w in enumerate(pool):
@@ -162,29 +190,31 @@ def run_local(tasks: list, work, workers: int, report, retries: int = RETRIES,
                     except BrokenProcessPool:      # the worker died since its tasks were last collected
                         queue.again(chunk)         # (this chunk never ran: back, uncharged)
                         if not w.tasks:            # nothing of it left to collect: a fresh worker now
-                            w.stop()
-                            pool[k] = _Worker(context)
+                            replace(k)
                         break
                     w.tasks.append((chunk, future))
             wait([f for w in pool for _, f in w.tasks], return_when=FIRST_COMPLETED)
             for k, w in enumerate(pool):
                 if _collect(w, report, queue, attempts, retries):
-                    w.stop()
-                    pool[k] = _Worker(context)
-        cpu = sum(_cpu(f) for f in [w.executor.submit(time.process_time) for w in pool])
+                    replace(k)
+        cpu = sum(_cpu(w) for w in pool)
     except KeyboardInterrupt:
         for w in pool:
             w.stop()
         return True, None
+    except WorkersCannotStart:
+        for w in pool:
+            w.stop()
+        raise
     for w in pool:
         w.executor.shutdown(wait=True)
     return False, cpu
 
 
-def _cpu(future) -> float:
+def _cpu(worker) -> float:
     """The CPU seconds a worker reports (0 if it died meanwhile)."""
     try:
-        return future.result()
+        return worker.executor.submit(time.process_time).result()
     except BrokenProcessPool:
         return 0.0
 
@@ -209,6 +239,10 @@ def _collect(worker, report, queue, attempts, retries) -> bool:
     if not worker.tasks or not isinstance(worker.tasks[0][1].exception() if worker.tasks[0][1].done() else None,
                                           BrokenProcessPool):
         return False
+    if not worker.started():                # it died before it ran anything: nothing is charged
+        queue.again([i for chunk, _ in worker.tasks for i in chunk])
+        worker.tasks.clear()
+        return True
     running, _ = worker.tasks.popleft()
     waiting = [i for chunk, _ in worker.tasks for i in chunk]
     worker.tasks.clear()
