@@ -4,10 +4,9 @@ An ``Iv`` holds two float64 arrays ``lo`` ≤ ``hi`` of any (broadcastable)
 shape: a batch of intervals.  Every operation returns an enclosure of the
 exact range of the operation over its operands:
 
-- ``dn``/``up`` turn a result computed in round-to-nearest into a lower /
-  upper bound of the exact value: x ∓ (φ|x| + 2⁻¹⁰²²), φ = u(1 + 2u),
-  is ≤ pred(x), ≥ succ(x) (Rump, Zimmermann, Boldo & Melquiond, BIT 2009,
-  with a normal additive constant; §12);
+- ``dn``/``up`` turn a result computed in round-to-nearest into a lower / upper bound of the exact
+  value: x ∓ (φ|x| + 2⁻¹⁰²²), φ = u(1 + 2u), is ≤ pred(x), ≥ succ(x) (Rump, Zimmermann, Boldo &
+  Melquiond, BIT 2009, with a normal additive constant; §12);
 - sums along an axis and products of a float matrix with an interval
   matrix use one float sum / matrix product and an a-priori bound of its
   rounding error, valid for any order of summation (Higham 2002, §3.1);

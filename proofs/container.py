@@ -143,6 +143,8 @@ def _no_constant(name):
 
 def read(path) -> Certificate:
     """Open a certificate file (a ZIP archive; a JSON document is read for its version); raises ``Unreadable``."""
+    if os.path.exists(path) and not (os.path.isfile(path) or os.path.isdir(path)):     # (a FIFO would block)
+        raise Unreadable("not a regular file (a device, a pipe or a socket)")
     try:
         with open(path, "rb") as fh:
             magic = fh.read(4)

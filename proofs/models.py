@@ -145,8 +145,7 @@ MODELS = {m.name: m for m in (
           lambda p, a, b: _spherical(p[0], p[1], p[2], a, b)),
     Model("spherical-3dof-tt/1", "spherical-3dof", ("phi1", "phi2", "sigma"), 3, 3, 3,
           lambda p, a, b: _spherical(p[0], p[1], p[2] - p[0], a, b)),
-    Model("gough-stewart/1", "gough-stewart", ("x", "y", "z", "psi", "theta", "phi"), 6, 3, 3, gough_rows),
-)}
+    Model("gough-stewart/1", "gough-stewart", ("x", "y", "z", "psi", "theta", "phi"), 6, 3, 3, gough_rows))}
 
 
 def header_model(h, table, kind, names_key=None, names=None):

@@ -61,6 +61,25 @@ def test_robot_files_that_are_not_robots_and_endless_files_are_unreadable(cli, t
     assert cli("check", "{tmp}/c.cert", "--robot", R2).code == 0
 
 
+def test_a_pipe_is_unreadable_at_once(cli, tmp_path):
+    """A named pipe given as the certificate (a ZIP archive cannot be read from one): the check waited
+    for a writer forever; it is refused at once, as a device is."""
+    import os
+    import signal
+
+    def hung(*_):
+        raise AssertionError("the check waits for a writer of the pipe")
+    os.mkfifo(tmp_path / "pipe.cert")
+    previous = signal.signal(signal.SIGALRM, hung)
+    signal.alarm(30)
+    try:
+        unreadable(cli("check", "{tmp}/pipe.cert"), "pipe.cert")
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    assert "not a regular file" in cli("check", "/dev/null").err
+
+
 def test_text_of_a_certificate_cannot_forge_lines_of_the_account(cli, tmp_path):
     """A robot name in a (tampered) certificate with a newline, a terminal escape or a bidi control is
     printed escaped: the account keeps one line per item and its verdict cannot be overwritten."""
