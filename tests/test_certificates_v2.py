@@ -376,3 +376,33 @@ def test_second_hc4_pass_rechecked():
     bad = doc.copy()
     bad.arrays["tree.box"][bad.row("tree.box", i)] = np.stack([lo[i], hi[i]], -1).view(np.uint64) ^ new.view(np.uint64)
     assert "not inside the child box" in bad.check().step, bad.check().step
+
+
+@pytest.mark.parametrize("example, lengths", [
+    (3, "2.99806464835365,2.10024948004205,2.27700767471315"),     # slope-gs-empty leaves, rebuilt C
+    (1, "1.11130683860015,2.84842079860041,1.47839641688408")])    # an hc4 contraction, widened too little
+def test_near_singular_certificates_check(tmp_path, example, lengths):
+    """Lengths of a pose next to a singularity (a cluster of postures): the answer was right, its
+    certificate was rejected.  The checker rebuilt the C of slope steps from its own slope matrices,
+    but there mid(S) has condition number 8e7: the two float64 inverses rounded to different float32
+    values, and C S moved by order 1 (such C are now kept in the certificate); and its HC4 pass ended
+    27 units in the last place beyond a contraction widened by 2⁻²⁰ of a 6e-10 wide box (now also by
+    2⁻⁴⁰ of the bounds' magnitude)."""
+    robot = load_robot(ROOT / "examples" / "robots" / f"seed003-spherical-example-{example}.toml")
+    result = forward_kinematics(robot, lengths)
+    assert result.complete and len(result.solutions) == 2 and result.clusters
+    result.certificate().write(tmp_path / "c.cert")
+    report = proofs.check(tmp_path / "c.cert")
+    assert report.ok, report.step
+    if example == 3:                 # (its C in the certificate)
+        assert "slope-gs-empty, C kept" in {result.tree.reason_name(i) for i in np.nonzero(result.tree.reason > 12)[0]}
+
+
+def test_a_preconditioner_is_fragile_when_ill_conditioned():
+    from certkin.fk.step import KAPPA, fragile
+    from intervals import Interval
+    M = np.array([[[1.0, 0.0], [0.0, 1.0]], [[1.0, 1.0], [1.0, 1.0 + 1e-6]]])
+    C = np.linalg.inv(M)
+    assert fragile(C, Interval.from_bounds(M, M)).tolist() == [False, True]
+    assert fragile(np.full((1, 2, 2), np.nan), Interval.from_bounds(M[:1], M[:1])).tolist() == [True]
+    assert 1e3 <= KAPPA <= 1e6

@@ -8,7 +8,9 @@ A search too large to keep whole streamed its tree in segments (``segments``): s
 claims' roots, continued; the sink's segments follow, then the finished tree.
 
 Preconditioners that the checker rebuilds from its own enclosures (codes + 64: the Gauss-Seidel P
-and the C of emptiness and contraction steps) are not stored; the uniqueness proofs keep theirs.
+and the C of emptiness and contraction steps) are not stored; the uniqueness proofs keep theirs, and
+so do the steps whose C is too ill-conditioned to be rebuilt the same (``fk.step.fragile``: the
+reasons "…, C kept", written with the code of the rule that reads its C).
 """
 from __future__ import annotations
 
@@ -23,12 +25,14 @@ from .writing import Array, Document, box_json, header, one, outward_boxes
 
 REBUILT = 64
 LEAVES = {"equation": 0, "hc4-empty": 1, "position-empty": 2 + REBUILT, "krawczyk-empty": 3 + REBUILT,
-          "slope-empty": 4 + REBUILT, "slope-gs-empty": 5 + REBUILT}
+          "slope-empty": 4 + REBUILT, "slope-gs-empty": 5 + REBUILT,
+          "krawczyk-empty, C kept": 3, "slope-gs-empty, C kept": 5}
 CONTRACTIONS = {"hc4": 0, "position": 2 + REBUILT, "krawczyk": 3 + REBUILT, "slope": 4 + REBUILT,
-                "slope-gs": 5 + REBUILT}
+                "slope-gs": 5 + REBUILT, "krawczyk, C kept": 3, "slope-gs, C kept": 5}
+KEPT_C = (3, 4, 5)           # rules whose C the certificate holds (their + REBUILT twins: the checker's own)
 UNIQUE, OUTSIDE, IN_CLUSTER, UNDECIDED_LEAF, HC4_POSITION = 6, 7, 9, 10, 1 + REBUILT
-RULE_NAMES = {**{c: n for n, c in LEAVES.items()}, UNIQUE: "krawczyk-unique", OUTSIDE: "krawczyk-outside",
-              IN_CLUSTER: "in-cluster", UNDECIDED_LEAF: "undecided"}
+RULE_NAMES = {**{c: n.removesuffix(", C kept") for n, c in LEAVES.items()}, UNIQUE: "krawczyk-unique",
+              OUTSIDE: "krawczyk-outside", IN_CLUSTER: "in-cluster", UNDECIDED_LEAF: "undecided"}
 
 
 class _Leaf:
@@ -123,10 +127,13 @@ def _rules(tree, proved, n, cluster_of=None):
 
     def matrices(t, ids, c):
         uq, ou = leaves(t, ids, c, UNIQUE, OUTSIDE), leaves(t, ids, c, OUTSIDE)
-        out, first = rows(uq * 1 + ou * 1, np.float32, (n, n))
+        kept = _WANTED[KEPT_C][c] & (t.kind[ids] != SPLIT)          # leaves and contractions
+        out, first = rows(uq * 1 + ou * 1 + kept * 1, np.float32, (n, n))
         if uq.any():
             out[first[uq]] = t.evidence_values("C", ids[uq]) if own_C else proved.C[proved.at(ids[uq])]
         out[first[ou] + 1] = proved.root_C[proved.at(ids[ou])]
+        if kept.any():
+            out[first[kept]] = t.evidence_values("C", ids[kept])
         return out
 
     def boxes(which):
@@ -143,12 +150,14 @@ def _rules(tree, proved, n, cluster_of=None):
 def record_sink(n: int, reasons) -> Segments:
     """The sink of an FK search that streams its tree (``n`` unknowns, the problem's ``reasons``).  The
     search records no preconditioner that the certificate does not write: a C only for a proved leaf
-    (the checker rebuilds the others), a P only for an ``hc4`` contraction (it marks ``hc4-position``)."""
+    or a step whose C is kept (the checker rebuilds the others), a P only for an ``hc4`` contraction
+    (it marks ``hc4-position``)."""
     hc4 = reasons.index("hc4")
+    with_C = [reasons.index(r) for r in reasons if "C kept" in r]
 
     def kept(name, kind, reason):
-        return kind == PROVED if name == "C" else (kind == CONTRACTED) & (reason == hc4) if name == "P" else \
-            np.ones(len(kind), bool)
+        return (kind == PROVED) | np.isin(reason, with_C) if name == "C" else \
+            (kind == CONTRACTED) & (reason == hc4) if name == "P" else np.ones(len(kind), bool)
     return Segments(n, lambda tree: _rules(tree, _Proved(n, {}), n), kept)
 
 
@@ -240,7 +249,8 @@ def _figures(claims, forest):
     for part, (tree, nodes, rules) in enumerate(forest.roots):
         by_root = {}
         for (root, code), k in sorted((getattr(tree, "counts", None) or forest.leaf_counts(part)).items()):
-            by_root.setdefault(root, {})[RULE_NAMES.get(code, str(code))] = k
+            rule = RULE_NAMES.get(code, str(code))        # (a rule's two codes, C kept or not, count as one)
+            by_root.setdefault(root, {})[rule] = by_root.get(root, {}).get(rule, 0) + k
         for node in nodes:                       # the leaves of each claim: those of its root
             claim = next(with_tree)
             counts = by_root.get(int(tree.root[node]) if hasattr(tree, "root") else 0, {})

@@ -47,7 +47,8 @@ from intervals import Interval, linalg
 
 from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
 from .contract import gap_splits, hc4
-from .step import SMALL_BATCH, WIDEN, contract_position, for_batch, krawczyk_boxes, shrink, slope_boxes, unique_in
+from .step import SMALL_BATCH, contract_position, for_batch, fragile, krawczyk_boxes, room, shrink, \
+    slope_boxes, unique_in
 
 SHRINK = 0.05            # a contraction is kept when some side shrinks by this fraction
 INFLATE_BELOW = 2.0 ** -12  # scaled width under which ε-inflation around a Newton iterate is tried
@@ -111,17 +112,16 @@ class _Batch:
         self.split = np.full(N, -1)
         self.split_at = np.full(N, np.nan)             # a cut point on ``split`` (a gap of HC4's roots)
         self.hc4_boxes = []                             # the boxes after each HC4 pass (slope systems)
-        self.stages = []                                # ((lo, hi), evidence) of each Krawczyk contraction
+        self.stages = []                                # ((lo, hi), evidence, reasons) of each Krawczyk contraction
 
     def decisions(self, slopes: bool) -> Decisions:
         N = len(self.lo)
         self.evidence["C"] = (self.C_mask, self.C_rows[self.C_mask].astype(np.float32))
         if self.star_mask.any():
             self.evidence["star"] = (self.star_mask, self.stars[self.star_mask])
-        kcode = 11 if slopes else 3
-        stages = [(self.lo, self.hi)] + [box for box, _ in self.stages]
-        reasons = [self.creason] + [np.full(N, kcode)] * len(self.stages)
-        stage_evidence = [self.cev] + [ev for _, ev in self.stages]
+        stages = [(self.lo, self.hi)] + [box for box, _, _ in self.stages]
+        reasons = [self.creason] + [r for _, _, r in self.stages]
+        stage_evidence = [self.cev] + [ev for _, ev, _ in self.stages]
         if slopes:      # "hc4" passes (no evidence), then "position" (P), then the slope steps
             stages[:0] = self.hc4_boxes
             reasons[:0] = [np.full(N, 7)] * len(self.hc4_boxes)
@@ -134,7 +134,8 @@ class FKProblem:
     """Decides boxes of FK unknowns for a batch of instances (one root box per instance)."""
 
     reasons = ("equation", "krawczyk-empty", "krawczyk-unique", "krawczyk", "position-empty", "position",
-               "hc4-empty", "hc4", "slope-empty", "slope", "slope-gs-empty", "slope-gs", "cluster")
+               "hc4-empty", "hc4", "slope-empty", "slope", "slope-gs-empty", "slope-gs", "cluster",
+               "krawczyk-empty, C kept", "krawczyk, C kept", "slope-gs-empty, C kept", "slope-gs, C kept")
     CLUSTER = 12             # given up: within a root's spread over uncertain lengths, no uniqueness box
 
     def __init__(self, system, L: Interval, scale, slopes: bool = False):
@@ -209,7 +210,7 @@ class FKProblem:
                         v[rows] = w
                     over[0][rows], over[1][rows] = plo[:, p:], phi[:, p:]
             b.status[rows[hempty]], b.reason[rows[hempty]] = EXCLUDED, 6
-            w = (phi - plo) * WIDEN  # room for an independent re-computation
+            w = room(plo, phi)       # room for an independent re-computation
             hlo, hhi = np.maximum(plo, hlo - w), np.minimum(phi, hhi + w)
             cut = shrink(plo, phi, hlo, hhi)
             step = ~hempty & (cut >= SHRINK)
@@ -300,7 +301,7 @@ class FKProblem:
         rest = rest[~wide]
         lo2, hi2 = lo.copy(), hi.copy()
         if not len(rest):
-            b.stages.append(((lo2, hi2), {}))
+            b.stages.append(((lo2, hi2), {}, self._stage_reasons(len(lo))))
             return
         rlo, rhi = lo[rest], hi[rest]
         X = Interval.from_bounds(rlo, rhi)
@@ -314,12 +315,13 @@ class FKProblem:
             K, C, J = krawczyk_boxes(system, X, Lr, with_jacobian=True, rb=rb[rest], compact=True)
             empty = None
             b.split[rest] = self._planar_split(system, J, rlo, rhi)
-        done, keep, nlo, nhi = self._round(system, b, rest, X, Lr, K, C, empty)
+        done, keep, nlo, nhi = self._round(system, b, rest, X, Lr, K, C, empty, J)
         k = rest[keep]
         lo2[k], hi2[k] = nlo[keep], nhi[keep]
         kmask = np.zeros(len(lo), dtype=bool)
         kmask[k] = True
-        b.stages.append(((lo2, hi2), {"C": (kmask, C[keep].astype(np.float32))}))
+        b.stages.append(((lo2, hi2), {"C": (kmask, C[keep].astype(np.float32))},
+                         self._stage_reasons(len(lo), k[fragile(C[keep], J[keep])])))
         self._again(system, b, k[shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN], lo2, hi2)
         width = np.max((rhi - rlo) / self.scale, axis=1)
         # small boxes still open, contracted or not (a box HC4 made a sliver around a root is proved
@@ -356,11 +358,20 @@ class FKProblem:
             smear[:, :pn] = np.where(rot_first[:, None], -1.0, smear[:, :pn])
         return np.argmax(smear, axis=1)
 
-    def _round(self, system, b: _Batch, rows, X: Interval, L: Interval, K: Interval, C, empty):
+    def _stage_reasons(self, N, stored=()):
+        """The reasons of a Krawczyk (slope) contraction stage of N boxes: those ``stored`` keep their C
+        in the certificate (``step.fragile``), the others' the checker rebuilds."""
+        reasons = np.full(N, 11 if self.slopes else 3)
+        reasons[stored] = 16 if self.slopes else 14
+        return reasons
+
+    def _round(self, system, b: _Batch, rows, X: Interval, L: Interval, K: Interval, C, empty, M):
         """The verdicts of one Krawczyk (or slope) image K on the boxes X, rows ``rows`` of the batch:
         empty (``empty``, or K ∩ X = ∅ when None), unique (K(X) ⊂ int X; for a slope image the
         Krawczyk test proper with the Jacobian decides), and the contraction K(X) ∩ X widened and
-        kept inside X.  Returns (decided, contraction kept, its lo, its hi), per row."""
+        kept inside X.  An empty box whose C is ``step.fragile`` (for M, the matrix C inverts) is
+        excluded for a reason that keeps its C in the certificate.  Returns (decided, contraction
+        kept, its lo, its hi), per row."""
         if empty is None:
             finite = np.all(np.isfinite(K.lo) & np.isfinite(K.hi), axis=1)
             empty = np.any((K.hi < X.lo) | (K.lo > X.hi), axis=1) & finite
@@ -368,11 +379,13 @@ class FKProblem:
         if self.slopes:     # a slope image inside X: the Krawczyk test proper (with the Jacobian) decides
             unique = self._unique(system, X.lo, X.hi, L, C, unique)
         b.status[rows[empty]], b.reason[rows[empty]] = EXCLUDED, 10 if self.slopes else 1
+        kept = empty & fragile(C, M)
+        b.reason[rows[kept]] = 15 if self.slopes else 13
         b.status[rows[unique]], b.reason[rows[unique]] = PROVED, 2
         done = empty | unique
         b.C_rows[rows[done]] = C[done]
         b.C_mask[rows[done]] = True
-        w = (X.hi - X.lo) * WIDEN
+        w = room(X.lo, X.hi)
         nlo = np.maximum(X.lo, np.where(np.isfinite(K.lo), K.lo - w, -np.inf))
         nhi = np.minimum(X.hi, np.where(np.isfinite(K.hi), K.hi + w, np.inf))
         keep = ~done & np.all(nlo <= nhi, axis=1) & (shrink(X.lo, X.hi, nlo, nhi) >= SHRINK)
@@ -391,16 +404,17 @@ class FKProblem:
             L = Interval.from_bounds(b.L.lo[strong], b.L.hi[strong])
             if self.slopes:     # ell(X) from the centred R b_i (its parts at c serve the slope too)
                 rb, rbc, drb = system.rotated_centred(X, parts=True)
-                K, C, _, empty = slope_boxes(system, X, L, rb=rb, compact=True, rbc=rbc, drbs=drb)
+                K, C, M, empty = slope_boxes(system, X, L, rb=rb, compact=True, rbc=rbc, drbs=drb)
             else:
-                K, C = krawczyk_boxes(system, X, L, compact=True)
+                K, C, M = krawczyk_boxes(system, X, L, compact=True, with_jacobian=True)
                 empty = None
-            _, keep, nlo, nhi = self._round(system, b, strong, X, L, K, C, empty)
+            _, keep, nlo, nhi = self._round(system, b, strong, X, L, K, C, empty, M)
             lo, hi = lo.copy(), hi.copy()
             lo[strong[keep]], hi[strong[keep]] = nlo[keep], nhi[keep]
             kmask = np.zeros(len(lo), dtype=bool)
             kmask[strong[keep]] = True
-            b.stages.append(((lo, hi), {"C": (kmask, C[keep].astype(np.float32))}))
+            b.stages.append(((lo, hi), {"C": (kmask, C[keep].astype(np.float32))},
+                             self._stage_reasons(len(lo), strong[keep][fragile(C[keep], M[keep])])))
             strong = strong[keep][shrink(X.lo[keep], X.hi[keep], nlo[keep], nhi[keep]) >= AGAIN]
 
     def _unique(self, system, lo, hi, L: Interval, C, candidates):

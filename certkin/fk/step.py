@@ -29,6 +29,9 @@ from .stacked import StackedFKSystem
 MARGIN = 2.0 ** -30      # uniqueness requires K inside X shrunk by this relative margin
 
 WIDEN = 2.0 ** -20       # contracted boxes are widened by this fraction of the parent's width
+ROOM = 2.0 ** -40        # and by this fraction of their bounds' magnitude (``room``)
+
+KAPPA = 1e5              # a preconditioner with ||C|| ||mid M|| above this is stored in the certificate
 
 ROOT_FACTORS = (1.25, 2.0)   # root boxes: x* ± this times the estimated reach of the Krawczyk image
 SMALL_BATCH = 512        # batches of at most this many boxes use the stacked evaluation (fk.stacked)
@@ -106,6 +109,31 @@ def to_float32(M):
         return np.where(np.abs(M) < 2.0 ** 127, M, 0.0).astype(np.float32).astype(np.float64)
 
 
+def room(lo, hi):
+    """How far a contraction of the boxes [lo, hi] is widened (inside them) so that the checker's own
+    step, rounded its own way, still fits inside: ``WIDEN`` of the width, and ``ROOM`` of the bounds'
+    magnitude (near a singular posture the two were seen 27 units in the last place apart on an HC4
+    pass over a box 6e-10 wide, 2 units on a Krawczyk step over a box 4e-15 wide: more than the first
+    term alone)."""
+    return (hi - lo) * WIDEN + np.maximum(np.abs(lo), np.abs(hi)) * ROOM
+
+
+def fragile(C, M: Interval):
+    """Per box, whether C ≈ mid(M)⁻¹ is too ill-conditioned for the checker to rebuild: ||C||∞ ||mid M||∞
+    > ``KAPPA``.  The checker rebuilds the C of an emptiness or contraction step from its own M (a few
+    units in the last place apart from ours) and rounds it to float32 as we do; near a singular
+    posture the two float64 inverses differ by about the condition number times 2⁻⁵³, enough to turn
+    a float32 value the other way, and a C entry one float32 unit off moves C M by about the
+    condition number times 2⁻²⁴: a verdict our C reached may fail with the checker's.  Such a C is
+    written in the certificate instead (``certificates.fk``); the others are rebuilt.  Measured
+    (docs/certificates.md, "Rebuilt preconditioners"): float32 values differ from 10⁵ on, verdicts
+    failed from 10⁷ on."""
+    with np.errstate(all="ignore"):
+        m = np.abs(0.5 * M.lo + 0.5 * M.hi).sum(axis=2).max(axis=1)
+        kappa = np.abs(C).sum(axis=2).max(axis=1) * m
+    return ~(kappa <= KAPPA)
+
+
 def unique_in(K: Interval, lo, hi):
     """K strictly inside [lo, hi] shrunk by the relative margin (all coordinates)."""
     ilo, ihi = _inner(lo, hi)
@@ -132,7 +160,7 @@ def contract_position(system, X: Interval, L: Interval, rb=None):
         new = Interval.from_bounds(new_lo, new_hi)
     else:
         new, empty, P = _position_gauss_seidel(system, X, L, rb)
-    w = (X.hi[:, :p] - X.lo[:, :p]) * WIDEN  # room for an independent re-computation
+    w = room(X.lo[:, :p], X.hi[:, :p])      # room for an independent re-computation
     lo, hi = X.lo.copy(), X.hi.copy()
     lo[:, :p] = np.where(empty[:, None], X.lo[:, :p], np.maximum(X.lo[:, :p], new.lo - w))
     hi[:, :p] = np.where(empty[:, None], X.hi[:, :p], np.minimum(X.hi[:, :p], new.hi + w))
