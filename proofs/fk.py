@@ -237,13 +237,10 @@ def _regions(system, cl, where):
                        "the postures are not proved distinct")
     if cl.domain is None:
         raise Rejected(f"{where}: an empty domain has no regions")
-    dlo, dhi = cl.domain
-    inside = _inside(blo, bhi, dlo, dhi)
-    outside = _disjoint(blo, bhi, dlo, dhi)
+    inside, outside = _inside(blo, bhi, *cl.domain), _disjoint(blo, bhi, *cl.domain)
     if cl.complete and not np.all(inside | outside):
         raise Rejected(f"{where}: complete, but regions[{np.nonzero(~(inside | outside))[0][0]}] straddles the domain")
-    cl.solutions = int(inside.sum())
-    sols = cl.raw.get("solutions")
+    cl.solutions, sols = int(inside.sum()), cl.raw.get("solutions")
     if not isinstance(sols, list) or [s.get("region") if isinstance(s, dict) else None for s in sols] \
             != np.nonzero(inside)[0].tolist():
         raise Rejected(f"{where}.solutions: must list, in order, the regions whose box lies in the domain")
@@ -252,6 +249,8 @@ def _regions(system, cl, where):
         r = s["region"]
         if not (np.all(lo <= blo[r]) and np.all(bhi[r] <= hi)):
             raise Rejected(f"{where}.solutions[{j}].box: does not enclose the box of region {r}")
+        if np.any(lo < np.nextafter(blo[r], -np.inf)) or np.any(hi > np.nextafter(bhi[r], np.inf)):
+            raise Rejected(f"{where}.solutions[{j}].box: wider than the box of region {r} and its next floats")
 
 
 def _evidence(forest, name, ids, code):

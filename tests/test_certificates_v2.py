@@ -406,3 +406,18 @@ def test_a_preconditioner_is_fragile_when_ill_conditioned():
     assert fragile(C, Interval.from_bounds(M, M)).tolist() == [False, True]
     assert fragile(np.full((1, 2, 2), np.nan), Interval.from_bounds(M[:1], M[:1])).tolist() == [True]
     assert 1e3 <= KAPPA <= 1e6
+
+
+def test_a_widened_solution_box_is_rejected(fk_file, tmp_path):
+    """A solution's box (the one people read) widened to the whole domain, where it holds all six
+    postures, was accepted: it only had to enclose its region.  It may now be wider than the region
+    by the next floats only (what certkin writes, so that its printed decimals lie outside too)."""
+    def widen(h):
+        h["claims"][0]["solutions"][0]["box"] = [list(d) for d in h["claims"][0]["domain"]]
+
+    def one_float(h):
+        box = h["claims"][0]["solutions"][0]["box"]
+        box[0][0] = float(np.nextafter(box[0][0], -np.inf))
+    rejected(forged(fk_file, tmp_path, widen), "solutions[0].box: wider than the box of region 0")
+    rejected(forged(fk_file, tmp_path, one_float), "solutions[0].box: wider than the box of region 0")
+    assert proofs.check(fk_file).ok
