@@ -931,7 +931,7 @@ def test_tracking_step_that_cannot_be_proved_is_not_reported_tracked():
         assert report.ok, report.step
     # the single-call API: unreachable lengths fall back to the full search
     r = forward_kinematics(robot, "1,1,1", track=start)
-    assert not r.tracked and r.complete and r.solutions == []
+    assert not r.tracked and r.complete and r.solutions == [] and r.to_json()["tracked"] is False
     # steps of several per cent of the robot's size: the proofs fail; the full search answers
     robot, plat, poses = _planar_motion(4)
     L = robot.leg_lengths_float(poses[1:3])

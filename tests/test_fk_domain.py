@@ -115,6 +115,7 @@ def test_an_angle_range_ending_on_a_mode_leaves_it_unresolved_never_dropped():
     phi = next(mid(s["pose"]["phi"]) for s in every.solutions)
     r = forward_kinematics(robot, "28.99,13.66,40.53", domain=f"x=-50:50,y=-50:50,phi={phi!r}:{phi + 0.001!r}")
     assert not r.complete and len(r.unresolved) >= 1
+    assert "1 posture proved unique in the box searched lies on an edge of the angle ranges" in r.message
     pose = {"phi": Interval.from_bounds(np.array(-np.pi), np.array(np.pi))}
     assert in_ranges(pose, {"phi": (0.0, 1.0)}) is None           # an enclosure of every angle: cannot tell
 

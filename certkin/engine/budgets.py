@@ -35,7 +35,9 @@ class Budget:
     def __post_init__(self):
         for name in ("max_boxes", "max_seconds", "min_width", "max_memory"):
             if isinstance(getattr(self, name), (str, bytes)):     # (the command line converts its texts first)
-                raise InputError(name, "", f"expected a number, got the text {getattr(self, name)!r}")
+                unit = " of bytes (512 MiB: 512 * 2**20; the command line's --max-memory reads units)" \
+                    if name == "max_memory" else ""
+                raise InputError(name, "", f"expected a number{unit}, got the text {getattr(self, name)!r}")
         for name, check in (("max_boxes", positive_integer), ("max_memory", positive_integer),
                             ("min_width", positive_number)):
             object.__setattr__(self, name, check(getattr(self, name), name))

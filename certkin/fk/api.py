@@ -306,7 +306,7 @@ def _finish(result, system, pending, angle_filter, computed=None):
                               np.stack([s["box"].hi for s in result.solutions]))
             computed = system.pose(R), system.points(R)
         poses, pts = computed
-        kept = []
+        kept, edge = [], 0
         for j, s in enumerate(result.solutions):
             s["pose"] = robot_pose(result.robot, {k: v[j] for k, v in poses.items()})
             s["platform_points"] = [[pts[j, i, c] for c in range(pts.shape[2])] for i in range(pts.shape[1])]
@@ -317,7 +317,12 @@ def _finish(result, system, pending, angle_filter, computed=None):
                 result.filtered.append(s)
             else:
                 pending.append((s["box"].lo, s["box"].hi))
+                edge += 1
         result.solutions = kept
+        if edge and not result.message:
+            result.message = (f"{display.counted(edge, 'posture')} proved unique in the box searched "
+                              f"{'lies' if edge == 1 else 'lie'} on an edge of the angle ranges of the domain (not "
+                              "proved inside or outside them): widen the ranges to decide")
     _cluster_leaves(result, system)
     if pending:
         hull = _clusters(np.array([p[0] for p in pending]), np.array([p[1] for p in pending]))

@@ -63,9 +63,7 @@ class FKResult:
                "solutions": [entry(s, True) for s in self.solutions]
                + [{"status": "cluster", **entry(c, False)} for c in self.clusters],
                "unresolved": [entry(s, False) for s in self.unresolved],
-               "stats": {"boxes": self.boxes, "seconds": round(self.seconds, 6)}}
-        if self.tracked:
-            out["tracked"] = True
+               "stats": {"boxes": self.boxes, "seconds": round(self.seconds, 6)}, "tracked": bool(self.tracked)}
         if self.message:
             out["message"] = self.message
         return out
