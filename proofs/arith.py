@@ -25,8 +25,7 @@ from math import factorial
 import numpy as np
 from mpmath import iv, mp
 
-TINY = 2.0 ** -1022
-INF = np.inf
+TINY, INF = 2.0 ** -1022, np.inf
 PHI = 2.0 ** -53 + 2.0 ** -105   # u (1 + 2u)
 
 

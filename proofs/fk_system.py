@@ -70,8 +70,7 @@ class System:
         self.a_q, self.b_q = [[[exact(v, key) for v in p] for p in robot[key]] for key in ("base", "platform")]
         self.a = [stack([pt[k] for pt in a]) for k in range(self.dim)]       # a[k]: (legs,)
         self.b = [stack([pt[k] for pt in b]) for k in range(self.dim)]
-        self.na2 = _sum([v.sqr() for v in self.a])
-        self.nb2 = _sum([v.sqr() for v in self.b])
+        self.na2, self.nb2 = (_sum([v.sqr() for v in pts]) for pts in (self.a, self.b))
         self.db, self.da = ([v[:, None] - v[None, :] for v in pts] for pts in (self.b, self.a))   # (legs, legs)
         if self.planar:          # d(R b)_k/d(c, s): constants
             self.dconst = {(0, 0): self.b[0], (0, 1): -self.b[1], (1, 0): self.b[1], (1, 1): self.b[0]}
@@ -286,8 +285,7 @@ def _root(x, t):
     r = Iv(np.maximum(t.lo, 0.0), t.hi).sqrt()
     neg, pos = x.meet(-r), x.meet(r)
     ne, pe = neg.empty() | (t.hi < 0), pos.empty() | (t.hi < 0)
-    lo = np.where(ne, pos.lo, neg.lo)
-    hi = np.where(pe, neg.hi, pos.hi)
+    lo, hi = np.where(ne, pos.lo, neg.lo), np.where(pe, neg.hi, pos.hi)
     both = ne & pe
     return Iv(np.where(both, np.inf, lo), np.where(both, -np.inf, hi))
 

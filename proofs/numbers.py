@@ -19,8 +19,7 @@ from .arith import PI, Iv
 from .report import Rejected
 
 _DECIMAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?", re.ASCII)   # (\d alone: any script's digits)
-MAX_TEXT = 200
-MAX_EXPONENT = 400
+MAX_TEXT, MAX_EXPONENT = 200, 400
 
 
 def real(value, where: str) -> float:

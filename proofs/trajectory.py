@@ -385,6 +385,12 @@ def check(cert, report) -> None:
                                 f"constraints: {', '.join(sorted({i['constraint'] for i in first['instances']}))}")
     report.proved.append(", ".join(f"{n} path{'s' * (n > 1)} {s}" for s, n in verdicts.items())
                          + " (each relative to its listed constraints)")
+    if "route" in h:                     # a plan: its paths join route.from to route.to, one after another, all feasible
+        r, paths = h["route"], [claim["path"] for claim in h["claims"]]
+        if not isinstance(r, dict) or [r.get("from")] + [p[-1] for p in paths] != [p[0] for p in paths] + [r.get("to")] \
+                or set(verdicts) != {"feasible"}:
+            raise Rejected("route: the paths must be feasible and join its from to its to, each where the one before ends")
+        report.proved.append(f"a route from {','.join(r['from'])} to {','.join(r['to'])}: the {len(paths)} paths, end to end")
     for c, claim in list(enumerate(h["claims"]))[:5]:
         report.proved.append(f"path {c + 1}: {claim['status']}" + "".join(
             f"; {v['constraint']} (legs {', '.join(map(str, v.get('legs', [])))}) "
@@ -445,8 +451,7 @@ def _leaves(cert, value, n_seg, K, where):
     seg, lo, hi = seg.astype(np.int64), t[:, 0].astype(float), t[:, 1].astype(float)
     if not len(seg):
         raise Rejected(f"{where}: no leaves")
-    first = np.concatenate([[True], seg[1:] != seg[:-1]])
-    last = np.concatenate([seg[1:] != seg[:-1], [True]])
+    first, last = np.concatenate([[True], seg[1:] != seg[:-1]]), np.concatenate([seg[1:] != seg[:-1], [True]])
     starts = seg[first]
     bad = ~np.isfinite(lo) | ~np.isfinite(hi) | ~(lo < hi) | (hi > 1.0) | (first & (lo != 0.0)) | (last & (hi != 1.0))
     bad |= ~first & (lo != np.concatenate([[0.0], hi[:-1]]))

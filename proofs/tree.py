@@ -24,8 +24,7 @@ from .numbers import real
 from .report import Rejected
 
 SPLIT, CUT, CONTRACT, LEAF, CONTINUED = 0, 1, 2, 3, 4
-SPLIT_RATIO = 0.4921875
-BATCH = 8192
+SPLIT_RATIO, BATCH = 0.4921875, 8192
 MAX_DEPTH = 1 << 16     # levels of a segment (genuine trees: a few hundred)
 
 

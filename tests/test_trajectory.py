@@ -353,6 +353,7 @@ def test_planner_finds_a_certified_detour(mel):
     assert f"{len(result.waypoints)} waypoints, {n} segment{'' if n == 1 else 's'} certified feasible" in repr(result)
     report = proofs.check(result.certificate())
     assert report.ok, report.step
+    assert f"a route from {s} to {g}: the {len(result.segments)} paths, end to end" in report.proved
     for w in result.waypoints[1:-1]:               # the grid's poses as exact decimals of 12 digits at most
         assert all(len(v.replace("-", "").replace(".", "").lstrip("0")) <= 12 and "e" not in v for v in w)
 
@@ -376,6 +377,22 @@ def test_planner_rejects_a_colliding_goal(mel):
     result = plan(mel, START, GOAL)
     assert result.status == "infeasible-endpoint" and result.endpoint["pose"] == "goal"
     assert {tuple(v["legs"]) for v in result.endpoint["violations"]} >= {(1, 2), (2, 5)}
+
+
+def test_a_plan_certificate_proves_its_route_joined(mel):
+    """A plan's certificate listed its paths, each re-proved alone: without its last path, or with a gap
+    between two, it still checked (the route from start to goal was not a claim).  It now states the
+    route, and the checker follows it from start to goal."""
+    cert = Doc(plan(mel, "-90,140,520,0,0,0", "55,140,520,0,0,0").certificate())
+    assert cert.header["route"] == {"from": "-90,140,520,0,0,0".split(","), "to": "55,140,520,0,0,0".split(",")}
+    dropped = cert.copy()
+    dropped.header["claims"].pop()
+    gap = cert.copy()
+    gap.header["claims"][1]["path"][0][0] = "-89.9999999"
+    for bad in (dropped, gap):
+        report = bad.check()
+        assert not report.ok and report.step.startswith("route: the paths must be feasible and join"), report.step
+    assert cert.check().ok
 
 
 # ----- certificates and CLI ----------------------------------------------------------------------

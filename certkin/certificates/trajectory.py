@@ -19,8 +19,9 @@ def _states(result):
     return out
 
 
-def trajectory_certificate(results) -> Document:
-    """The certificate of one TrajectoryResult or a list of them (one claim per path)."""
+def trajectory_certificate(results, route=None) -> Document:
+    """The certificate of one TrajectoryResult or a list of them (one claim per path); ``route``: (start,
+    goal) pose texts of a plan whose paths join them end to end (``proofs`` checks that they do)."""
     results = results if isinstance(results, (list, tuple)) else [results]
     robot, claims, first = results[0].robot, [], 0
     for r in results:
@@ -31,4 +32,5 @@ def trajectory_certificate(results) -> Document:
     body = [Array("traj.segment", "<i4", (), lambda: (np.asarray(r.leaves["segment"]) for r in results)),
             Array("traj.t", "<f8", (2,), lambda: (np.stack([r.leaves["tlo"], r.leaves["thi"]], -1) for r in results)),
             Array("traj.state", "|u1", (len(results[0].constraints.instances),), lambda: (_states(r) for r in results))]
-    return Document(header(robot, "trajectory", pose=list(robot.pose_names), claims=claims), body)
+    more = {} if route is None else {"route": {"from": list(route[0]), "to": list(route[1])}}
+    return Document(header(robot, "trajectory", pose=list(robot.pose_names), claims=claims, **more), body)

@@ -72,7 +72,8 @@ class PlanResult:
         """The certificate (``certificates.Document``: ``.write(path)``, or ``proofs.check`` it in memory)."""
         if not self.segments:
             raise ValueError("no path: nothing to certify")
-        return trajectory_certificate(self.segments)
+        found = self.status == "found"          # a route from start to goal, which the checker follows
+        return trajectory_certificate(self.segments, (self.waypoints[0], self.waypoints[-1]) if found else None)
 
 
 MAX_DIVISIONS = 1000
