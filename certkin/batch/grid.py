@@ -93,6 +93,9 @@ def _range(parts, option, name):
             raise InputError(option, name, f"expected a positive count of values, at most {MAX_JOBS}, got {parts[2]!r}")
     elif len(parts) == 1:
         count = 1
+    if count is not None and count > 1 and lo == hi:
+        raise InputError(option, name, f"{count} values of a range of one value would be {count} identical jobs: "
+                                       f"give the value alone ({name}={parts[0]})")
     return lo, hi, count, unit
 
 

@@ -42,6 +42,25 @@ GIVEN_BY = {"id": "--prefix", "command": "--command", "robot": "ROBOT", "lengths
 
 MAX_PREFIX = 127 - len(str(MAX_JOBS))    # an id (at most 128 characters): the prefix, '-' and the job's number
 
+GENERATOR = {"fk": "--lengths", "singular": "--box", "trajectory": "--from/--to"}
+
+
+def _check_job(job: dict, robot, option: str) -> None:
+    """Refuse (naming the option at fault, else ``option``) a job the batch would answer with an error: its options parsed as the
+    batch parses them, then its command run on them with a budget of one box (bad input is refused
+    before anything is searched).  The first and last jobs of a grid hold the ends of every range."""
+    try:
+        module, args = parse_job(job)
+    except InputError as exc:
+        raise InputError(option, "", str(exc)) from None
+    try:
+        args.max_boxes = 1
+        module.compute(args, robot)
+    except InputError as exc:
+        raise InputError(exc.source or option, exc.field, f"{exc.problem} (in job {job['id']}, as certkin batch would "
+                                                          "run it)") from None
+
+
 USED = {"fk": ("lengths",), "singular": ("box", "cells"), "trajectory": ("start", "goal", "count", "seed", "decimals")}
 
 
@@ -79,11 +98,8 @@ def run(args):
         if jobs and key in jobs[0]:
             raise InputError("--set", key, "written by the generator"
                              + (f" (from {GIVEN_BY[key]})" if key in GIVEN_BY else "") + ", not by --set")
-    if extra and jobs:                  # the options of --set are checked once, as the batch will read them
-        try:
-            parse_job({**jobs[0], **extra})
-        except InputError as exc:
-            raise InputError("--set", "", str(exc)) from None
+    for job in ([jobs[0], jobs[-1]] if len(jobs) > 1 else jobs):     # every end of every range, and --set
+        _check_job({**job, **extra}, robot, "--set" if extra else GENERATOR[args.command])
     for job in jobs:
         print(dumps({**job, **extra}))
     return 0

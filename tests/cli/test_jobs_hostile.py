@@ -43,6 +43,16 @@ HOSTILE = [
     (FK + ["--set", "certificate=x"], ["--set", "certificate"]),
     (FK + ["--set", "lengths=1,2,3"], ["--set", "lengths", "--lengths"]),   # once: every job the same lengths
     (FK + ["--set", "id=x"], ["--set", "id", "--prefix"]),                  # once: every job the same id
+    # values the command line refuses were written into every job, each then an error in the batch
+    (G + ["--command", "fk", "--lengths", "L1=２８:30:3,L2=13,L3=40"], ["--lengths", "leg 1", "in job fk-0"]),
+    (G + ["--command", "fk", "--lengths", "L1=1_0:30:3,L2=13,L3=40"], ["--lengths", "leg 1", "plain decimal"]),
+    (G + ["--command", "fk", "--lengths", "L1=-30:-28:2,L2=13,L3=40"], ["--lengths", "cannot be negative"]),
+    (G + ["--command", "fk", "--lengths", "L1=1e-500:1:2,L2=13,L3=40"], ["--lengths", "below 1e-400"]),
+    (G + ["--command", "fk", "--lengths", "L1=28:28:3,L2=13,L3=40"], ["--lengths", "L1", "identical jobs"]),
+    (CELLS[:-1] + ["x=-1:1,y=0:1,phi=0:1e7", "--cells", "2"], ["--box", "phi", "out of range for an angle"]),
+    (FK + ["--set", "domain=x=nan:1"], ["--domain", "x", "not a finite number"]),
+    (FK + ["--set", "track=nan,0,0"], ["--track", "not a finite number"]),
+    (CELLS + ["--cells", "1", "--set", "scale=1,1,1"], ["--scale", "only with --around"]),
     (FK + ["--set", "robot=other.toml"], ["--set", "robot"]),
     (FK + ["--set", "command=singular"], ["--set", "command"]),
     (CELLS + ["--cells", "2", "--set", "box=x=0:1"], ["--set", "box"]),
