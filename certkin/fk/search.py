@@ -321,7 +321,7 @@ class FKProblem:
         kmask = np.zeros(len(lo), dtype=bool)
         kmask[k] = True
         b.stages.append(((lo2, hi2), {"C": (kmask, C[keep].astype(np.float32))},
-                         self._stage_reasons(len(lo), k[fragile(C[keep], J[keep])])))
+                         self._stage_reasons(len(lo), k, C[keep], J, keep)))
         self._again(system, b, k[shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN], lo2, hi2)
         width = np.max((rhi - rlo) / self.scale, axis=1)
         # small boxes still open, contracted or not (a box HC4 made a sliver around a root is proved
@@ -358,11 +358,13 @@ class FKProblem:
             smear[:, :pn] = np.where(rot_first[:, None], -1.0, smear[:, :pn])
         return np.argmax(smear, axis=1)
 
-    def _stage_reasons(self, N, stored=()):
-        """The reasons of a Krawczyk (slope) contraction stage of N boxes: those ``stored`` keep their C
-        in the certificate (``step.fragile``), the others' the checker rebuilds."""
+    def _stage_reasons(self, N, rows=(), C=None, M=None, keep=None):
+        """The reasons of a Krawczyk (slope) contraction stage of N boxes: the contracted ``rows`` whose
+        C (inverting M[keep]) is ``step.fragile`` keep it in the certificate; the checker rebuilds the
+        others'."""
         reasons = np.full(N, 11 if self.slopes else 3)
-        reasons[stored] = 16 if self.slopes else 14
+        if len(rows):
+            reasons[rows[fragile(C, M[keep])]] = 16 if self.slopes else 14
         return reasons
 
     def _round(self, system, b: _Batch, rows, X: Interval, L: Interval, K: Interval, C, empty, M):
@@ -379,8 +381,9 @@ class FKProblem:
         if self.slopes:     # a slope image inside X: the Krawczyk test proper (with the Jacobian) decides
             unique = self._unique(system, X.lo, X.hi, L, C, unique)
         b.status[rows[empty]], b.reason[rows[empty]] = EXCLUDED, 10 if self.slopes else 1
-        kept = empty & fragile(C, M)
-        b.reason[rows[kept]] = 15 if self.slopes else 13
+        if empty.any():
+            e = np.nonzero(empty)[0]
+            b.reason[rows[e[fragile(C[e], M[e])]]] = 15 if self.slopes else 13
         b.status[rows[unique]], b.reason[rows[unique]] = PROVED, 2
         done = empty | unique
         b.C_rows[rows[done]] = C[done]
@@ -414,7 +417,7 @@ class FKProblem:
             kmask = np.zeros(len(lo), dtype=bool)
             kmask[strong[keep]] = True
             b.stages.append(((lo, hi), {"C": (kmask, C[keep].astype(np.float32))},
-                             self._stage_reasons(len(lo), strong[keep][fragile(C[keep], M[keep])])))
+                             self._stage_reasons(len(lo), strong[keep], C[keep], M, keep)))
             strong = strong[keep][shrink(X.lo[keep], X.hi[keep], nlo[keep], nhi[keep]) >= AGAIN]
 
     def _unique(self, system, lo, hi, L: Interval, C, candidates):

@@ -128,9 +128,10 @@ def fragile(C, M: Interval):
     written in the certificate instead (``certificates.fk``); the others are rebuilt.  Measured
     (docs/certificates.md, "Rebuilt preconditioners"): float32 values differ from 10⁵ on, verdicts
     failed from 10⁷ on."""
+    if not len(C):
+        return np.zeros(0, dtype=bool)
     with np.errstate(all="ignore"):
-        m = np.abs(0.5 * M.lo + 0.5 * M.hi).sum(axis=2).max(axis=1)
-        kappa = np.abs(C).sum(axis=2).max(axis=1) * m
+        kappa = np.abs(C).sum(axis=2).max(axis=1) * (0.5 * np.abs(M.lo + M.hi).sum(axis=2).max(axis=1))
     return ~(kappa <= KAPPA)
 
 
