@@ -386,11 +386,12 @@ def check(cert, report) -> None:
     report.proved.append(", ".join(f"{n} path{'s' * (n > 1)} {s}" for s, n in verdicts.items())
                          + " (each relative to its listed constraints)")
     if "route" in h:                     # a plan: its paths join route.from to route.to, one after another, all feasible
-        r, paths = h["route"], [claim["path"] for claim in h["claims"]]
-        if not isinstance(r, dict) or [r.get("from")] + [p[-1] for p in paths] != [p[0] for p in paths] + [r.get("to")] \
-                or set(verdicts) != {"feasible"}:
-            raise Rejected("route: the paths must be feasible and join its from to its to, each where the one before ends")
-        report.proved.append(f"a route from {','.join(r['from'])} to {','.join(r['to'])}: the {len(paths)} paths, end to end")
+        r, paths = h["route"], [claim["path"] for claim in h["claims"]]     # (for one list of constraints)
+        if not isinstance(r, dict) or set(r) != {"from", "to"} or set(verdicts) != {"feasible"} or len(groups) != 1 \
+                or [r["from"]] + [p[-1] for p in paths] != [p[0] for p in paths] + [r["to"]]:
+            raise Rejected("route: the paths must be feasible for the same constraints and join its from to its to")
+        report.proved.append(f"a route from {','.join(r['from'])} to {','.join(r['to'])}: the {len(paths)} paths, end to "
+                             f"end, for {', '.join(sorted({i['constraint'] for i in first['instances']}))}")
     for c, claim in list(enumerate(h["claims"]))[:5]:
         report.proved.append(f"path {c + 1}: {claim['status']}" + "".join(
             f"; {v['constraint']} (legs {', '.join(map(str, v.get('legs', [])))}) "

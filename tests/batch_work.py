@@ -18,14 +18,3 @@ def square_or_die(job, out):
         os.kill(os.getpid(), signal.SIGKILL)
     return {"id": job["id"], "square": job["x"] ** 2}
 
-
-def square_or_die_once(job, out):
-    """``square_or_die``, except that ``boom`` kills only the first worker that runs it (a file in the
-    directory ``out`` remembers it), then answers."""
-    if job["id"] == "boom":
-        try:
-            os.close(os.open(os.path.join(out, "boom-died"), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
-        except FileExistsError:
-            return {"id": job["id"], "square": job["x"] ** 2}
-        os.kill(os.getpid(), signal.SIGKILL)
-    return {"id": job["id"], "square": job["x"] ** 2}

@@ -224,24 +224,6 @@ def test_on_a_dask_cluster_jobs_run_in_chunks_and_a_killing_job_fails_alone():
     assert max(sizes) > 1 and len(sizes) < 400        # chunks, not one task per job
 
 
-def test_on_a_dask_cluster_jobs_moved_after_a_worker_died_count_as_retried(tmp_path):
-    """A task whose worker dies is run again elsewhere by Dask itself; when it then succeeds, its jobs
-    ran twice: ``attempts`` 2 (they were reported as run once)."""
-    distributed = pytest.importorskip("dask.distributed", reason="the dask extra is not installed")
-    from certkin.batch.cluster import run_dask
-    from batch_work import square_or_die_once
-    tasks = [({"id": "boom" if k == 30 else f"j{k}", "x": k}, str(tmp_path)) for k in range(60)]
-    reports = []
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
-        assert not run_dask(tasks, square_or_die_once, distributed.Client(cluster.scheduler_address),
-                            lambda i, v: reports.append((i, v)))
-    values = dict(reports)
-    assert sorted(values) == list(range(60)) and (tmp_path / "boom-died").exists()
-    assert values[30] == {"id": "boom", "square": 900, "attempts": 2}
-    assert all(values[k].get("attempts", 1) in (1, 2) and values[k]["square"] == k * k for k in range(60))
-
-
 def test_chunks_last_about_chunk_seconds_and_suspects_run_alone():
     q = local.TaskQueue(1000)
     assert q.chunk(2) == [0]                                     # nothing timed yet: one job

@@ -421,3 +421,12 @@ def test_a_widened_solution_box_is_rejected(fk_file, tmp_path):
     rejected(forged(fk_file, tmp_path, widen), "solutions[0].box: wider than the box of region 0")
     rejected(forged(fk_file, tmp_path, one_float), "solutions[0].box: wider than the box of region 0")
     assert proofs.check(fk_file).ok
+
+
+def test_a_reports_rules_name_a_rule_once_whether_its_c_is_kept_or_not():
+    from certkin.report.page import tree_evidence
+    robot = load_robot(ROOT / "examples" / "robots" / "seed003-spherical-example-3.toml")
+    result = forward_kinematics(robot, "2.99806464835365,2.10024948004205,2.27700767471315", record="whole")
+    rules = tree_evidence(result.tree)["rules"]
+    assert "excluded: slope-gs-empty" in rules and not any("kept" in r for r in rules)
+    assert sum(rules.values()) == len(result.tree.leaves())

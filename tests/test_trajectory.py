@@ -353,7 +353,8 @@ def test_planner_finds_a_certified_detour(mel):
     assert f"{len(result.waypoints)} waypoints, {n} segment{'' if n == 1 else 's'} certified feasible" in repr(result)
     report = proofs.check(result.certificate())
     assert report.ok, report.step
-    assert f"a route from {s} to {g}: the {len(result.segments)} paths, end to end" in report.proved
+    assert f"a route from {s} to {g}: the {len(result.segments)} paths, end to end, for interference, leg-length, " \
+           "singularity" in report.proved
     for w in result.waypoints[1:-1]:               # the grid's poses as exact decimals of 12 digits at most
         assert all(len(v.replace("-", "").replace(".", "").lstrip("0")) <= 12 and "e" not in v for v in w)
 
@@ -389,9 +390,11 @@ def test_a_plan_certificate_proves_its_route_joined(mel):
     dropped.header["claims"].pop()
     gap = cert.copy()
     gap.header["claims"][1]["path"][0][0] = "-89.9999999"
-    for bad in (dropped, gap):
+    more = cert.copy()
+    more.header["route"]["via"] = ["0", "0", "0", "0", "0", "0"]
+    for bad in (dropped, gap, more):
         report = bad.check()
-        assert not report.ok and report.step.startswith("route: the paths must be feasible and join"), report.step
+        assert not report.ok and report.step.startswith("route: the paths must be feasible for the same constraints"), report.step
     assert cert.check().ok
 
 

@@ -10,8 +10,9 @@ three times, then failed), and then gives up with ``KilledWorker``.  Dask charge
 task its worker held, running or waiting, so a ``KilledWorker`` does not name the job that kills:
 the jobs of that task become *suspects*, each run with nothing else in flight on the cluster (the
 jobs they had finished are found done on disk and skipped), where a death is the job's own and a
-``KilledWorker`` is reported as ``Died``.  The jobs of a task that Dask moved and that then
-succeeded count as retried (``attempts``: one more than the deaths the scheduler counted for it).  The work function writes each job's files, so the output
+``KilledWorker`` is reported as ``Died``.  A task that Dask moved after a death and that then
+succeeded is not counted as retried: Dask charges the death to every task the worker held, running
+or waiting, and does not say which one was running.  The work function writes each job's files, so the output
 directory and the robot files must be reachable by the workers at the same paths (one machine, or a
 shared file system).
 """
@@ -89,9 +90,7 @@ def run_dask(tasks: list, work, client, report) -> bool:
                 try:
                     values, seconds = future.result()
                     queue.jobs, queue.seconds = queue.jobs + len(chunk), queue.seconds + seconds
-                    deaths = client.run_on_scheduler(_deaths, future.key)     # Dask moved it after a death
                 except KilledWorker:
-                    deaths = 0
                     if not alone:           # which job of the task killed its workers is not known
                         suspects.extend(chunk)
                         hand_out()
@@ -100,10 +99,10 @@ def run_dask(tasks: list, work, client, report) -> bool:
                     values = [Died(tries, f"its worker process died {times(tries)} while running it (killed, or "
                                           "out of memory)")]
                 except Exception as exc:    # a bug in the work function
-                    values, deaths = [Died(1, f"{type(exc).__name__}: {exc}")] * len(chunk), 0
+                    values = [Died(1, f"{type(exc).__name__}: {exc}")] * len(chunk)
                 for i, value in zip(chunk, values):
-                    if (alone or deaths) and isinstance(value, dict) and not value.get("resumed"):
-                        value["attempts"] = deaths + (2 if alone else 1)    # run again after a worker died
+                    if alone and isinstance(value, dict) and not value.get("resumed"):
+                        value["attempts"] = 2   # run again after a worker died
                     report(i, value)
                 hand_out()
         except KeyboardInterrupt:
@@ -117,13 +116,6 @@ def _run_chunk_in(directory: str, work, tasks: list):
     output directory relative to it, and a Dask worker was started elsewhere."""
     os.chdir(directory)
     return run_chunk(work, tasks)
-
-
-def _deaths(key, dask_scheduler) -> int:
-    """On the scheduler: how many deaths of the workers running task ``key`` it has survived (it ran
-    again elsewhere: its jobs count as retried)."""
-    task = dask_scheduler.tasks.get(key)
-    return task.suspicious if task is not None else 0
 
 
 def _allowed_failures(dask_scheduler) -> int:

@@ -55,6 +55,8 @@ def _check_job(job: dict, robot, option: str) -> None:
         raise InputError(option, "", str(exc)) from None
     try:
         args.max_boxes = 1
+        if getattr(args, "cells", None):    # one cell (the cell count itself is the batch's to weigh)
+            args.cells = None
         module.compute(args, robot)
     except InputError as exc:
         raise InputError(exc.source or option, exc.field, f"{exc.problem} (in job {job['id']}, as certkin batch would "

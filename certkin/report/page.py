@@ -97,7 +97,8 @@ def tree_evidence(tree, roots=None) -> dict:
         ids = leaves[tree.kind[leaves] == kind]
         for reason in np.unique(tree.reason[ids]):
             n = int(np.sum(tree.reason[ids] == reason))
-            rules[f"{name}: {tree.reason_name(int(ids[tree.reason[ids] == reason][0]))}"] = n
+            rule = f"{name}: {tree.reason_name(int(ids[tree.reason[ids] == reason][0]))}".removesuffix(", C kept")
+            rules[rule] = rules.get(rule, 0) + n    # (one rule, whether the certificate keeps its C or not)
     counts = {name: int(np.sum(tree.kind[leaves] == kind))
               for kind, name in ((PROVED, "proved"), (EXCLUDED, "excluded"), (UNDECIDED, "undecided"))}
     return {"counts": counts, "rules": rules}

@@ -108,3 +108,13 @@ def test_a_full_disk_under_stdout_is_one_line_and_exit_2(argv):
                              text=True, timeout=120, env={**os.environ, "PYTHONPATH": os.pathsep.join(
                                  [str(ROOT), os.environ.get("PYTHONPATH", "")])})
     assert run.returncode == 2 and run.stderr == "certkin: error: standard output: No space left on device\n", run.stderr
+
+
+def test_a_grid_of_cell_jobs_with_cells_set_is_accepted(tmp_path):
+    """``--set cells=3`` on singular jobs: the check of the first and last jobs ran them with a budget of
+    one box, which refused their 27 cells; the jobs are fine (the batch answers them)."""
+    out = subprocess.run([sys.executable, "-m", "certkin", *CELLS, "--cells", "2", "--set", "cells=3"],
+                         capture_output=True, text=True, cwd=ROOT)
+    assert out.returncode == 0, out.stderr
+    jobs = [json.loads(line) for line in out.stdout.splitlines()]
+    assert len(jobs) == 8 and all(j["cells"] == "3" or j["cells"] == 3 for j in jobs)
