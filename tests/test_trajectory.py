@@ -359,6 +359,14 @@ def test_planner_finds_a_certified_detour(mel):
         assert all(len(v.replace("-", "").replace(".", "").lstrip("0")) <= 12 and "e" not in v for v in w)
 
 
+def test_the_planner_reads_0deg_and_0_as_one_angle(mel):
+    """A start written 0deg and a goal written 0 made the angle a coordinate that changes, by a step of
+    0: the grid's scale was 0 and the search gave up after 4000 segments."""
+    result = plan(mel, "-90,140,520,0deg,0,0", "55,140,520,0,0,0")
+    assert result.status == "found" and result.waypoints[-1] == "55,140,520,0,0,0".split(",")
+    assert proofs.check(result.certificate()).ok
+
+
 @pytest.mark.parametrize("divisions", [0, -3, True, 2.5, "6", 10 ** 6])
 def test_planner_refuses_bad_divisions(mel, divisions):
     """divisions=0 once returned `found` with the start pose alone (issue #18): now an input error."""

@@ -165,6 +165,14 @@ def _value(text: str, robot_angle: bool):
         return None
 
 
+def _differ(p: str, q: str, robot_angle: bool) -> bool:
+    """Whether two pose texts name different values (0deg and 0 are the same angle)."""
+    vp, vq = _value(p, robot_angle), _value(q, robot_angle)
+    if vp is None or vq is None:
+        return p != q
+    return vp != vq and not vp[0] == vq[0] == 0
+
+
 def _decimal(q: Fraction, unit: str = "") -> str:
     """The text of an exact value, rounded to 12 significant digits when it has more (a waypoint is
     then that decimal: the pose verified is the pose printed)."""
@@ -182,8 +190,7 @@ class _Grid:
         a = 0.5 * (s_iv.lo + s_iv.hi)
         b = 0.5 * (g_iv.lo + g_iv.hi)
         angle = np.array([n in robot.angle_names for n in robot.pose_names])
-        differs = np.array([_value(p, ang) != _value(q, ang) or p != q and _value(p, ang) is None
-                            for p, q, ang in zip(s_txt, g_txt, angle)])
+        differs = np.array([_differ(p, q, ang) for p, q, ang in zip(s_txt, g_txt, angle)])
         moving = np.nonzero(differs | ~angle)[0]              # positions always, angles that change
         if len(moving) < 2:
             moving = np.arange(len(a))
