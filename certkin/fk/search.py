@@ -315,13 +315,13 @@ class FKProblem:
             K, C, J = krawczyk_boxes(system, X, Lr, with_jacobian=True, rb=rb[rest], compact=True)
             empty = None
             b.split[rest] = self._planar_split(system, J, rlo, rhi)
-        done, keep, nlo, nhi = self._round(system, b, rest, X, Lr, K, C, empty, J)
+        done, keep, nlo, nhi, kept = self._round(system, b, rest, X, Lr, K, C, empty, J)
         k = rest[keep]
         lo2[k], hi2[k] = nlo[keep], nhi[keep]
         kmask = np.zeros(len(lo), dtype=bool)
         kmask[k] = True
         b.stages.append(((lo2, hi2), {"C": (kmask, C[keep].astype(np.float32))},
-                         self._stage_reasons(len(lo), k, C[keep], J, keep)))
+                         self._stage_reasons(len(lo), k[kept[keep]])))
         self._again(system, b, k[shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN], lo2, hi2)
         width = np.max((rhi - rlo) / self.scale, axis=1)
         # small boxes still open, contracted or not (a box HC4 made a sliver around a root is proved
@@ -358,13 +358,11 @@ class FKProblem:
             smear[:, :pn] = np.where(rot_first[:, None], -1.0, smear[:, :pn])
         return np.argmax(smear, axis=1)
 
-    def _stage_reasons(self, N, rows=(), C=None, M=None, keep=None):
-        """The reasons of a Krawczyk (slope) contraction stage of N boxes: the contracted ``rows`` whose
-        C (inverting M[keep]) is ``step.fragile`` keep it in the certificate; the checker rebuilds the
-        others'."""
+    def _stage_reasons(self, N, stored=()):
+        """The reasons of a Krawczyk (slope) contraction stage of N boxes: those ``stored`` keep their C
+        in the certificate (``step.fragile``), the others' the checker rebuilds."""
         reasons = np.full(N, 11 if self.slopes else 3)
-        if len(rows):
-            reasons[rows[fragile(C, M[keep])]] = 16 if self.slopes else 14
+        reasons[stored] = 16 if self.slopes else 14
         return reasons
 
     def _round(self, system, b: _Batch, rows, X: Interval, L: Interval, K: Interval, C, empty, M):
@@ -373,7 +371,7 @@ class FKProblem:
         Krawczyk test proper with the Jacobian decides), and the contraction K(X) ∩ X widened and
         kept inside X.  An empty box whose C is ``step.fragile`` (for M, the matrix C inverts) is
         excluded for a reason that keeps its C in the certificate.  Returns (decided, contraction
-        kept, its lo, its hi), per row."""
+        kept, its lo, its hi, C fragile), per row."""
         if empty is None:
             finite = np.all(np.isfinite(K.lo) & np.isfinite(K.hi), axis=1)
             empty = np.any((K.hi < X.lo) | (K.lo > X.hi), axis=1) & finite
@@ -381,9 +379,8 @@ class FKProblem:
         if self.slopes:     # a slope image inside X: the Krawczyk test proper (with the Jacobian) decides
             unique = self._unique(system, X.lo, X.hi, L, C, unique)
         b.status[rows[empty]], b.reason[rows[empty]] = EXCLUDED, 10 if self.slopes else 1
-        if empty.any():
-            e = np.nonzero(empty)[0]
-            b.reason[rows[e[fragile(C[e], M[e])]]] = 15 if self.slopes else 13
+        kept = fragile(C, M) if (empty.any() or not unique.all()) else np.zeros(len(rows), dtype=bool)
+        b.reason[rows[empty & kept]] = 15 if self.slopes else 13
         b.status[rows[unique]], b.reason[rows[unique]] = PROVED, 2
         done = empty | unique
         b.C_rows[rows[done]] = C[done]
@@ -392,7 +389,7 @@ class FKProblem:
         nlo = np.maximum(X.lo, np.where(np.isfinite(K.lo), K.lo - w, -np.inf))
         nhi = np.minimum(X.hi, np.where(np.isfinite(K.hi), K.hi + w, np.inf))
         keep = ~done & np.all(nlo <= nhi, axis=1) & (shrink(X.lo, X.hi, nlo, nhi) >= SHRINK)
-        return done, keep, nlo, nhi
+        return done, keep, nlo, nhi, kept
 
     def _again(self, system, b: _Batch, strong, lo, hi):
         """Boxes that Krawczyk shrank by ``AGAIN`` or more (near a root: quadratic convergence) get up
@@ -411,13 +408,13 @@ class FKProblem:
             else:
                 K, C, M = krawczyk_boxes(system, X, L, compact=True, with_jacobian=True)
                 empty = None
-            _, keep, nlo, nhi = self._round(system, b, strong, X, L, K, C, empty, M)
+            _, keep, nlo, nhi, kept = self._round(system, b, strong, X, L, K, C, empty, M)
             lo, hi = lo.copy(), hi.copy()
             lo[strong[keep]], hi[strong[keep]] = nlo[keep], nhi[keep]
             kmask = np.zeros(len(lo), dtype=bool)
             kmask[strong[keep]] = True
             b.stages.append(((lo, hi), {"C": (kmask, C[keep].astype(np.float32))},
-                             self._stage_reasons(len(lo), strong[keep], C[keep], M, keep)))
+                             self._stage_reasons(len(lo), strong[keep][kept[keep]])))
             strong = strong[keep][shrink(X.lo[keep], X.hi[keep], nlo[keep], nhi[keep]) >= AGAIN]
 
     def _unique(self, system, lo, hi, L: Interval, C, candidates):
