@@ -290,7 +290,7 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
     (``CELL_BYTES`` each), or whose answers take longer than ``max_seconds`` (``CELL_SECONDS`` each,
     kept from the search's time), are refused (``InputError`` naming ``n``); with ``certificate``
     (the answers are to be written as one), so are more cells than the header a checker reads holds
-    (``certificates.singularity.fits_header``), before anything is searched."""
+    (``certificates.singularity.least_header``), before anything is searched."""
     robot = as_robot(robot)
     budget = make_budget(budgets.SINGULARITY, budget, max_boxes=max_boxes, max_seconds=max_seconds,
                          min_width=min_width, max_memory=max_memory)

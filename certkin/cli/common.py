@@ -179,7 +179,10 @@ def budget(args):
                   max_memory=args.max_memory)
 
 
-def add_budget(p, default, boxes_help="box budget", seconds_help="time budget of the whole command's solving (the pictures of --plot and --report are drawn after it)",
+SECONDS_HELP = "time budget of the whole command's solving (the pictures of --plot and --report are drawn after it)"
+
+
+def add_budget(p, default, boxes_help="box budget", seconds_help=SECONDS_HELP,
                width_help="smallest scaled box width that is still split"):
     boxes, secs, width = default["max_boxes"], default["max_seconds"], default["min_width"]
     p.add_argument("--max-boxes", type=count(), default=boxes, metavar="N", help=f"{boxes_help} (default {boxes})")

@@ -46,9 +46,10 @@ GENERATOR = {"fk": "--lengths", "singular": "--box", "trajectory": "--from/--to"
 
 
 def _check_job(job: dict, robot, option: str) -> None:
-    """Refuse (naming the option at fault, else ``option``) a job the batch would answer with an error: its options parsed as the
-    batch parses them, then its command run on them with a budget of one box (bad input is refused
-    before anything is searched).  The first and last jobs of a grid hold the ends of every range."""
+    """Refuse (naming the option at fault, else ``option``) a job the batch would answer with an error:
+    its options parsed as the batch parses them, then its command run on them with a budget of one box
+    and one cell (bad input is refused before anything is searched).  The first and last jobs of a
+    grid hold the ends of every range."""
     try:
         module, args = parse_job(job)
     except InputError as exc:
