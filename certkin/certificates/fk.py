@@ -153,10 +153,10 @@ def record_sink(n: int, reasons) -> Segments:
     or a step whose C is kept (the checker rebuilds the others), a P only for an ``hc4`` contraction
     (it marks ``hc4-position``)."""
     hc4 = reasons.index("hc4")
-    with_C = [reasons.index(r) for r in reasons if "C kept" in r]
+    with_C = _WANTED[tuple(k for k, r in enumerate(reasons) if "C kept" in r)]   # (reasons < 0 wrap past 127)
 
     def kept(name, kind, reason):
-        return (kind == PROVED) | np.isin(reason, with_C) if name == "C" else \
+        return (kind == PROVED) | with_C[reason.astype(np.uint8)] if name == "C" else \
             (kind == CONTRACTED) & (reason == hc4) if name == "P" else np.ones(len(kind), bool)
     return Segments(n, lambda tree: _rules(tree, _Proved(n, {}), n), kept)
 
