@@ -99,7 +99,7 @@ def check(cert, report) -> None:
 
     def visit(kind, code, ids, lo, hi, root, child):
         X, Y = Iv(lo[:, 0:1], hi[:, 0:1]), Iv(lo[:, 1:2], hi[:, 1:2])
-        r2 = ((X - legs.u[0]).sqr() + (Y - legs.u[1]).sqr()) + H2[root]
+        r2 = (((X - legs.u[0]).sqr() + (Y - legs.u[1]).sqr()) + H2[root]).meet(Iv(0.0, np.inf))   # squares: >= 0
         if code == 0:
             bad = ~np.all((r2.lo >= legs.rmin2.hi) & (r2.hi <= legs.rmax2.lo), axis=1)
         elif code == 1:

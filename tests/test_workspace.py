@@ -239,6 +239,23 @@ def test_planar_lens_of_two_disks(phi):
     checked(r)
 
 
+ONE_CENTRE = {"name": "three legs, one centre", "kind": "planar-3rpr",
+              "base": [["0", "0"], ["10", "0"], ["5", "8"]], "platform": [["0", "0"], ["10", "0"], ["5", "8"]],
+              "limits": {"leg_length": [["0", "5"], ["0", "5"], ["0", "5"]]}}
+
+
+@pytest.mark.parametrize("robot, phi", [(ONE_CENTRE, "0"), ({**EX2, "limits": {"leg_length": [["0", "30"], ["0", "35"], ["0", "28"]]}}, "0.3")])
+def test_boxes_holding_a_leg_centre_with_zero_minimum_length_check(robot, phi):
+    """A leg of minimum length 0 whose centre lies in an inside box: the checker's squared distance
+    there is [0, ...], never below 0 (it was [-2^-1022, ...] and the box's claim was refused).  At phi = 0
+    the one-centre robot's workspace is the disk of radius 5: area 25 pi."""
+    r = workspace_section(robot_from_dict(robot), phi, min_width=1e-2)
+    assert r.status == "non-empty"
+    if robot is ONE_CENTRE:
+        assert mpmath.mpf(r.inner) <= 25 * mpmath.pi <= mpmath.mpf(r.outer)
+    checked(r)
+
+
 def test_planar_disjoint_disks_are_empty():
     r = workspace_section(robot_from_dict(EX2), "30deg", min_width=1e-2)
     assert r.status == "empty" and r.domain is None and float(r.area.hi) == 0.0
