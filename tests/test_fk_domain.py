@@ -151,6 +151,23 @@ def test_a_posture_on_the_domains_boundary_is_unresolved_with_the_reason():
     assert "1 posture lies across the boundary of the domain" in r.message
 
 
+FACE = {"name": "posture (0, 0, 0) at lengths 5, 10, 13", "kind": "planar-3rpr",
+        "base": [["3", "4"], ["10", "8"], ["-5", "16"]], "platform": [["0", "0"], ["4", "0"], ["0", "4"]]}
+
+
+@pytest.mark.parametrize("domain", ["x=-5:0", "y=-3:0"])
+def test_a_cluster_on_a_face_of_the_domain_says_so(domain):
+    """The posture x = y = phi = 0 (exact: |a_i - b_i| = 5, 10, 13, a regular posture) on the upper face of
+    the domain: the search ends there in a cluster, which holds it, and the note names the face."""
+    from certkin import robot_from_dict
+    r = forward_kinematics(robot_from_dict(FACE), "5,10,13", domain=domain)
+    assert r.complete and len(r.clusters) == 1
+    box = r.clusters[0]["box"]
+    assert np.all(box.lo[:2] <= 0) and np.all(box.hi[:2] >= 0)
+    assert "a posture on a face of the domain" in r.message
+    assert proofs.check(r.certificate()).ok
+
+
 def test_a_domain_names_only_the_variables_it_narrows():
     """--domain "x=30:40" was refused (every variable needed); the modes it holds are those of the full
     answer with x in [30, 40] (the three at x = 30.1, 34.9 and 38.5), each proved, complete."""

@@ -357,6 +357,11 @@ def _cluster_note(result) -> str:
         why = "the postures of the length ranges could not be told apart there (narrower ranges resolve more)"
     else:
         why = "a singular pose, postures closer than the resolution, or a continuum"
+    k = result.system.n_pos                         # a position face of the user's domain: a posture on it
+    if result.user_domain and any(np.any(c["box"].lo[:k] <= dlo[:k]) or np.any(c["box"].hi[:k] >= dhi[:k])
+                                  for c in result.clusters):
+        why = ("a posture on a face of the domain (not proved inside or outside it: move the domain's bounds "
+               f"off it to decide), {why}")
     n = len(result.clusters)
     return (f"{display.counted(n, 'cluster')} at the resolution limit, {'each ' if n > 1 else ''}holding any number "
             f"of postures: {why}{share}")
