@@ -25,7 +25,7 @@ def _pose(robot, result, z) -> list:
 
 def workspace_verdict(result) -> str:
     """The verdict in one line (the inner bound rounded down and never below 0, as on the terminal)."""
-    stopped = "; a budget stopped the paving before its resolution" if result.stats.get("exhausted") else ""
+    stopped = "; a budget or Ctrl-C stopped the paving before its resolution" if result.stats.get("exhausted") else ""
     if isinstance(result, VolumeResult):
         vin, vout = result.volume()
         return (f"Workspace volume {result.status}: between {lower(max(vin, 0.0))} and {upper(vout)} "

@@ -79,5 +79,5 @@ def test_the_report_says_when_a_budget_stopped_the_paving(tmp_path):
     from certkin.workspace import workspace_section
     robot = load_robot(MICRO)
     cut = workspace_section(robot, "0,0,0", "20005", max_boxes=200)
-    assert workspace_verdict(cut).endswith("(certified bracket; a budget stopped the paving before its resolution).")
+    assert workspace_verdict(cut).endswith("(certified bracket; a budget or Ctrl-C stopped the paving before its resolution).")
     assert "budget" not in workspace_verdict(workspace_section(robot, "0,0,0", "20005", min_width=0.05))
