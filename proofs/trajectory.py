@@ -1,16 +1,13 @@
 """Trajectory claims (``"problem": "trajectory"``, docs/certificates.md).
 
-A claim is one path, a polyline of exact poses P_0 … P_n.  On segment k the
-pose is P_k + t (P_{k+1} − P_k), t ∈ [0, 1] (angles interpolated linearly).
-Leg i is the segment [A_i, B_i], l_i = B_i − A_i: planar l_i = (x, y) +
-R(phi) p_i − b_i (z = 0); spherical l_i = Q b_i − a_i; Gough l_i = C + R b_i − a_i
-(R, Q of ``models``).  The constraint instances are rebuilt from the
-robot's ``limits``, in this order (a claim lists a subsequence):
-``leg-length`` (ρ_min² ≤ |l_i|² ≤ ρ_max²), ``joints`` (base then platform;
-per facet normal n: n·l_i ≥ 0 or −(R n)·l_i ≥ 0; per cone (axis a,
-half-angle α ≤ 90°): g = a·u ≥ 0 and g² − |a|² cos²α |l_i|² ≥ 0, u = l_i or
-−Rᵀ l_i), ``interference`` (pairs i < j: segment distance ≥ r_i + r_j),
-``singularity`` (det(A) ≠ 0).
+A claim is one path, a polyline of exact poses P_0 … P_n.  On segment k the pose is P_k + t (P_{k+1} − P_k),
+t ∈ [0, 1] (angles interpolated linearly).  Leg i is the segment [A_i, B_i], l_i = B_i − A_i: planar
+l_i = (x, y) + R(phi) p_i − b_i (z = 0); spherical l_i = Q b_i − a_i; Gough l_i = C + R b_i − a_i (R, Q of
+``models``).  The constraint instances are rebuilt from the robot's ``limits``, in this order (a claim lists
+a subsequence, each constraint's instances all or none): ``leg-length`` (ρ_min² ≤ |l_i|² ≤ ρ_max²), ``joints``
+(base then platform; per facet normal n: n·l_i ≥ 0 or −(R n)·l_i ≥ 0; per cone (axis a, half-angle α ≤ 90°):
+g = a·u ≥ 0 and g² − |a|² cos²α |l_i|² ≥ 0, u = l_i or −Rᵀ l_i), ``interference`` (pairs i < j: segment
+distance ≥ r_i + r_j), ``singularity`` (det(A) ≠ 0).
 
 Leaf states: ``+`` satisfied at every t of the leaf, ``-`` violated at every
 t (for ``singularity``: the sign of det A), ``?`` nothing.  The checker
@@ -437,6 +434,9 @@ def _instances(geo, value, where):
             raise Rejected(f"{where}[{k}]: {item!r:.80} is {why}")
         out.append(canon[pos])
         pos += 1
+    names, ids = {i.constraint for i in out}, set(map(id, out))    # a constraint's instances: all of them or none
+    if missing := [c.json for c in canon if c.constraint in names and id(c) not in ids]:
+        raise Rejected(f"{where}: {missing[0]!r:.80} is missing (the instances of a constraint are listed all or none)")
     return out
 
 

@@ -125,6 +125,22 @@ def test_constraint_subset_accepted_and_order_enforced():
     rejected(bad, "instances[0]", "not implied")
 
 
+def test_a_claim_without_some_instances_of_a_constraint_is_rejected(infeasible):
+    """A forger drops the two interference pairs the README's motion is proved to collide on (legs 1-2
+    and 2-5) and calls the rest feasible: every other leaf is honest, but the claim no longer lists all
+    the instances of interference that the robot's limits define."""
+    bad = infeasible.copy()
+    claim = bad.claim()
+    drop = [column(claim, "interference", legs) for legs in ([1, 2], [2, 5])]
+    keep = [k for k in range(len(claim["instances"])) if k not in drop]
+    claim["instances"] = [claim["instances"][k] for k in keep]
+    state = bad.arrays["traj.state"][:, keep]
+    assert not np.any(state[:, :-1] == MINUS)     # what is left would be feasible but for the rule (last: det's sign)
+    bad.arrays["traj.state"] = np.ascontiguousarray(state)
+    claim["status"], claim["violations"] = "feasible", []
+    rejected(bad, "instances", "'legs': [1, 2]", "all or none")
+
+
 def _outward(cert):
     """The violation bounds rounded outward (what a sound writer gives when s = k + t is not a float)."""
     for claim in cert.header["claims"]:
@@ -321,12 +337,12 @@ def test_many_undecided_leaves_against_many_violations_are_checked_in_a_sweep(fe
     import time
     cert = feasible.copy()
     claim = cert.claim()
-    claim.update(instances=[claim["instances"][0]], status="undecided", leaves=[0, 20000])
+    claim.update(instances=[claim["instances"][-1]], status="undecided", leaves=[0, 20000])   # (singularity: whole)
     edges = np.linspace(0.0, 1.0, 20001)
     cert.arrays.update({"traj.segment": np.zeros(20000, np.int32), "traj.t": np.stack([edges[:-1], edges[1:]], 1),
                         "traj.state": np.zeros((20000, 1), np.uint8)})
     key = {k: claim["instances"][0][k] for k in ("constraint", "legs", "detail") if k in claim["instances"][0]}
-    cert.arrays["traj.state"][0] = PLUS                          # leaf 0 proved (the path is feasible)
+    cert.arrays["traj.state"][0] = feasible.arrays["traj.state"][0, -1]     # leaf 0 proved (det's sign there)
     tiny = [float(np.nextafter(0.0, 1.0)) * (2 * k + 1) for k in range(8000)]      # disjoint, within leaf 0
     claim["violations"] = [{**key, "s": [x, x], "certain": False} for x in tiny] + \
         [{**key, "s": [float(edges[1]), 1.0], "certain": False}]
