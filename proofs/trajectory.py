@@ -205,16 +205,13 @@ class Frame:
                 term = pose[i] if s > 0 else -pose[i]
                 theta = term if theta is None else theta + term
             self.cs.append(sincos(theta))
-        if geo.model.name == "planar-3rpr/1":
+        if geo.model.name == "planar-3rpr/1":        # turned: R b_i; legs: centre + R b_i - a_i
             (s, c), (x, y) = self.cs[0], pose[:2]
-            self.legs = [((x + (c * px - s * py)) - bx, (y + (s * px + c * py)) - by, Iv(0.0))
-                         for (bx, by, _), (px, py) in zip(geo.base, geo.platform)]
+            self.turned = [(c * px - s * py, s * px + c * py, Iv(0.0)) for px, py in geo.platform]
+            self.legs = [((x + r[0]) - bx, (y + r[1]) - by, Iv(0.0)) for (bx, by, _), r in zip(geo.base, self.turned)]
         else:
-            centre = [pose[i] for i in geo.position]
-            self.legs = []
-            for a, b in zip(geo.base, geo.platform):
-                rb = self.rot(b)
-                self.legs.append(tuple(((centre[k] + rb[k]) if centre else rb[k]) - a[k] for k in range(3)))
+            centre, self.turned = [pose[i] for i in geo.position], [self.rot(b) for b in geo.platform]
+            self.legs = [tuple((centre[k] + r[k] if centre else r[k]) - a[k] for k in range(3)) for a, r in zip(geo.base, self.turned)]
         self._sq = {}
 
     def rot(self, v):
@@ -285,9 +282,11 @@ def interference(sp, insts):
                for k in range(3))
     legs = lambda fr, idx: tuple(_stack([fr.legs[i][k] for i in idx]) for k in range(3))  # noqa: E731
     sq = lambda fr, idx: _stack([fr.leg_sq(i) for i in idx])  # noqa: E731
+    gap = lambda fr: tuple(_stack([(fr.turned[j][k] - fr.turned[i][k]) - (fr.geo.base[j][k] - fr.geo.base[i][k])
+                                   for i, j in zip(I, J)]) for k in range(3))  # noqa: E731  l_j - l_i, without the centre
 
     def line(fr):
-        cr = cross(legs(fr, I), legs(fr, J))
+        cr = cross(legs(fr, I), gap(fr))                      # l_i x l_j = l_i x (l_j - l_i)
         d = _dot(w0, cr)
         return [d * d - _norm2(cr) * r2, _norm2(cr)]
 
@@ -300,12 +299,13 @@ def interference(sp, insts):
         return [s_num, s_num - dl, t_num, t_num - dl]
 
     def ends(fr):
-        u, v, w, nu, nv = legs(fr, I), legs(fr, J), w0, sq(fr, I), sq(fr, J)
-        out = []
-        for q, sg, n2 in ((w, v, nv), (tuple(w[k] + u[k] for k in range(3)), v, nv),
-                          (tuple(-w[k] for k in range(3)), u, nu), (tuple(v[k] - w[k] for k in range(3)), u, nu)):
+        u, v, w, nu, nv, out = legs(fr, I), legs(fr, J), w0, sq(fr, I), sq(fr, J), []
+        c1, m = cross(u, gap(fr)), tuple(-x for x in w)      # c1 = u x v; (w + u) x v = w x v + c1, (v - w) x u = -w x u - c1
+        a, b = cross(w, v), cross(m, u)
+        for q, sg, n2, qs in ((w, v, nv, a), (tuple(w[k] + u[k] for k in range(3)), v, nv, tuple(a[k] + c1[k] for k in range(3))),
+                              (m, u, nu, b), (tuple(v[k] - w[k] for k in range(3)), u, nu, tuple(b[k] - c1[k] for k in range(3)))):
             tau = _dot(q, sg)
-            out += [tau, tau - n2, n2, _norm2(cross(q, sg)) - n2 * r2,
+            out += [tau, tau - n2, n2, _norm2(qs) - n2 * r2,
                     _norm2(q) - r2, _norm2(tuple(q[k] - sg[k] for k in range(3))) - r2]
         return out
 

@@ -141,6 +141,27 @@ def test_a_claim_without_some_instances_of_a_constraint_is_rejected(infeasible):
     rejected(bad, "instances", "'legs': [1, 2]", "all or none")
 
 
+PARALLEL = {"name": "legs 1 and 2 stay parallel", "kind": "gough-stewart",
+            "base": [["0", "0", "0"], ["10", "0", "0"], ["50", "50", "0"], ["-50", "50", "0"], ["-50", "-50", "0"], ["50", "-50", "0"]],
+            "platform": [["0", "0", "0"], ["10", "0", "0"], ["20", "20", "0"], ["-20", "20", "0"], ["-20", "-20", "0"], ["20", "-20", "0"]],
+            "limits": {"leg_radius": ["0.2496880846", "0.2496880846", "0.1", "0.1", "0.1", "0.1"]}}
+
+
+def test_parallel_legs_grazing_each_other_check():
+    """Legs 1 and 2 are l = (20, 1, z) from (0, 0, 0) and (10, 0, 0) for every pose (20, 1, z, 0, 0, 0):
+    parallel, their distance 10 sqrt(1 + z^2) / sqrt(401 + z^2), least at z = 0 (t = 1/2), 2.4e-10 above
+    r_1 + r_2.  The checker's l_1 x l_2 was wide there (l_1 and l_2 each hold the moving centre) and its
+    bisection ran out: l_1 x l_2 is now l_1 x (l_2 - l_1), and l_2 - l_1 does not hold the centre."""
+    mp.dps = 50
+    margin = 10 / mp.sqrt(401) - 2 * mp.mpf("0.2496880846")
+    assert 2e-10 < margin < 3e-10
+    r = verify_trajectory(robot_from_dict(PARALLEL), "20,1,5,0,0,0", "20,1,-5,0,0,0", constraints=["interference"])
+    assert r.status == "feasible"
+    lo, hi = next(m["margin"] for m in r.margins if m["legs"] == [1, 2])
+    assert mp.mpf(lo) <= margin <= mp.mpf(hi)
+    assert proofs.check(r.certificate()).ok
+
+
 def _outward(cert):
     """The violation bounds rounded outward (what a sound writer gives when s = k + t is not a float)."""
     for claim in cert.header["claims"]:
