@@ -282,6 +282,21 @@ def test_base_joint_facet_violation_has_the_exact_instant(mel):
     checked(ok)
 
 
+def test_a_feasible_margin_is_never_printed_below_zero(mel):
+    """Leg 6's base cone is 2e-8 rad wider than the largest angle the leg makes with its axis on this motion
+    (half-angle taken from a 30-digit minimisation): the verdict proves the margin >= 0, and the margin's
+    enclosure, which reached -4.9e-6, now says so too."""
+    cone = {"axis": ["0", "0", "1"], "half_angle": "0.217052100307354236241115246132"}
+    data = {"kind": "gough-stewart", "base": [list(p) for p in mel.base], "platform": [list(p) for p in mel.platform],
+            "limits": {"base_joints": [{"axis": ["0", "0", "1"], "half_angle": "80deg"}] * 5 + [cone]}}
+    r = verify_trajectory(robot_from_dict(data), "-10,-9,533,10deg,-10deg,28deg", "30,54,542,-26deg,-6deg,17deg",
+                          constraints=["joints"])
+    assert r.status == "feasible"
+    checked(r)
+    (lo, hi), = [m["margin"] for m in r.margins if m["legs"] == [6]]
+    assert 0.0 <= lo <= hi < 1e-7
+
+
 def test_polyline_reports_global_parameter(mel):
     result = verify_trajectory(mel, START, GOAL, waypoints=["7.5,21,500,85deg,10deg,0"],
                                constraints=["interference"])

