@@ -124,7 +124,7 @@ def gough_rows(pose, base, platform):
     for a, b in zip(base, platform):
         rb = rot("z", c1, s1, rot("x", c2, s2, rot("z", c3, s3, b)))
         l = ((x + rb[0]) - a[0], (y + rb[1]) - a[1], (z + rb[2]) - a[2])
-        rows.append(list(l) + list(cross(rb, l)))
+        rows.append(list(l) + list(cross(rb, (x - a[0], y - a[1], z - a[2]))))   # R b x l = R b x (C - a): R b x R b = 0
     return rows
 
 
@@ -196,7 +196,7 @@ def det_interval(M):
     D = det(M)
     if len(M) < 4:
         return D
-    E, ok = _det_elimination(arith.stack([arith.stack(row) for row in M]))
+    E, ok = _det_elimination(arith.stack([arith.stack(row) for row in M], axis=1))   # (N, row, column), as A
     return Iv(np.where(ok, np.maximum(D.lo, E.lo), D.lo), np.where(ok, np.minimum(D.hi, E.hi), D.hi))
 
 

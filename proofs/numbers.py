@@ -1,13 +1,11 @@
 """Reading the numbers of a certificate exactly.
 
 - Floats (JSON numbers, body arrays) denote their exact binary64 value.
-- Decimal strings (geometry, leg lengths, requested boxes, paths) denote
-  their exact rational value: ``exact`` gives the ``Fraction``, ``enclose``
-  the tightest float interval (``arith.Iv.const``).  An angle may carry the
-  suffix ``deg``: its value q·π/180 is enclosed with the interval π.
+- Decimal strings (geometry, leg lengths, requested boxes, paths) denote their exact rational value: ``exact``
+  gives the ``Fraction``, ``enclose`` the tightest float interval (``arith.Iv.const``).  An angle may carry the
+  suffix ``deg``: q·π/180 lies between q·π₋/180 and q·π₊/180 (π₋ < π < π₊, 220 bits), each enclosed exactly.
 
-Strings are limited in length and exponent, so that a hostile file cannot
-make the checker build gigantic integers.
+Strings are limited in length and exponent, so that a hostile file cannot make the checker build gigantic integers.
 """
 from __future__ import annotations
 
@@ -15,7 +13,7 @@ import math
 import re
 from fractions import Fraction
 
-from .arith import PI, Iv
+from .arith import _PI_A, _PI_B, Iv
 from .report import Rejected
 
 _DECIMAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?", re.ASCII)   # (\d alone: any script's digits)
@@ -56,7 +54,8 @@ def angle(value, where: str):
 def enclose(value, where: str, degrees_allowed: bool = False) -> Iv:
     """The tightest float interval holding a decimal (an angle in degrees: q·π/180, enclosed)."""
     q, deg = angle(value, where) if degrees_allowed else (exact(value, where), False)
-    return Iv.const(q) * PI * Iv.const(Fraction(1, 180)) if deg else Iv.const(q)
+    a, b = sorted((q * _PI_A / 180, q * _PI_B / 180)) if deg else (q, q)
+    return Iv(Iv.const(a).lo, Iv.const(b).hi)
 
 
 def canonical(value) -> str:

@@ -139,6 +139,19 @@ def test_pi_and_decimals_are_enclosed():
         assert e.hi == e.lo or np.nextafter(e.lo, np.inf) == e.hi
 
 
+def test_degrees_are_enclosed_in_one_float_step():
+    """q·π/180 for q = -360.0, -359.9, ..., 360.0 (and 0, 1e-300, 1e300): inside the checker's enclosure
+    (mpmath, 60 digits), which is at most one float wide.  A wider one (π as an interval, two roundings)
+    did not fit inside the box certkin proved (its own tightest enclosure) for a third of these values."""
+    from proofs.numbers import enclose
+    mp.dps = 60
+    for text in [f"{k / 10}" for k in range(-3600, 3601)] + ["0", "1e-300", "1e300", "-45"]:
+        e = enclose(text + "deg", "phi", True)
+        exact = mpf(Fraction(text).numerator) / Fraction(text).denominator * mp.pi / 180
+        assert mpf(float(e.lo)) <= exact <= mpf(float(e.hi)), text
+        assert e.hi == e.lo or np.nextafter(e.lo, np.inf) == e.hi, text
+
+
 @pytest.mark.parametrize("x", [np.array([np.nan]), np.array([np.inf])])
 def test_nan_proves_nothing(x):
     v = Iv(x, x) + 1.0

@@ -111,6 +111,32 @@ def test_gough_box_away_from_singularities():
     checked(r)
 
 
+GS_SYM = {"name": "gs-sym", "kind": "gough-stewart",
+          "base": [["10.0", "0.0", "0"], ["-1.7365", "9.8481", "0"], ["-5.0", "8.6603", "0"], ["-7.6604", "-6.4279", "0"],
+                   ["-5.0", "-8.6603", "0"], ["9.3969", "-3.4202", "0"]],
+          "platform": [["3.8302", "3.2139", "0"], ["0.8682", "4.924", "0"], ["-4.6985", "1.7101", "0"],
+                       ["-4.6985", "-1.7101", "0"], ["0.8682", "-4.924", "0"], ["3.8302", "-3.2139", "0"]]}
+
+
+def test_gough_boxes_the_solver_proves_the_checker_proves():
+    """The checker eliminated A's transpose (legs as columns), whose preconditioned enclosure of det was
+    ten times wider on some boxes; it now eliminates A as the solver does (legs as rows).  The box of this
+    robot was refused at its 67th node."""
+    r = certify_singularity_free(robot_from_dict(GS_SYM), "x=-6.61:-6.59,y=-8.41:-8.39,z=9.9:10,psi=-0.62,"
+                                 "theta=-0.1:0.1,phi=-0.51:-0.49", budget=Budget(max_boxes=5000, max_seconds=20))
+    assert r.status == "singularity-free"
+    checked(r)
+
+
+@pytest.mark.parametrize("phi", ["0deg:35.8deg", "1.1deg", "45deg:0.7853981633974484"])
+def test_angles_in_degrees_at_the_ends_of_the_box_check(phi):
+    """A box end in degrees: the checker's enclosure of q·π/180 is now one float wide, inside the box proved."""
+    r = certify_singularity_free(robot_from_dict(EX2), f"x=-20:-10,y=20:30,phi={phi}",
+                                 budget=Budget(max_boxes=5000, max_seconds=20))
+    assert r.status in ("singularity-free", "singular")
+    checked(r)
+
+
 def test_largest_free_box_is_certified_and_maximal_along_the_scale():
     robot = robot_from_dict(EX2)
     r = largest_free_box(robot, "-30,30,0.2", scale="1,1,0.05", budget=Budget(max_boxes=5000, max_seconds=5))
