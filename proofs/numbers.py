@@ -17,7 +17,7 @@ from .arith import _PI_A, _PI_B, Iv
 from .report import Rejected
 
 _DECIMAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?", re.ASCII)   # (\d alone: any script's digits)
-MAX_TEXT, MAX_EXPONENT = 200, 400
+MAX_TEXT, MAX_EXPONENT = 1100, 400     # (the exact decimal of a double: at most 767 significant digits)
 
 
 def real(value, where: str) -> float:

@@ -137,6 +137,15 @@ def test_angles_in_degrees_at_the_ends_of_the_box_check(phi):
     checked(r)
 
 
+def test_cells_with_bounds_below_1e_62_check():
+    """A cell's requested bounds are the exact decimals of its floats: 1e-300 as a double has some 750
+    significant digits, past the checker's former limit of 200 characters a decimal."""
+    results = classify_cells(robot_from_dict(EX2), "x=1e-300:2e-300,y=0:1e-320,phi=0:5e-324", 3,
+                             budget=Budget(max_boxes=5000, max_seconds=20))
+    cert = checked(results)
+    assert max(len(v) for c in cert.header["claims"] for pair in c["requested"].values() for v in pair) > 200
+
+
 def test_largest_free_box_is_certified_and_maximal_along_the_scale():
     robot = robot_from_dict(EX2)
     r = largest_free_box(robot, "-30,30,0.2", scale="1,1,0.05", budget=Budget(max_boxes=5000, max_seconds=5))
