@@ -286,6 +286,24 @@ def test_a_pose_may_name_its_variables_in_any_order():
     assert box.lo[3] == 0.0
 
 
+PI_36 = "3.14159265358979323846264338327950288"      # pi = 3.14159265358979323846264338327950288419...
+
+
+@pytest.mark.parametrize("phi, reversed_", [("45deg:0.7853981633974483", True), ("0.7853981633974483:45deg", False),
+                                            (f"{PI_36}9:180deg", True), (f"{PI_36}:180deg", False),
+                                            ("180deg:" + PI_36, True), ("1e-300:0deg", True), ("0deg:0", False)])
+def test_a_range_with_an_end_in_degrees_is_compared_exactly(phi, reversed_):
+    """pi/4 = 0.78539816339744830961... > 0.7853981633974483: a range from 45deg to that float is reversed
+    (it was accepted, its float enclosures overlapping)."""
+    mel = load_robot(Path(__file__).resolve().parents[1] / "examples" / "robots" / "seed000-mel-tsukuba.toml")
+    box = f"x=0:1,y=0:1,z=520,psi=0,theta=0,phi={phi}"
+    if reversed_:
+        with pytest.raises(InputError, match="exceeds"):
+            parse_box(box, mel)
+    else:
+        parse_box(box, mel)
+
+
 @pytest.mark.parametrize("name", ["two\nlines", "escape \x1b[2J", "bidi \u202e", "x" * 201])
 def test_a_robot_name_that_could_forge_output_is_refused(name):
     """Every answer prints the robot's name: one line of printable characters, at most 200."""

@@ -16,6 +16,7 @@ from decimal import Decimal, InvalidOperation, localcontext
 from fractions import Fraction
 import math
 
+import mpmath
 import numpy as np
 
 from intervals import Interval
@@ -127,6 +128,21 @@ def _exact(text):
         return None
 
 
+def _exceeds(a, b) -> bool:
+    """Whether the exact value of the text ``a`` exceeds that of ``b`` (``deg``: q·π/180).  A decimal
+    and an angle in degrees differ unless both are 0 (π is irrational): mpmath at more digits than the
+    two texts hold tells them apart."""
+    (qa, da), (qb, db) = ((_exact(t[:-3] if d else t), d) for t, d in
+                          ((t, t.lower().endswith("deg")) for t in (str(a).strip(), str(b).strip())))
+    if qa is None or qb is None or da == db:
+        return qa is not None and qb is not None and qa > qb
+    if qa == 0 or qb == 0:
+        return qa > 0 if qb == 0 else qb < 0
+    with mpmath.workdps(40 + len(str(a)) + len(str(b))):
+        value = lambda q, d: mpmath.mpf(q.numerator) / q.denominator * (mpmath.pi / 180 if d else 1)  # noqa: E731
+        return bool(value(qa, da) > value(qb, db))
+
+
 # ----------------------------------------------------------------- poses and boxes
 def parse_pose(text, robot, parameter="pose") -> tuple[Interval, list[str]]:
     """(d,) enclosure of a pose and its exact texts.  ``text``: the values in the order of the pose
@@ -220,7 +236,7 @@ def parse_box(spec, robot, parameter="box") -> tuple[Interval, dict]:
         a, b = items[name]
         ia, ta = _value(a, robot, name, parameter)
         ib, tb = _value(b, robot, name, parameter)
-        if float(ia.lo) > float(ib.hi) or (_exact(ta) is not None and _exact(tb) is not None and _exact(ta) > _exact(tb)):
+        if float(ia.lo) > float(ib.hi) or _exceeds(ta, tb):
             raise InputError(parameter, name, f"lower bound {ta} exceeds upper bound {tb}")
         lo.append(float(ia.lo))
         hi.append(float(ib.hi))
