@@ -19,7 +19,7 @@ def add_arguments(s):
     s.add_argument("--box", help='box of poses, e.g. "x=-20:20,y=-20:20,phi=0:0.7853981634"')
     s.add_argument("--cells", type=count(10 ** 6), metavar="N",
                    help="split the box into N^k cells (N from 1 to 10^6) and classify each")
-    s.add_argument("--plot", metavar="FILE.png", help="picture of the cells (PNG, SVG or PDF)")
+    s.add_argument("--plot", metavar="FILE.png", help="picture of the cells (PNG, SVG, PDF, or another type matplotlib writes)")
     s.add_argument("--around", metavar="POSE", help="largest singularity-free box centred at POSE")
     s.add_argument("--scale", metavar="S1,S2,...", help="half-widths of the unit box for --around")
     s.add_argument("--angles", choices=["zyz", "tilt-torsion"],

@@ -26,7 +26,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--z-range", metavar="LO:HI", help="volume bracket of the workspace between two heights")
     parser.add_argument("--slabs", metavar="N", type=count(MAX_SLABS),
                         help=f"number of z slabs for --z-range, 1 to {MAX_SLABS} (default {DEFAULT_SLABS})")
-    parser.add_argument("--plot", metavar="FILE.png", help="picture of the paving and arcs (PNG, SVG or PDF)")
+    parser.add_argument("--plot", metavar="FILE.png", help="picture of the paving and arcs (PNG, SVG, PDF, or another type matplotlib writes)")
     add_outputs(parser)
     add_budget(parser, DEFAULT, width_help="smallest box side still split, relative to the size of the section")
 

@@ -274,4 +274,6 @@ def _check_degenerate(robot: Robot, source: str) -> None:
     A = _matrix_A(robot, base, plat, poses)
     hadamard = np.prod(np.linalg.norm(A, axis=-2), axis=-1)  # |det A| <= product of the column norms
     if np.all(np.abs(np.linalg.det(A)) <= 1e-9 * hadamard):
-        raise RobotFileError(source, "platform", "det(A) vanishes at every pose tried: degenerate geometry (collinear or coincident joints)")
+        raise RobotFileError(source, "platform", "det(A) is below 1e-9 of its Hadamard bound at every pose tried: a degenerate "
+                                                 "geometry (collinear or coincident joints, base and platform similar) or one "
+                                                 "within about that of it")
