@@ -86,8 +86,8 @@ def check(cert, report) -> None:
     forest.walk(visit, report.progress)
     text = ", ".join(f"{n} {s}" for s, n in status_count.items())
     first = h["claims"][0]
-    box = first.get("requested")         # (an undecided claim's fields are not checked: printed as they are)
-    box = box if isinstance(box, dict) else dict(zip(model.pose, first.get("box") if isinstance(first.get("box"), list) else []))
+    req = first.get("requested")         # over the float box's variables (an undecided claim's are printed as they are)
+    box = {**dict(zip(model.pose, first["box"] if isinstance(first.get("box"), list) else [])), **(req if type(req) is dict else {})}
     report.about["question"] = (f"does det(A) vanish in {len(h['claims'])} box(es) of poses; first: " + ", ".join(
         f"{v} in [{', '.join(map(str, ab))}]" if isinstance(ab, list) else f"{v} = {ab}" for v, ab in box.items()))
     if len(h["claims"]) > 1:

@@ -84,3 +84,15 @@ def test_check_prints_robot_question_verdicts(certificates, kind, capsys):
     other = MEL if robot != MEL else EX2
     assert proofs.run(certificates[kind], robot=other) == 1
     assert "REJECTED: robot: the certificate's geometry is not that of" in capsys.readouterr().out
+
+
+def test_a_question_names_the_box_where_requested_leaves_a_variable_out():
+    """``requested`` is optional per variable: a certificate whose requested box names x only was shown as the
+    question "x in [-20, -10]", which reads as "every y and phi"; the other variables now come from the box."""
+    from certfile import Doc
+    doc = Doc(certify_singularity_free(load_robot(EX2), "x=-20:-10,y=20:30,phi=0:0.3").certificate())
+    doc.claim()["requested"] = {"x": ["-20", "-10"]}
+    report = doc.check()
+    assert report.ok, report.step
+    question = report.about["question"]
+    assert "x in [-20, -10]" in question and "y in [" in question and "phi in [" in question
