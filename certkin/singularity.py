@@ -417,7 +417,8 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
 
     def attempt(s):
         nonlocal tried, proved
-        lo, hi = center.lo - s * sc, center.hi + s * sc
+        w = Interval.from_bounds(np.full(d, s), np.full(d, s)) * Interval.from_bounds(sc, sc)
+        lo, hi = ((center - w).lo, (center + w).hi) if s else (center.lo, center.hi)  # outward: ⊇ pose ± s·scale
         if not (np.all(np.abs(lo) <= MAX_MAGNITUDE) and np.all(np.abs(hi) <= MAX_MAGNITUDE)):
             return SingularityResult(robot, None, lo, hi, "undecided", scale_factor=s)    # not tried: not proved
         iv = Interval.from_bounds(lo, hi)

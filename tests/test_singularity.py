@@ -180,6 +180,19 @@ def test_a_box_around_a_pose_at_the_edge_of_the_value_range_is_never_an_error():
     assert r.status == "singularity-free" and np.all(np.abs(r.lo) <= 1e12) and np.all(np.abs(r.hi) <= 1e12)
 
 
+@pytest.mark.parametrize("pose", ["999999999999.9,10,0.3", "1e12,10,0.3", "10,10,0.3"])
+def test_the_scale_factor_is_a_box_held_in_the_proved_one(pose):
+    """pose ± s·scale (exact rationals) lies in the box proved: it was computed in round-to-nearest, so at
+    999999999999.9 + s the box ended below the pose + s that the scale factor states."""
+    from fractions import Fraction
+    r = largest_free_box(robot_from_dict(EX2), pose, budget=Budget(max_boxes=500, max_seconds=10))
+    assert r.status == "singularity-free"
+    s = Fraction(r.scale_factor)
+    for k, v in enumerate(pose.split(",")):
+        assert Fraction(r.lo[k]) <= Fraction(v) - s and Fraction(v) + s <= Fraction(r.hi[k]), (k, r.lo[k], r.hi[k], s)
+    checked(r)
+
+
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.integers(0, 10_000))
 def test_soundness_against_dense_sampling(seed):
