@@ -211,12 +211,12 @@ def _pi_bounds():
         iv.prec, mp.prec = saved
 
 
-_PI_A, _PI_B = _pi_bounds()
-_H = float(np.ldexp(np.floor(np.ldexp(float(_PI_A / 2), 29)), -29))
-_M = float(_PI_A / 2 - Fraction(_H))
-_T = Iv(Iv.const(_PI_A / 2 - Fraction(_H) - Fraction(_M)).lo, Iv.const(_PI_B / 2 - Fraction(_H) - Fraction(_M)).hi)
-PI = Iv(Iv.const(_PI_A).lo, Iv.const(_PI_B).hi)
-PIO2 = Iv(Iv.const(_PI_A / 2).lo, Iv.const(_PI_B / 2).hi)
+PI_BELOW, PI_ABOVE = _pi_bounds()           # exact rationals, PI_BELOW < π < PI_ABOVE (220 bits)
+_H = float(np.ldexp(np.floor(np.ldexp(float(PI_BELOW / 2), 29)), -29))
+_M = float(PI_BELOW / 2 - Fraction(_H))
+_T = Iv(Iv.const(PI_BELOW / 2 - Fraction(_H) - Fraction(_M)).lo, Iv.const(PI_ABOVE / 2 - Fraction(_H) - Fraction(_M)).hi)
+PI = Iv(Iv.const(PI_BELOW).lo, Iv.const(PI_ABOVE).hi)
+PIO2 = Iv(Iv.const(PI_BELOW / 2).lo, Iv.const(PI_ABOVE / 2).hi)
 _SIN = [Iv.const(Fraction((-1) ** j, factorial(2 * j + 1))) for j in range(11)]   # r^(2j+1) terms
 _COS = [Iv.const(Fraction((-1) ** j, factorial(2 * j))) for j in range(11)]       # r^(2j) terms
 _REM_SIN = float(Fraction(2, factorial(23)))   # |r|^23/23! ≤ |r| · this, for |r| ≤ 1

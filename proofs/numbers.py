@@ -13,7 +13,7 @@ import math
 import re
 from fractions import Fraction
 
-from .arith import _PI_A, _PI_B, Iv
+from .arith import PI_BELOW, PI_ABOVE, Iv
 from .report import Rejected
 
 _DECIMAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?", re.ASCII)   # (\d alone: any script's digits)
@@ -54,7 +54,7 @@ def angle(value, where: str):
 def enclose(value, where: str, degrees_allowed: bool = False) -> Iv:
     """The tightest float interval holding a decimal (an angle in degrees: q·π/180, enclosed)."""
     q, deg = angle(value, where) if degrees_allowed else (exact(value, where), False)
-    a, b = sorted((q * _PI_A / 180, q * _PI_B / 180)) if deg else (q, q)
+    a, b = sorted((q * PI_BELOW / 180, q * PI_ABOVE / 180)) if deg else (q, q)
     return Iv(Iv.const(a).lo, Iv.const(b).hi)
 
 
