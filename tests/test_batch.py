@@ -439,6 +439,41 @@ def test_an_edited_robot_file_or_a_swapped_certificate_is_run_again(tmp_path):
     assert len(json.loads((out / "a.json").read_text())["solutions"]) == len(expected.solutions)
     assert proofs.check_file(out / "a.cert", robot=str(robot)).ok
 
+
+def test_a_document_edited_to_state_what_its_certificate_does_not_prove_is_run_again(tmp_path):
+    """Resuming took a job's verdict from its document once the certificate beside it re-checked: a
+    singular box edited to ``singularity-free``, an infeasible path edited to ``feasible``, cell counts
+    edited, another job's certificate put in place with its hash edited into the document, and a
+    document missing a field (which failed the job) are now each run again, and answer as at first."""
+    robot = tmp_path / "robot.toml"
+    robot.write_text(Path(PLANAR).read_text())
+    out = tmp_path / "out"
+    jobs = [{"id": "a", "command": "fk", "robot": str(robot), "lengths": "29,13,41"},
+            {"id": "b", "command": "fk", "robot": str(robot), "lengths": "29,14,40"},
+            {"id": "s", "command": "singular", "robot": str(robot), "box": "x=-50:0,y=-50:0,phi=0:0.3925"},
+            {"id": "c", "command": "singular", "robot": str(robot), "box": "x=-50:0,y=-50:0,phi=0:0.3925", "cells": 2},
+            {"id": "j", "command": "trajectory", "robot": MEL, "from": "-69,-50,500,85deg,10deg,0",
+             "to": "84,92,500,85deg,10deg,0"}]
+    first = {r["id"]: r["verdict"] for r in run_batch(jobs, out, run_job)["results"]}
+    assert first["s"] == "singular" and first["c"] == "singular" and first["j"] == "infeasible"
+    assert run_batch(jobs, out, run_job)["resumed"] == 5
+
+    def edit(jid, change):
+        doc = json.loads((out / f"{jid}.json").read_text())
+        change(doc)
+        (out / f"{jid}.json").write_text(json.dumps(doc))
+    (out / "a.cert").write_bytes((out / "b.cert").read_bytes())
+    edit("a", lambda d: d["sources"].update(certificate_sha256=hashlib.sha256((out / "a.cert").read_bytes()).hexdigest()))
+    edit("s", lambda d: d.update(status="singularity-free", witnesses=None))
+    edit("c", lambda d: d.update(counts={"singularity-free": 8, "singular": 0, "undecided": 0}))
+    edit("j", lambda d: d.update(status="feasible"))
+    edit("b", lambda d: d.pop("complete"))
+    again = run_batch(jobs, out, run_job)
+    assert again["resumed"] == 0 and not again["failed"]
+    assert {r["id"]: r["verdict"] for r in again["results"]} == first
+    assert json.loads((out / "a.json").read_text())["lengths"] == ["29", "13", "41"]
+    assert all(proofs.check_file(out / f"{j['id']}.cert").ok for j in jobs)
+
 # ----------------------------------------------------------------- generators
 def test_fk_grid_round_trip(tmp_path, capsys):
     lines = generate(PLANAR, "--command", "fk", "--lengths", "L1=28:29:3,L2=13.66,L3=40:40.5:2",

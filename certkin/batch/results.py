@@ -4,8 +4,9 @@ answers under ``"job"``), ``DIR/<id>.cert`` (its certificate) and ``DIR/summary.
 Every file is written atomically (a temporary file renamed into place), the certificate before the
 document: a document on disk means its job finished.  A job is *done* when its document answers
 the same job (same canonical text), is not an error, names (``"sources"``) the robot file's bytes as
-they are now and the certificate beside it, and that certificate re-checks with the independent
-checker ``proofs``: only such jobs are skipped when a batch is run again.
+they are now and the certificate beside it, that certificate re-checks with the independent
+checker ``proofs``, and its claims state what the document states (``agrees``): only such jobs are
+skipped when a batch is run again.
 """
 from __future__ import annotations
 
@@ -163,14 +164,44 @@ def done(out, job: dict, verdict, robot_sha256) -> dict | None:
             sources.get("robot_sha256") != robot_sha256():
         return None
     import proofs           # the checker, imported by the runs that resume only
+    from proofs import container
     try:
-        if not proofs.check_file(cert).ok:
+        if not proofs.check_file(cert).ok or not agrees(document, container.read(cert).header):
             return None
-    except (OSError, ValueError):
+        document.pop("job")
+        seconds = document.get("stats", {}).get("seconds", 0.0) if isinstance(document.get("stats"), dict) else 0.0
+        return row(job, verdict(job.get("command"), document), seconds, 0, facts, resumed=True)
+    except (OSError, ValueError, LookupError, TypeError, AttributeError):     # (a document edited out of shape: run again)
         return None
-    document.pop("job")
-    seconds = document.get("stats", {}).get("seconds", 0.0) if isinstance(document.get("stats"), dict) else 0.0
-    return row(job, verdict(job.get("command"), document), seconds, 0, facts, resumed=True)
+
+
+def agrees(document: dict, header: dict) -> bool:
+    """Whether a document states what its certificate's claims (re-checked) prove, about the question they
+    answer: an FK document its lengths and ``complete``; a singularity document its status and box (one
+    claim) or its counts (cells); a trajectory document its status and path.  A document edited after the
+    fact, or a certificate of another job put beside it (its hash edited in), is then not taken as done."""
+    claims = header.get("claims")
+    if not isinstance(claims, list) or not claims or not all(isinstance(c, dict) for c in claims):
+        return False
+    one = claims[0] if len(claims) == 1 else None
+    same = lambda key: key not in document or one is None or key not in one or document[key] == one[key]  # noqa: E731
+    problem = header.get("problem")
+    if problem == "forward-kinematics":
+        return one is not None and same("lengths") and same("length_ranges") and (document.get("tracked") or same("complete"))
+    if problem == "singularity" and one is not None:
+        box = document.get("box")
+        return same("status") and (not isinstance(box, dict) or [list(v) for v in box.values()] == one.get("box"))
+    if problem == "singularity":
+        counts, tally = document.get("counts"), {}
+        for c in claims:
+            tally[c.get("status")] = tally.get(c.get("status"), 0) + 1
+        return isinstance(counts, dict) and all(counts.get(k, 0) == n for k, n in tally.items()) and \
+            sum(counts.values()) == len(claims)
+    if problem == "trajectory" and "route" not in header:
+        path = document.get("path")
+        return one is not None and same("status") and \
+            (not isinstance(path, list) or [list(p.values()) if isinstance(p, dict) else p for p in path] == one.get("path"))
+    return True
 
 
 def summarise(rows: list, wall_seconds: float, interrupted: bool, workers: str, cpu_seconds: float | None = None) -> dict:
