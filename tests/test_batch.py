@@ -444,7 +444,8 @@ def test_a_document_edited_to_state_what_its_certificate_does_not_prove_is_run_a
     """Resuming took a job's verdict from its document once the certificate beside it re-checked: a
     singular box edited to ``singularity-free``, an infeasible path edited to ``feasible``, cell counts
     edited, another job's certificate put in place with its hash edited into the document, and a
-    document missing a field (which failed the job) are now each run again, and answer as at first."""
+    document missing a field (which failed the job) are now each run again, and answer as at first; so is
+    another job's whole answer with this job's line put back in it (the lengths asked are compared)."""
     robot = tmp_path / "robot.toml"
     robot.write_text(Path(PLANAR).read_text())
     out = tmp_path / "out"
@@ -471,8 +472,14 @@ def test_a_document_edited_to_state_what_its_certificate_does_not_prove_is_run_a
     again = run_batch(jobs, out, run_job)
     assert again["resumed"] == 0 and not again["failed"]
     assert {r["id"]: r["verdict"] for r in again["results"]} == first
+    (out / "a.cert").write_bytes((out / "b.cert").read_bytes())     # b's whole answer, with a's job put back
+    (out / "a.json").write_text(json.dumps({**json.loads((out / "b.json").read_text()),
+                                            "job": json.loads((out / "a.json").read_text())["job"]}))
+    again = run_batch(jobs, out, run_job)
+    assert again["resumed"] == 4 and [r["id"] for r in again["results"] if not r.get("resumed")] == ["a"]
     assert json.loads((out / "a.json").read_text())["lengths"] == ["29", "13", "41"]
     assert all(proofs.check_file(out / f"{j['id']}.cert").ok for j in jobs)
+
 
 # ----------------------------------------------------------------- generators
 def test_fk_grid_round_trip(tmp_path, capsys):

@@ -13,6 +13,7 @@ from __future__ import annotations
 from contextlib import contextmanager
 from datetime import datetime, timezone
 import fcntl
+from fractions import Fraction
 import hashlib
 import json
 import os
@@ -166,7 +167,7 @@ def done(out, job: dict, verdict, robot_sha256) -> dict | None:
     import proofs           # the checker, imported by the runs that resume only
     from proofs import container
     try:
-        if not proofs.check_file(cert).ok or not agrees(document, container.read(cert).header):
+        if not proofs.check_file(cert).ok or not agrees(document, container.read(cert).header, job):
             return None
         document.pop("job")
         seconds = document.get("stats", {}).get("seconds", 0.0) if isinstance(document.get("stats"), dict) else 0.0
@@ -175,11 +176,12 @@ def done(out, job: dict, verdict, robot_sha256) -> dict | None:
         return None
 
 
-def agrees(document: dict, header: dict) -> bool:
+def agrees(document: dict, header: dict, job: dict | None = None) -> bool:
     """Whether a document states what its certificate's claims (re-checked) prove, about the question they
-    answer: an FK document its lengths and ``complete``; a singularity document its status and box (one
-    claim) or its counts (cells); a trajectory document its status and path.  A document edited after the
-    fact, or a certificate of another job put beside it (its hash edited in), is then not taken as done."""
+    answer: an FK document its lengths (those of ``job`` too, compared exactly) and ``complete``; a
+    singularity document its status and box (one claim) or its counts (cells); a trajectory document its
+    status and path.  A document edited after the fact, or a certificate of another job put beside it
+    (its hash edited in), is then not taken as done."""
     claims = header.get("claims")
     if not isinstance(claims, list) or not claims or not all(isinstance(c, dict) for c in claims):
         return False
@@ -187,7 +189,11 @@ def agrees(document: dict, header: dict) -> bool:
     same = lambda key: key not in document or one is None or key not in one or document[key] == one[key]  # noqa: E731
     problem = header.get("problem")
     if problem == "forward-kinematics":
-        return one is not None and same("lengths") and same("length_ranges") and (document.get("tracked") or same("complete"))
+        asked = _lengths_asked(job)
+        proved = [(Fraction(t), Fraction(t)) for t in one["lengths"]] if one and "lengths" in one else \
+            [(Fraction(a), Fraction(b)) for a, b in one["length_ranges"]] if one and "length_ranges" in one else None
+        return one is not None and same("lengths") and same("length_ranges") and \
+            (document.get("tracked") or same("complete")) and (asked is None or asked == proved)
     if problem == "singularity" and one is not None:
         box = document.get("box")
         return same("status") and (not isinstance(box, dict) or [list(v) for v in box.values()] == one.get("box"))
@@ -227,6 +233,18 @@ def summarise(rows: list, wall_seconds: float, interrupted: bool, workers: str, 
             "slowest": [{"id": r["id"], "seconds": r["seconds"]}
                         for r in sorted(rows, key=lambda r: -r["seconds"])[:SLOWEST]],
             "results": rows}
+
+
+def _lengths_asked(job) -> list | None:
+    """A job's leg lengths as exact (lo, hi) pairs, or None when they are not plain decimals or ``lo:hi``
+    ranges (``v+-t``: not compared)."""
+    value = (job or {}).get("lengths")
+    texts = value.split(",") if isinstance(value, str) else value if isinstance(value, list) else None
+    try:
+        parts = [[Fraction(p.strip()) for p in str(t).split(":")] for t in texts]
+    except (TypeError, ValueError, ZeroDivisionError):
+        return None
+    return [(p[0], p[-1]) for p in parts] if all(len(p) in (1, 2) for p in parts) else None
 
 
 UNDECIDED = ("undecided", "incomplete")      # verdicts of answers a budget cut short
