@@ -481,6 +481,19 @@ def test_a_document_edited_to_state_what_its_certificate_does_not_prove_is_run_a
     assert all(proofs.check_file(out / f"{j['id']}.cert").ok for j in jobs)
 
 
+
+def test_a_robot_that_is_a_named_pipe_is_an_error_job_not_a_hang(tmp_path):
+    """A worker opening a named pipe waits for a writer: the whole batch hung (each job's budget does
+    not start before its robot is read).  Such a job is now an error result and the batch carries on."""
+    pipe = tmp_path / "robot.toml"
+    os.mkfifo(pipe)
+    jobs = [{"id": "pipe", "command": "fk", "robot": str(pipe), "lengths": "1,2,3"},
+            {"id": "ok", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"}]
+    summary = run_batch(jobs, tmp_path / "out", run_job)
+    verdicts = {r["id"]: r["verdict"] for r in summary["results"]}
+    assert verdicts == {"pipe": "error", "ok": "complete"}
+    assert "named pipe" in summary["errors"][0]["error"]
+
 # ----------------------------------------------------------------- generators
 def test_fk_grid_round_trip(tmp_path, capsys):
     lines = generate(PLANAR, "--command", "fk", "--lengths", "L1=28:29:3,L2=13.66,L3=40:40.5:2",

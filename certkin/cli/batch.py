@@ -16,6 +16,7 @@ import importlib.util
 import json
 import os
 import re
+import stat
 import sys
 import time
 
@@ -130,6 +131,8 @@ def robot_of(job: dict):
     (keyed by that SHA-256, so a worker that outlives an edit of the file loads it again), or an
     inline robot table."""
     robot = job.get("robot")
+    if isinstance(robot, str) and _is_pipe(robot):
+        raise InputError("robot", robot, "a named pipe: every worker would wait on it (a job's robot is a regular file)")
     if isinstance(robot, str):
         key = ("file", robot, _content_sha256(robot))
         if key[2] is None:                  # unreadable: load_robot gives the command line's message
@@ -154,9 +157,18 @@ def robot_fingerprint(job: dict) -> str | None:
     return _content_sha256(robot) if isinstance(robot, str) else None
 
 
+def _is_pipe(path: str) -> bool:
+    try:
+        return stat.S_ISFIFO(os.stat(path).st_mode)
+    except (OSError, ValueError):
+        return False
+
+
 def _content_sha256(path: str) -> str | None:
     """SHA-256 of a robot file's first ``robots.files.MAX_FILE_BYTES`` + 1 bytes (what ``load_robot`` reads), or
-    None when it cannot be read."""
+    None when it cannot be read (a named pipe: not read, it would block)."""
+    if _is_pipe(path):
+        return None
     try:
         return hashlib.sha256(robot_file_bytes(path)).hexdigest()
     except (OSError, ValueError):
