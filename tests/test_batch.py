@@ -597,6 +597,18 @@ def test_a_jobs_file_is_read_line_by_line_within_bounds(tmp_path, monkeypatch):
         read_jobs(path)
 
 
+def test_a_line_that_is_not_utf8_is_an_error_job_naming_it(tmp_path):
+    """The file was decoded as a whole: one bad byte on line 5000 refused the file, naming a position in
+    the decoder's buffer.  Each line is decoded alone now: that line is an error job naming its number
+    and byte, the others are read (a byte-order mark before the first line is no job's text)."""
+    path = tmp_path / "jobs.jsonl"
+    path.write_bytes(b"\xef\xbb\xbf" + dumps({"id": "a", "command": "fk"}).encode() + b"\n" +
+                     b'{"id": "bad\xff", "command": "fk"}\r\n' + dumps({"id": "b", "command": "fk"}).encode() + b"\n")
+    jobs = read_jobs(path)
+    assert [j["id"] for j in jobs] == ["a", "line-2", "b"]
+    assert jobs[1]["error"].endswith("line 2: not UTF-8 text (byte 12)") and "error" not in jobs[0]
+
+
 def test_a_second_batch_on_the_same_directory_is_refused_while_the_first_writes(tmp_path, capsys):
     """While a batch holds DIR's lock, another on DIR exits 2 naming --out and writes nothing; once the
     lock is released, the same command runs."""

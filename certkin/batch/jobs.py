@@ -34,8 +34,13 @@ def read_jobs(path) -> list[dict]:
         raise InputError(str(path), "", "not a regular file (a device or a pipe is not a jobs file)")
     jobs, seen, shared = [], set(), {}
     try:
-        with open(path, encoding="utf-8-sig") as fh:     # (a byte-order mark at the start is no job's text)
+        with open(path, "rb") as fh:          # decoded line by line: a line that is not UTF-8 is named
             for n, line in enumerate(_lines(fh), 1):
+                try:
+                    line = None if line is None else line.decode("utf-8-sig" if n == 1 else "utf-8")  # (a BOM is no text)
+                except UnicodeDecodeError as exc:
+                    jobs.append({"id": f"line-{n}", ERROR: f"{path}: line {n}: not UTF-8 text (byte {exc.start + 1})"})
+                    continue
                 if line is None:
                     jobs.append({"id": f"line-{n}", ERROR: f"{path}: line {n}: longer than {MAX_LINE >> 10} KiB: not a job"})
                 elif line.strip() and not line.lstrip().startswith("#"):
@@ -44,8 +49,8 @@ def read_jobs(path) -> list[dict]:
                     raise InputError(str(path), "", f"more than {MAX_JOBS} jobs: split the campaign")
     except FileNotFoundError:
         raise InputError(str(path), "", "no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
+    except OSError as exc:
+        why = exc.strerror or exc
         raise InputError(str(path), "", f"cannot read the jobs file ({why})") from None
     return jobs
 
@@ -58,7 +63,7 @@ def _lines(fh):
         if not line:
             return
         if len(line) > MAX_LINE:
-            while line and not line.endswith("\n"):
+            while line and not line.endswith(b"\n"):
                 line = fh.readline(MAX_LINE + 1)
             yield None
         else:
