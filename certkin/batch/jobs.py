@@ -39,6 +39,9 @@ def read_jobs(path) -> list[dict]:
                 try:
                     line = None if line is None else line.decode("utf-8-sig" if n == 1 else "utf-8")  # (a BOM is no text)
                 except UnicodeDecodeError as exc:
+                    if not jobs:        # the first line already: not a text file in UTF-8 (UTF-16, binary)
+                        raise InputError(str(path), "", f"cannot read the jobs file (line {n} is not UTF-8 text, "
+                                                        f"byte {exc.start + 1})") from None
                     jobs.append({"id": f"line-{n}", ERROR: f"{path}: line {n}: not UTF-8 text (byte {exc.start + 1})"})
                     continue
                 if line is None:
