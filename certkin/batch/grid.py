@@ -100,7 +100,7 @@ def _range(parts, option, name):
 
 
 def _values(lo, hi, n, unit, ends):
-    """n values from lo to hi, ends included (their texts ``ends`` kept exactly)."""
+    """n values from lo to hi, ends included (their texts ``ends`` kept exactly); n = 1: the midpoint."""
     if n == 1:
         return [ends[0] if lo == hi else decimal((lo + hi) / 2) + unit]
     out = [decimal(lo + (hi - lo) * k / (n - 1)) + unit for k in range(n)]

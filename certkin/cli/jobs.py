@@ -19,7 +19,7 @@ def add_arguments(j):
     g = sub.add_parser("grid", help="a grid (or random draw) of jobs of one command on one robot")
     g.add_argument("robot", help="robot file (TOML), written into every job as given")
     g.add_argument("--command", required=True, choices=["fk", "singular", "trajectory"])
-    g.add_argument("--lengths", metavar="L1=a:b:n,...", help="fk: the grid of leg lengths")
+    g.add_argument("--lengths", metavar="L1=a:b:n,...", help="fk: the grid of leg lengths (n values from a to b, ends included; n = 1: the midpoint)")
     g.add_argument("--box", metavar="x=a:b,...", help="singular: the box to cut into cells")
     g.add_argument("--cells", type=count(MAX_JOBS), help="singular: cells per varying variable")
     g.add_argument("--from", dest="start", metavar="x=a:b[:n],...", help="trajectory: start poses")
