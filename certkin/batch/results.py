@@ -165,9 +165,9 @@ def done(out, job: dict, verdict, robot_sha256) -> dict | None:
             sources.get("robot_sha256") != robot_sha256():
         return None
     import proofs           # the checker, imported by the runs that resume only
-    from proofs import container
     try:
-        if not proofs.check_file(cert).ok or not agrees(document, container.read(cert).header, job):
+        certificate = proofs.load(cert)
+        if not proofs.check(certificate).ok or not agrees(document, certificate.header, job):
             return None
         document.pop("job")
         seconds = document.get("stats", {}).get("seconds", 0.0) if isinstance(document.get("stats"), dict) else 0.0
