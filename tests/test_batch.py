@@ -445,7 +445,8 @@ def test_a_document_edited_to_state_what_its_certificate_does_not_prove_is_run_a
     singular box edited to ``singularity-free``, an infeasible path edited to ``feasible``, cell counts
     edited, another job's certificate put in place with its hash edited into the document, and a
     document missing a field (which failed the job) are now each run again, and answer as at first; so is
-    another job's whole answer with this job's line put back in it (the lengths asked are compared)."""
+    another job's whole answer with this job's line put back in it (the lengths, box or poses asked are
+    compared)."""
     robot = tmp_path / "robot.toml"
     robot.write_text(Path(PLANAR).read_text())
     out = tmp_path / "out"
@@ -454,10 +455,13 @@ def test_a_document_edited_to_state_what_its_certificate_does_not_prove_is_run_a
             {"id": "s", "command": "singular", "robot": str(robot), "box": "x=-50:0,y=-50:0,phi=0:0.3925"},
             {"id": "c", "command": "singular", "robot": str(robot), "box": "x=-50:0,y=-50:0,phi=0:0.3925", "cells": 2},
             {"id": "j", "command": "trajectory", "robot": MEL, "from": "-69,-50,500,85deg,10deg,0",
-             "to": "84,92,500,85deg,10deg,0"}]
+             "to": "84,92,500,85deg,10deg,0"},
+            {"id": "k", "command": "trajectory", "robot": MEL, "from": "-69,-50,500,85deg,10deg,0",
+             "to": "7.5,21,500,85deg,10deg,0"},
+            {"id": "t", "command": "singular", "robot": str(robot), "box": "x=-20:-10,y=20:30,phi=0:0.3"}]
     first = {r["id"]: r["verdict"] for r in run_batch(jobs, out, run_job)["results"]}
     assert first["s"] == "singular" and first["c"] == "singular" and first["j"] == "infeasible"
-    assert run_batch(jobs, out, run_job)["resumed"] == 5
+    assert run_batch(jobs, out, run_job)["resumed"] == 7
 
     def edit(jid, change):
         doc = json.loads((out / f"{jid}.json").read_text())
@@ -470,13 +474,15 @@ def test_a_document_edited_to_state_what_its_certificate_does_not_prove_is_run_a
     edit("j", lambda d: d.update(status="feasible"))
     edit("b", lambda d: d.pop("complete"))
     again = run_batch(jobs, out, run_job)
-    assert again["resumed"] == 0 and not again["failed"]
+    assert again["resumed"] == 2 and not again["failed"]          # (k and t were left as they were)
     assert {r["id"]: r["verdict"] for r in again["results"]} == first
-    (out / "a.cert").write_bytes((out / "b.cert").read_bytes())     # b's whole answer, with a's job put back
-    (out / "a.json").write_text(json.dumps({**json.loads((out / "b.json").read_text()),
-                                            "job": json.loads((out / "a.json").read_text())["job"]}))
+    for mine, other in (("a", "b"), ("j", "k"), ("s", "t")):     # another job's whole answer, with this job's line put back
+        (out / f"{mine}.cert").write_bytes((out / f"{other}.cert").read_bytes())
+        (out / f"{mine}.json").write_text(json.dumps({**json.loads((out / f"{other}.json").read_text()),
+                                                      "job": json.loads((out / f"{mine}.json").read_text())["job"]}))
     again = run_batch(jobs, out, run_job)
-    assert again["resumed"] == 4 and [r["id"] for r in again["results"] if not r.get("resumed")] == ["a"]
+    assert again["resumed"] == 4 and [r["id"] for r in again["results"] if not r.get("resumed")] == ["a", "s", "j"]
+    assert {r["id"]: r["verdict"] for r in again["results"]} == first
     assert json.loads((out / "a.json").read_text())["lengths"] == ["29", "13", "41"]
     assert all(proofs.check_file(out / f"{j['id']}.cert").ok for j in jobs)
 

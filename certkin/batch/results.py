@@ -178,10 +178,11 @@ def done(out, job: dict, verdict, robot_sha256) -> dict | None:
 
 def agrees(document: dict, header: dict, job: dict | None = None) -> bool:
     """Whether a document states what its certificate's claims (re-checked) prove, about the question they
-    answer: an FK document its lengths (those of ``job`` too, compared exactly) and ``complete``; a
-    singularity document its status and box (one claim) or its counts (cells); a trajectory document its
-    status and path.  A document edited after the fact, or a certificate of another job put beside it
-    (its hash edited in), is then not taken as done."""
+    answer: an FK document its lengths and ``complete``; a singularity document its status and box (one
+    claim) or its counts (cells); a trajectory document its status and path; and the certificate answers
+    the question of ``job`` (its lengths, box or poses, compared exactly where they are plain decimals).
+    A document edited after the fact, or a certificate of another job put beside it (its hash edited in),
+    is then not taken as done."""
     claims = header.get("claims")
     if not isinstance(claims, list) or not claims or not all(isinstance(c, dict) for c in claims):
         return False
@@ -195,8 +196,10 @@ def agrees(document: dict, header: dict, job: dict | None = None) -> bool:
         return one is not None and same("lengths") and same("length_ranges") and \
             (document.get("tracked") or same("complete")) and (asked is None or asked == proved)
     if problem == "singularity" and one is not None:
-        box = document.get("box")
-        return same("status") and (not isinstance(box, dict) or [list(v) for v in box.values()] == one.get("box"))
+        box, asked = document.get("box"), _box_asked(job)
+        return same("status") and (not isinstance(box, dict) or [list(v) for v in box.values()] == one.get("box")) and \
+            (asked is None or not isinstance(one.get("requested"), dict) or
+             asked == {k: [_exact(t) for t in v] for k, v in one["requested"].items()})
     if problem == "singularity":
         counts, tally = document.get("counts"), {}
         for c in claims:
@@ -204,9 +207,10 @@ def agrees(document: dict, header: dict, job: dict | None = None) -> bool:
         return isinstance(counts, dict) and all(counts.get(k, 0) == n for k, n in tally.items()) and \
             sum(counts.values()) == len(claims)
     if problem == "trajectory" and "route" not in header:
-        path = document.get("path")
+        path, asked = document.get("path"), _path_asked(job)
         return one is not None and same("status") and \
-            (not isinstance(path, list) or [list(p.values()) if isinstance(p, dict) else p for p in path] == one.get("path"))
+            (not isinstance(path, list) or [list(p.values()) if isinstance(p, dict) else p for p in path] == one.get("path")) and \
+            (asked is None or asked == [[_exact(t) for t in pose] for pose in one.get("path", [])])
     return True
 
 
@@ -245,6 +249,36 @@ def _lengths_asked(job) -> list | None:
     except (TypeError, ValueError, ZeroDivisionError):
         return None
     return [(p[0], p[-1]) for p in parts] if all(len(p) in (1, 2) for p in parts) else None
+
+
+def _exact(text):
+    """(exact value, in degrees?) of a decimal text (``deg`` allowed); raises ValueError if it is not one."""
+    t = str(text).strip()
+    return (Fraction(t[:-3]), True) if t.lower().endswith("deg") else (Fraction(t), False)
+
+
+def _path_asked(job) -> list | None:
+    """A trajectory job's poses (from, via..., to) as exact values, or None when one is not a plain list of
+    decimals (``x=...`` names, a named pose: not compared)."""
+    try:
+        via = job.get("via") or []
+        poses = [job["from"], *(via if isinstance(via, list) else [via]), job["to"]]
+        return [[_exact(t) for t in (p.split(",") if isinstance(p, str) else p)] for p in poses]
+    except (KeyError, TypeError, ValueError, ZeroDivisionError, AttributeError):
+        return None
+
+
+def _box_asked(job) -> dict | None:
+    """A singularity job's ``box`` ("x=a:b,y=c,...") as exact [lo, hi] per variable, or None (not compared:
+    cells, ``around``, another form)."""
+    box = (job or {}).get("box")
+    if not isinstance(box, str) or job.get("cells") or job.get("around"):
+        return None
+    try:
+        parts = [p.split("=") for p in box.split(",")]
+        return {k.strip(): [_exact(t) for t in (v.split(":") if ":" in v else [v, v])] for k, v in parts}
+    except (TypeError, ValueError, ZeroDivisionError):
+        return None
 
 
 UNDECIDED = ("undecided", "incomplete")      # verdicts of answers a budget cut short
