@@ -23,6 +23,7 @@ from pathlib import Path
 from .. import __version__
 from ..certificates import temporary_of, write_text
 from ..errors import InputError
+from ..robots.poses import exact_value
 from .jobs import canonical
 
 SUMMARY = "summary.json"
@@ -199,7 +200,7 @@ def agrees(document: dict, header: dict, job: dict | None = None) -> bool:
         box, asked = document.get("box"), _box_asked(job)
         return same("status") and (not isinstance(box, dict) or [list(v) for v in box.values()] == one.get("box")) and \
             (asked is None or not isinstance(one.get("requested"), dict) or
-             asked == {k: [_exact(t) for t in v] for k, v in one["requested"].items()})
+             asked == {k: [exact_value(t) for t in v] for k, v in one["requested"].items()})
     if problem == "singularity":
         counts, tally = document.get("counts"), {}
         for c in claims:
@@ -210,7 +211,7 @@ def agrees(document: dict, header: dict, job: dict | None = None) -> bool:
         path, asked = document.get("path"), _path_asked(job)
         return one is not None and same("status") and \
             (not isinstance(path, list) or [list(p.values()) if isinstance(p, dict) else p for p in path] == one.get("path")) and \
-            (asked is None or asked == [[_exact(t) for t in pose] for pose in one.get("path", [])])
+            (asked is None or asked == [[exact_value(t) for t in pose] for pose in one.get("path", [])])
     return True
 
 
@@ -251,19 +252,13 @@ def _lengths_asked(job) -> list | None:
     return [(p[0], p[-1]) for p in parts] if all(len(p) in (1, 2) for p in parts) else None
 
 
-def _exact(text):
-    """(exact value, in degrees?) of a decimal text (``deg`` allowed); raises ValueError if it is not one."""
-    t = str(text).strip()
-    return (Fraction(t[:-3]), True) if t.lower().endswith("deg") else (Fraction(t), False)
-
-
 def _path_asked(job) -> list | None:
     """A trajectory job's poses (from, via..., to) as exact values, or None when one is not a plain list of
     decimals (``x=...`` names, a named pose: not compared)."""
     try:
         via = job.get("via") or []
         poses = [job["from"], *(via if isinstance(via, list) else [via]), job["to"]]
-        return [[_exact(t) for t in (p.split(",") if isinstance(p, str) else p)] for p in poses]
+        return [[exact_value(t) for t in (p.split(",") if isinstance(p, str) else p)] for p in poses]
     except (KeyError, TypeError, ValueError, ZeroDivisionError, AttributeError):
         return None
 
@@ -276,7 +271,7 @@ def _box_asked(job) -> dict | None:
         return None
     try:
         parts = [p.split("=") for p in box.split(",")]
-        return {k.strip(): [_exact(t) for t in (v.split(":") if ":" in v else [v, v])] for k, v in parts}
+        return {k.strip(): [exact_value(t) for t in (v.split(":") if ":" in v else [v, v])] for k, v in parts}
     except (TypeError, ValueError, ZeroDivisionError):
         return None
 

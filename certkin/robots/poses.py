@@ -128,14 +128,22 @@ def _exact(text):
         return None
 
 
+def exact_value(text) -> tuple[Fraction, bool]:
+    """(exact rational, in degrees?) of a decimal text, ``deg`` allowed; ``ValueError`` if it is not one."""
+    t = str(text).strip()
+    return (Fraction(t[:-3]), True) if t.lower().endswith("deg") else (Fraction(t), False)
+
+
 def _exceeds(a, b) -> bool:
     """Whether the exact value of the text ``a`` exceeds that of ``b`` (``deg``: q·π/180).  A decimal
     and an angle in degrees differ unless both are 0 (π is irrational): mpmath at more digits than the
     two texts hold tells them apart."""
-    (qa, da), (qb, db) = ((_exact(t[:-3] if d else t), d) for t, d in
-                          ((t, t.lower().endswith("deg")) for t in (str(a).strip(), str(b).strip())))
-    if qa is None or qb is None or da == db:
-        return qa is not None and qb is not None and qa > qb
+    try:
+        (qa, da), (qb, db) = exact_value(a), exact_value(b)
+    except (ValueError, ZeroDivisionError):
+        return False
+    if da == db:
+        return qa > qb
     if qa == 0 or qb == 0:
         return qa > 0 if qb == 0 else qb < 0
     with mpmath.workdps(40 + len(str(a)) + len(str(b))):
