@@ -13,6 +13,7 @@ loads ``certkin.fk``, and so on), so a process pays only for what it runs.
 import importlib
 
 
+from .allocator import keep_freed_memory
 from .engine import Budget
 from .errors import InputError, RobotFileError
 from .robots import load_robot, robot_from_dict
@@ -24,7 +25,7 @@ _CAPABILITIES = {"certify_singularity_free": "certkin.singularity",
                  "verify_trajectory": "certkin.trajectory", "verify_trajectories": "certkin.trajectory",
                  "plan": "certkin.trajectory"}
 
-__all__ = ["Budget", "InputError", "RobotFileError", "load_robot", "robot_from_dict", *_CAPABILITIES, "__version__"]
+__all__ = ["Budget", "InputError", "keep_freed_memory", "RobotFileError", "load_robot", "robot_from_dict", *_CAPABILITIES, "__version__"]
 
 
 def __getattr__(name):

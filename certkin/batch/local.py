@@ -27,6 +27,7 @@ import signal
 import threading
 import time
 
+from ..allocator import keep_freed_memory
 from ..errors import InputError
 
 RETRIES = 2             # a job whose worker dies is tried again at most this many times
@@ -46,9 +47,11 @@ class Died:
 
 
 def _worker_setup(batch_pid: int):
-    """In each worker: ignore Ctrl-C, and exit when the batch process is gone (the worker's own
-    parent is the fork server, which lives as long as its workers do)."""
+    """In each worker: ignore Ctrl-C, keep freed memory (``certkin.allocator``), and exit when the
+    batch process is gone (the worker's own parent is the fork server, which lives as long as its
+    workers do)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    keep_freed_memory()
 
     def watch():
         while True:

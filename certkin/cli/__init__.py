@@ -16,6 +16,7 @@ import warnings
 
 import numpy as np
 
+from ..allocator import keep_freed_memory
 from ..display import printable
 from ..errors import InputError
 from .common import Parser, join_negative_values
@@ -54,6 +55,7 @@ def main(argv=None):
     command = next((a for a in argv if not a.startswith("-")), None)
     parser = build_parser(command if command in COMMANDS else "")
     args = parser.parse_args(argv)
+    keep_freed_memory()                      # a process of its own: freed arrays stay for the next batch
     try:
         with warnings.catch_warnings(), np.errstate(all="ignore"):
             warnings.simplefilter("ignore")          # numpy's overflow warnings are not for the user
