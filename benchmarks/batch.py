@@ -12,7 +12,9 @@ Methods, the same jobs and the same solve with the same options (default budgets
 
 - API: one process, one call per job (``forward_kinematics(robot, lengths)`` /
   ``verify_trajectory(robot, start, goal)`` on the robot loaded once), answers only, nothing
-  written; the first call (compiling, building the model) is made before the clock starts;
+  written; the first call (compiling, building the model) is made before the clock starts; after
+  ``certkin.keep_freed_memory()``, as the README advises for a loop of calls and as the batch's
+  workers do (``--allocator default``: glibc's own thresholds, about 25 % slower on trajectories);
 - API + files: the same, also writing each job's JSON document and certificate (what a batch
   writes per job; the certificate's search tree is the same, the document without the job echo);
 - batch, W workers: ``certkin batch JOBS --out DIR --workers W``, the whole process from start-up
@@ -50,7 +52,7 @@ import time
 
 import psutil
 
-from certkin import forward_kinematics, load_robot, verify_trajectory
+from certkin import forward_kinematics, keep_freed_memory, load_robot, verify_trajectory
 from certkin.batch.grid import fk_jobs, trajectory_jobs
 from certkin.batch.jobs import dumps
 from certkin.batch.results import write_json
@@ -73,9 +75,9 @@ def workloads(n: int):
     return {"planar FK": (planar, fk), "seed 000 trajectories": (mel, traj)}
 
 
-def solve(robot, job):
-    if job["command"] == "fk":
-        return forward_kinematics(robot, job["lengths"])
+def solve(robot, job, record=False):
+    if job["command"] == "fk":       # record: the search keeps its tree for the certificate, as a batch job's does
+        return forward_kinematics(robot, job["lengths"], record=record)
     return verify_trajectory(robot, job["from"], job["to"])
 
 
@@ -84,7 +86,7 @@ def api(robot, jobs, out: Path | None):
     solve(robot, jobs[0])
     w, c = time.perf_counter(), time.process_time()
     for job in jobs:
-        r = solve(robot, job)
+        r = solve(robot, job, record=out is not None)
         if out is not None:
             r.certificate().write(out / f"{job['id']}.cert")
             write_json(out / f"{job['id']}.json", r.to_json())
@@ -234,8 +236,13 @@ def main():
     ap.add_argument("--cli-calls", type=int, default=1000)
     ap.add_argument("--repeat", type=int, default=1, help="runs of each method (medians)")
     ap.add_argument("--dask", action="store_true", help="also certkin batch on a Dask LocalCluster of --workers")
+    ap.add_argument("--allocator", choices=("kept", "default"), default="kept",
+                    help="kept: the API rows run after certkin.keep_freed_memory(), as the README advises for a loop "
+                         "of calls and as the batch's workers do; default: glibc's own thresholds for the API rows")
     args = ap.parse_args()
-    print(describe(), time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), flush=True)
+    if args.allocator == "kept":
+        assert keep_freed_memory(), "keep_freed_memory: no glibc malloc here; run with --allocator default"
+    print(describe(), time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), f"API allocator: {args.allocator}", flush=True)
     rows = []
     for name, (robot, jobs) in workloads(args.jobs).items():
         n = len(jobs)
