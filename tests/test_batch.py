@@ -488,6 +488,56 @@ def test_a_document_edited_to_state_what_its_certificate_does_not_prove_is_run_a
 
 
 
+def test_cells_around_plan_and_workspace_answers_are_resumed_only_for_their_own_job(tmp_path):
+    """Resume bound a job's line to its certificate for FK lengths, singular boxes and trajectory poses
+    only: another job's whole answer (certificate and document, this job's line put back) was taken for
+    a cells job with another box or cell count, an ``around`` job at another pose, a plan to another
+    goal, a workspace at another orientation, height or slab count.  Each is now run again, and a
+    workspace or plan document edited to state what its certificate does not is too."""
+    planning = str(ROOT / "examples" / "robots" / "seed001-3rpr-planning.toml")
+    jobs = [{"id": "c1", "command": "singular", "robot": PLANAR, "box": "x=-50:0,y=-50:0,phi=0:0.3925", "cells": 2},
+            {"id": "c2", "command": "singular", "robot": PLANAR, "box": "x=-50:0,y=-50:0,phi=0.1", "cells": 2},
+            {"id": "c3", "command": "singular", "robot": PLANAR, "box": "x=-50:0,y=-50:0,phi=0.1", "cells": 3},
+            {"id": "a1", "command": "singular", "robot": PLANAR, "around": "-15,25,0.1"},
+            {"id": "a2", "command": "singular", "robot": PLANAR, "around": "-15,25,5deg"},
+            {"id": "p1", "command": "plan", "robot": planning, "from": "20,0,3.0", "to": "40,20,3.0"},
+            {"id": "p2", "command": "plan", "robot": planning, "from": "20,0,3.0", "to": "40,21,3.0"},
+            {"id": "w1", "command": "workspace", "robot": planning, "orientation": "0.5"},
+            {"id": "w2", "command": "workspace", "robot": planning},
+            {"id": "v1", "command": "workspace", "robot": MEL, "z_range": "500:520", "slabs": 2},
+            {"id": "v2", "command": "workspace", "robot": MEL, "z_range": "500:520", "slabs": 3},
+            {"id": "s1", "command": "workspace", "robot": MEL, "z": "510"}]
+    out = tmp_path / "out"
+    first = {r["id"]: r["verdict"] for r in run_batch(jobs, out, run_job)["results"]}
+    assert set(first.values()) <= {"singular", "singularity-free", "found", "non-empty"}, first
+    assert run_batch(jobs, out, run_job)["resumed"] == len(jobs)
+    answers = {j["id"]: ((out / f"{j['id']}.cert").read_bytes(), json.loads((out / f"{j['id']}.json").read_text()))
+               for j in jobs}
+    swaps = [("c1", "c2"), ("c2", "c3"), ("a1", "a2"), ("p1", "p2"), ("w1", "w2"), ("v1", "v2"), ("s1", "v1"),
+             ("v2", "s1"), ("a2", "c1")]
+    for mine, other in swaps:
+        cert, doc = answers[other]
+        (out / f"{mine}.cert").write_bytes(cert)
+        (out / f"{mine}.json").write_text(json.dumps({**doc, "job": answers[mine][1]["job"]}))
+    again = run_batch(jobs, out, run_job)
+    rerun = {r["id"] for r in again["results"] if not r.get("resumed")}
+    assert rerun == {mine for mine, _ in swaps}
+    assert {r["id"]: r["verdict"] for r in again["results"]} == first
+
+    def edit(jid, change):
+        doc = json.loads((out / f"{jid}.json").read_text())
+        change(doc)
+        (out / f"{jid}.json").write_text(json.dumps(doc))
+    edit("w1", lambda d: d["area"].update(inner=d["area"]["inner"] * 2))
+    edit("v1", lambda d: d.update(status="empty"))
+    edit("p1", lambda d: d["waypoints"][-1].update(y="21"))
+    edit("s1", lambda d: d.update(orientation={"psi": "1", "theta": "0", "phi": "0"}))
+    again = run_batch(jobs, out, run_job)
+    assert {r["id"] for r in again["results"] if not r.get("resumed")} == {"w1", "v1", "p1", "s1"}
+    assert {r["id"]: r["verdict"] for r in again["results"]} == first
+    assert all(proofs.check_file(out / f"{j['id']}.cert").ok for j in jobs)
+
+
 def test_a_robot_that_is_a_named_pipe_is_an_error_job_not_a_hang(tmp_path):
     """A worker opening a named pipe waits for a writer: the whole batch hung (each job's budget does
     not start before its robot is read).  Such a job is now an error result and the batch carries on."""

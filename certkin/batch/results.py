@@ -12,10 +12,12 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 from datetime import datetime, timezone
+from decimal import Decimal
 import fcntl
 from fractions import Fraction
 import hashlib
 import json
+import math
 import os
 from pathlib import Path
 
@@ -23,7 +25,8 @@ from pathlib import Path
 from .. import __version__
 from ..certificates import temporary_of, write_text
 from ..errors import InputError
-from ..robots.poses import exact_value
+from ..robots.poses import exact_value, exceeds
+from ..workspace.volume import DEFAULT_SLABS
 from .jobs import canonical
 
 SUMMARY = "summary.json"
@@ -180,8 +183,11 @@ def done(out, job: dict, verdict, robot_sha256) -> dict | None:
 def agrees(document: dict, header: dict, job: dict | None = None) -> bool:
     """Whether a document states what its certificate's claims (re-checked) prove, about the question they
     answer: an FK document its lengths and ``complete``; a singularity document its status and box (one
-    claim) or its counts (cells); a trajectory document its status and path; and the certificate answers
-    the question of ``job`` (its lengths, box or poses, compared exactly where they are plain decimals).
+    claim) or its counts (cells); a trajectory document its status and path; a plan its waypoints and
+    segments; a workspace document its orientation, height(s), areas or volume and a status they imply;
+    and the certificate answers the question of ``job`` (its lengths, box, cells, ``around`` pose, poses,
+    start and goal, orientation, ``z``, ``z_range`` or ``slabs``, compared exactly where they are plain
+    decimals).
     A document edited after the fact, or a certificate of another job put beside it (its hash edited in),
     is then not taken as done."""
     claims = header.get("claims")
@@ -190,29 +196,43 @@ def agrees(document: dict, header: dict, job: dict | None = None) -> bool:
     one = claims[0] if len(claims) == 1 else None
     same = lambda key: key not in document or one is None or key not in one or document[key] == one[key]  # noqa: E731
     problem = header.get("problem")
+    if job is not None and not _same_kind(job, problem, header, document):
+        return False
     if problem == "forward-kinematics":
         asked = _lengths_asked(job)
         proved = [(Fraction(t), Fraction(t)) for t in one["lengths"]] if one and "lengths" in one else \
             [(Fraction(a), Fraction(b)) for a, b in one["length_ranges"]] if one and "length_ranges" in one else None
         return one is not None and same("lengths") and same("length_ranges") and \
             (document.get("tracked") or same("complete")) and (asked is None or asked == proved)
-    if problem == "singularity" and one is not None:
+    if problem == "singularity" and one is not None and "counts" not in document:
         box, asked = document.get("box"), _box_asked(job)
         return same("status") and (not isinstance(box, dict) or [list(v) for v in box.values()] == one.get("box")) and \
             (asked is None or not isinstance(one.get("requested"), dict) or
-             asked == {k: [exact_value(t) for t in v] for k, v in one["requested"].items()})
+             asked == {k: [exact_value(t) for t in v] for k, v in one["requested"].items()}) and \
+            _around_inside(job, one.get("box"))
     if problem == "singularity":
         counts, tally = document.get("counts"), {}
         for c in claims:
             tally[c.get("status")] = tally.get(c.get("status"), 0) + 1
         return isinstance(counts, dict) and all(counts.get(k, 0) == n for k, n in tally.items()) and \
-            sum(counts.values()) == len(claims)
+            sum(counts.values()) == len(claims) and _cells_cover(job, claims)
+    if document.get("problem") == "plan" and "route" not in header:
+        return False                              # (a plan without a path: its answer is not a claim; run again)
     if problem == "trajectory" and "route" not in header:
         path, asked = document.get("path"), _path_asked(job)
         return one is not None and same("status") and \
             (not isinstance(path, list) or [list(p.values()) if isinstance(p, dict) else p for p in path] == one.get("path")) and \
             (asked is None or asked == [[exact_value(t) for t in pose] for pose in one.get("path", [])])
-    return True
+    if problem == "trajectory":                  # a plan found: its route, its segments, the job's start and goal
+        route, asked, waypoints = header["route"], _path_asked(job), document.get("waypoints")
+        chain = [c["path"][0] for c in claims] + [claims[-1]["path"][-1]]
+        return document.get("status") == "found" and [list(w.values()) for w in waypoints] == chain and \
+            [s.get("status") for s in document.get("segments")] == [c.get("status") for c in claims] and \
+            chain[0] == route.get("from") and chain[-1] == route.get("to") and \
+            (asked is None or asked == [[exact_value(t) for t in route[k]] for k in ("from", "to")])
+    if problem in ("workspace-section", "workspace-volume"):
+        return _workspace_agrees(document, header, claims, job)
+    return False
 
 
 def summarise(rows: list, wall_seconds: float, interrupted: bool, workers: str, cpu_seconds: float | None = None) -> dict:
@@ -263,17 +283,123 @@ def _path_asked(job) -> list | None:
         return None
 
 
-def _box_asked(job) -> dict | None:
-    """A singularity job's ``box`` ("x=a:b,y=c,...") as exact [lo, hi] per variable, or None (not compared:
+def _box_texts(job) -> dict | None:
+    """A singularity job's ``box`` ("x=a:b,y=c,...") as [lo, hi] texts per variable, or None (not compared:
     cells, ``around``, another form)."""
     box = (job or {}).get("box")
     if not isinstance(box, str) or job.get("cells") or job.get("around"):
         return None
     try:
         parts = [p.split("=") for p in box.split(",")]
-        return {k.strip(): [exact_value(t) for t in (v.split(":") if ":" in v else [v, v])] for k, v in parts}
+        texts = {k.strip(): [t.strip() for t in (v.split(":") if ":" in v else [v, v])] for k, v in parts}
+        [exact_value(t) for pair in texts.values() for t in pair]
+        return texts
     except (TypeError, ValueError, ZeroDivisionError):
         return None
+
+
+def _box_asked(job) -> dict | None:
+    """``_box_texts`` as exact values."""
+    texts = _box_texts(job)
+    return None if texts is None else {k: [exact_value(t) for t in v] for k, v in texts.items()}
+
+
+def _same_kind(job, problem, header, document) -> bool:
+    """The certificate and document answer the kind of question the job asks: its command's problem, a
+    volume for a ``z_range``, cells for ``cells``, a plan's route for ``plan``."""
+    command = job.get("command")
+    cells = command == "singular" and bool(job.get("cells"))
+    return {"fk": problem == "forward-kinematics",
+            "singular": problem == "singularity" and cells == ("counts" in document),
+            "trajectory": problem == "trajectory" and "route" not in header,
+            "plan": problem == "trajectory" and "route" in header,
+            "workspace": problem == ("workspace-volume" if job.get("z_range") is not None else "workspace-section"),
+            }.get(command, False)
+
+
+def _around_inside(job, box) -> bool:
+    """A largest-free-box job (``around``): the proved box is centred on its pose (each side's ends
+    within a few float steps of the same distance from it; compared exactly that the pose is inside);
+    other jobs, and a pose that is not plain decimals (a named pose), pass."""
+    around = (job or {}).get("around")
+    texts = around.split(",") if isinstance(around, str) else around if isinstance(around, list) else None
+    try:
+        values = [exact_value(t) for t in texts]
+    except (TypeError, ValueError, ZeroDivisionError):
+        return True
+    if not isinstance(box, list) or len(box) != len(texts):
+        return False
+    for t, (q, deg), (lo, hi) in zip(texts, values, box):
+        centre = float(q) * (math.pi / 180 if deg else 1)
+        if exceeds(_exact(lo), str(t)) or exceeds(str(t), _exact(hi)) or \
+                abs((hi - centre) - (centre - lo)) > 8 * math.ulp(max(abs(lo), abs(hi), abs(centre))) + 1e-300:
+            return False
+    return True
+
+
+def _exact(value) -> str:
+    """The exact decimal of a float (every digit)."""
+    return str(Decimal(float(value)))
+
+
+def _cells_cover(job, claims) -> bool:
+    """A cells job: its claims' requested boxes span the job's box enclosed in floats (each bound the
+    exact one, or within two float steps outside it), with ``cells`` per side of every variable of
+    nonzero width: no other job's cells are taken for this one's."""
+    texts = _box_texts({**(job or {}), "cells": None})
+    try:
+        cells = int((job or {}).get("cells"))
+        lo = {k: min(float(c["requested"][k][0]) for c in claims) for k in texts}
+        hi = {k: max(float(c["requested"][k][1]) for c in claims) for k in texts}
+    except (TypeError, ValueError, KeyError, AttributeError, OverflowError):
+        return texts is None
+
+    def near(v, t):
+        q, deg = exact_value(t)
+        return abs(v - float(q) * (math.pi / 180 if deg else 1)) <= 4 * math.ulp(v) + 1e-300
+    wide = sum(exact_value(a) != exact_value(b) for a, b in texts.values())
+    return len(claims) == cells ** wide and len(lo) == len(claims[0]["requested"]) and all(
+        not exceeds(_exact(lo[k]), a) and not exceeds(b, _exact(hi[k])) and near(lo[k], a) and near(hi[k], b)
+        for k, (a, b) in texts.items())
+
+
+def _workspace_agrees(document, header, claims, job) -> bool:
+    """A workspace document states its certificate's orientation, heights and areas (or volume), its
+    status follows from them (``non-empty``: an inner area; ``empty``: no outer one), and they answer
+    the job's orientation and ``z`` or ``z_range`` (and ``slabs``), compared exactly."""
+    section = header.get("problem") == "workspace-section"
+    orientation = header.get("orientation")
+    if document.get("orientation") != orientation or not isinstance(orientation, dict):
+        return False
+    if section:
+        (one,) = claims
+        areas = [one["area"]]
+        if document.get("area", {}).get("inner") != one["area"]["inner"] or \
+                document.get("area", {}).get("outer") != one["area"]["outer"] or document.get("z") != one.get("z"):
+            return False
+    else:
+        areas = [c["area"] for c in claims]
+        if document.get("volume", {}).get("inner") != header["volume"]["inner"] or \
+                document.get("volume", {}).get("outer") != header["volume"]["outer"]:
+            return False
+    status = document.get("status")
+    if status == "non-empty" and not any(a["inner"] > 0 for a in areas) or \
+            status == "empty" and any(a["outer"] > 0 for a in areas):
+        return False
+    job = job or {}
+    asked = job.get("orientation", ",".join(["0"] * len(orientation)))
+    texts = asked.split(",") if isinstance(asked, str) else asked if isinstance(asked, list) else [asked]
+    try:
+        if [exact_value(t) for t in texts] != [exact_value(t) for t in orientation.values()]:
+            return False
+        if section:
+            return ("z" in job) == ("z" in claims[0]) and ("z" not in job or exact_value(job["z"]) == exact_value(claims[0]["z"]))
+        z = job.get("z_range")
+        lo, hi = (z.split(":") if isinstance(z, str) else z) if z is not None else (None, None)
+        return (z is None or [exact_value(lo), exact_value(hi)] == [exact_value(t) for t in header["requested"]["z"]]) \
+            and int(job.get("slabs") or DEFAULT_SLABS) == len(claims)
+    except (TypeError, ValueError, ZeroDivisionError):
+        return False         # (a job in another form: run again)
 
 
 UNDECIDED = ("undecided", "incomplete")      # verdicts of answers a budget cut short

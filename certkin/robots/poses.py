@@ -134,7 +134,7 @@ def exact_value(text) -> tuple[Fraction, bool]:
     return (Fraction(t[:-3]), True) if t.lower().endswith("deg") else (Fraction(t), False)
 
 
-def _exceeds(a, b) -> bool:
+def exceeds(a, b) -> bool:
     """Whether the exact value of the text ``a`` exceeds that of ``b`` (``deg``: q·π/180).  A decimal
     and an angle in degrees differ unless both are 0 (π is irrational): mpmath at more digits than the
     two texts hold tells them apart."""
@@ -244,7 +244,7 @@ def parse_box(spec, robot, parameter="box") -> tuple[Interval, dict]:
         a, b = items[name]
         ia, ta = _value(a, robot, name, parameter)
         ib, tb = _value(b, robot, name, parameter)
-        if float(ia.lo) > float(ib.hi) or _exceeds(ta, tb):
+        if float(ia.lo) > float(ib.hi) or exceeds(ta, tb):
             raise InputError(parameter, name, f"lower bound {ta} exceeds upper bound {tb}")
         lo.append(float(ia.lo))
         hi.append(float(ib.hi))
