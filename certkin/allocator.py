@@ -10,7 +10,7 @@ faults and 3.5 ms of system time of its 17 ms (``benchmarks/batch.py``, "Allocat
 when it grows) stays in the process for the next call.  The cost is at most that much resident
 memory kept after a peak; no answer changes (the arithmetic is the same).
 
-The command line and the batch's workers call it (processes certkin owns); a program calling the
+The command line and the batch's workers call it (processes running certkin's jobs); a program calling the
 API in a loop may call it once.  It changes the whole process's allocator, so importing certkin does
 not.  Elsewhere than glibc (macOS, musl) it does nothing and says so.
 """

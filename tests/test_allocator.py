@@ -41,8 +41,8 @@ def test_freed_memory_is_kept_and_answers_do_not_change():
     assert tuned["faults"] < 50, tuned["faults"]     # untuned: about 1 800 a call on glibc 2.36
 
 
-def test_the_command_line_and_the_batch_workers_keep_freed_memory():
-    from certkin.batch import local
+def test_the_command_line_and_the_batch_workers_local_or_dask_keep_freed_memory():
+    from certkin.batch import cluster, local
     from certkin import cli
-    assert "keep_freed_memory()" in Path(cli.__file__).read_text()
-    assert "keep_freed_memory()" in Path(local.__file__).read_text()
+    for module in (cli, local, cluster):
+        assert "keep_freed_memory()" in Path(module.__file__).read_text()

@@ -22,6 +22,7 @@ from collections import deque
 import os
 import threading
 
+from ..allocator import keep_freed_memory
 from ..errors import InputError
 from .local import IN_FLIGHT, Died, TaskQueue, run_chunk, times
 
@@ -112,9 +113,11 @@ def run_dask(tasks: list, work, client, report) -> bool:
 
 
 def _run_chunk_in(directory: str, work, tasks: list):
-    """``local.run_chunk`` in the batch's working directory: jobs may name their robot files and the
-    output directory relative to it, and a Dask worker was started elsewhere."""
+    """``local.run_chunk`` in the batch's working directory (jobs may name their robot files and the
+    output directory relative to it, and a Dask worker was started elsewhere), with freed memory kept in
+    the worker process as in the local pool's workers (``certkin.allocator``: a few µs, once is enough)."""
     os.chdir(directory)
+    keep_freed_memory()
     return run_chunk(work, tasks)
 
 
