@@ -171,6 +171,26 @@ def test_a_continuum_of_modes_ends_undecided_with_a_message():
     assert all(abs(float(s["pose"]["phi"].lo)) > 1e-3 for s in result.solutions)   # only isolated modes proved
 
 
+@pytest.mark.parametrize("platform, h", [([[1, 0, 0], [-0.5, 1.5, 0], [-0.5, -1.5, 0]], "4"),
+                                         ([[1, 0, 0], [-0.5, 1.5, 0], [-0.5, -1.5, 0]], "3"),
+                                         ([[1, 0.2, 0], [-0.7, 1.1, 0], [0.3, -1.4, 0]], "1")])
+def test_spherical_robot_with_vertical_legs_at_home_gives_a_cluster_its_checker_accepts(platform, h):
+    """Base points straight below the platform's (a_i = b_i − (0, 0, h)), lengths h: home (q = 1) is a
+    posture, and a singular one (a turn about z changes the lengths at second order only), so the
+    answer is a cluster holding home, complete.  Its certificate was rejected ("the checker's result is
+    not inside the child box on q2") at 12 of 18 such robots: slope steps over boxes 1e-15 wide in q1, q2
+    were decided by the equations' rounding, which the checker's own evaluation does not reproduce;
+    the contractions now keep ``ROOM`` of 1 (the quaternion's scale) for the checker."""
+    robot = robot_from_dict({"name": "above", "kind": "spherical-3dof", "platform": platform,
+                             "base": [[x, y, f"-{h}"] for x, y, _ in platform]})
+    result = forward_kinematics(robot, f"{h},{h},{h}")
+    assert result.complete and result.solutions == [] and len(result.clusters) == 1
+    home = [[mp.mpf(str(v)) for v in b] for b in platform]
+    assert _contains([[(float(c.lo), float(c.hi)) for c in p] for p in result.clusters[0]["platform_points"]], home)
+    report = Doc(result.certificate()).check()
+    assert report.ok, report.step
+
+
 # ----- uncertain leg lengths ------------------------------------------------------------------------
 def corners(lengths, tol):
     """The 2^3 corner length vectors of [v - tol, v + tol] as exact decimal texts."""

@@ -210,7 +210,7 @@ class FKProblem:
                         v[rows] = w
                     over[0][rows], over[1][rows] = plo[:, p:], phi[:, p:]
             b.status[rows[hempty]], b.reason[rows[hempty]] = EXCLUDED, 6
-            w = room(plo, phi)       # room for an independent re-computation
+            w = room(plo, phi, self._unit(system))       # room for an independent re-computation
             hlo, hhi = np.maximum(plo, hlo - w), np.minimum(phi, hhi + w)
             cut = shrink(plo, phi, hlo, hhi)
             step = ~hempty & (cut >= SHRINK)
@@ -365,6 +365,11 @@ class FKProblem:
         reasons[stored] = 16 if self.slopes else 14
         return reasons
 
+    @staticmethod
+    def _unit(system):
+        """Per unknown, the scale of its rounding (``step.room``): 0 for the position, 1 for the rotation."""
+        return (np.arange(system.n) >= system.n_pos).astype(float)
+
     def _round(self, system, b: _Batch, rows, X: Interval, L: Interval, K: Interval, C, empty, M):
         """The verdicts of one Krawczyk (or slope) image K on the boxes X, rows ``rows`` of the batch:
         empty (``empty``, or K ∩ X = ∅ when None), unique (K(X) ⊂ int X; for a slope image the
@@ -385,7 +390,7 @@ class FKProblem:
         done = empty | unique
         b.C_rows[rows[done]] = C[done]
         b.C_mask[rows[done]] = True
-        w = room(X.lo, X.hi)
+        w = room(X.lo, X.hi, self._unit(system))
         nlo = np.maximum(X.lo, np.where(np.isfinite(K.lo), K.lo - w, -np.inf))
         nhi = np.minimum(X.hi, np.where(np.isfinite(K.hi), K.hi + w, np.inf))
         keep = ~done & np.all(nlo <= nhi, axis=1) & (shrink(X.lo, X.hi, nlo, nhi) >= SHRINK)

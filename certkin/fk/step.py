@@ -109,13 +109,17 @@ def to_float32(M):
         return np.where(np.abs(M) < 2.0 ** 127, M, 0.0).astype(np.float32).astype(np.float64)
 
 
-def room(lo, hi):
+def room(lo, hi, unit=0.0):
     """How far a contraction of the boxes [lo, hi] is widened (inside them) so that the checker's own
     step, rounded its own way, still fits inside: ``WIDEN`` of the width, and ``ROOM`` of the bounds'
-    magnitude (near a singular posture the two were seen 27 units in the last place apart on an HC4
-    pass over a box 6e-10 wide, 2 units on a Krawczyk step over a box 4e-15 wide: more than the first
-    term alone)."""
-    return (hi - lo) * WIDEN + np.maximum(np.abs(lo), np.abs(hi)) * ROOM
+    magnitude or of ``unit``, whichever is larger (near a singular posture the two were seen 27 units
+    in the last place apart on an HC4 pass over a box 6e-10 wide, 2 units on a Krawczyk step over a box
+    4e-15 wide: more than the first term alone).  ``unit`` (per column): the scale the equations'
+    rounding is relative to, 1 for the rotation's unit complex number or quaternion: a quaternion
+    component near 0 (q1 = q2 = 0 at a home pose) is known only to the equations' rounding of |q| = 1,
+    and a step over a box 1e-15 wide there is decided by that rounding (a checker's own evaluation
+    was seen 4 % of the width apart on a spherical robot's home)."""
+    return (hi - lo) * WIDEN + np.maximum(np.maximum(np.abs(lo), np.abs(hi)), unit) * ROOM
 
 
 def fragile(C, M: Interval):
