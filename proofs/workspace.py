@@ -78,8 +78,7 @@ def check(cert, report) -> None:
     h = cert.header
     header_model(h, MODELS, lambda m: m[0])
     legs = Legs(h["model"], h["robot"], h.get("orientation"))
-    volume = h["problem"] == "workspace-volume"
-    if volume and legs.planar:
+    if (volume := h["problem"] == "workspace-volume") and legs.planar:
         raise Rejected("problem: a planar model has no volume")
     claims = h["claims"]
     Z = _heights(legs, claims, volume)
@@ -197,13 +196,13 @@ def _bounds(value, inside, outer, where):
 
 
 def _domain(legs, h2, domain, where):
-    """Re-prove that the section (every section of the slab) lies in ``domain``; None when "empty"."""
+    """Re-prove that the section (every section of the slab) lies in ``domain``; None when "empty" (K's extremes are
+    candidates not outside any disk, K lies in every disk's box: "empty" when these bounds cross)."""
     r2 = legs.rmax2 - h2
     box = None if domain == "empty" else tree.read_box(domain, 2, f"{where}.domain")
     if np.any(r2.hi < 0):               # a disk is empty for every z: so is the section
         return box
-    cx, cy = legs.u[0], legs.u[1]
-    r = Iv(np.maximum(r2.lo, 0.0), r2.hi).sqrt()
+    cx, cy, r = legs.u[0], legs.u[1], Iv(np.maximum(r2.lo, 0.0), r2.hi).sqrt()
     cand = [(cx + r, cy), (cx - r, cy), (cx, cy + r), (cx, cy - r)]    # each (legs,) boxes
     i, j = np.triu_indices(legs.n, 1)
     dx, dy = cx[j] - cx[i], cy[j] - cy[i]
@@ -224,8 +223,10 @@ def _domain(legs, h2, domain, where):
     dist = (Iv(X.lo[:, None], X.hi[:, None]) - cx).sqr() + (Iv(Y.lo[:, None], Y.hi[:, None]) - cy).sqr()
     alive = ~np.any(dist.lo > r2.hi, axis=1)
     X, Y = X[alive], Y[alive]
-    if box is None:
-        if alive.any():
+    if box is None:     # K empty: no candidate left, or the range of those left and the disks' boxes cross (docstring)
+        lo = [max(V.lo.min(initial=np.inf), (c - r).lo.max()) for V, c in ((X, cx), (Y, cy))]
+        hi = [min(V.hi.max(initial=-np.inf), (c + r).hi.min()) for V, c in ((X, cx), (Y, cy))]
+        if not (lo[0] > hi[0] or lo[1] > hi[1]):
             raise Rejected(f"{where}.domain: 'empty' not proved (a candidate extreme point survives every disk)")
         return None
     (xlo, ylo), (xhi, yhi) = box

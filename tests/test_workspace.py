@@ -26,6 +26,7 @@ from certkin.cli.workspace import add_arguments, describe, run
 from certkin.workspace import workspace_section, workspace_volume
 
 MICRO = "examples/robots/seed004-micro-manipulator.toml"
+MEL = "examples/robots/seed000-mel-tsukuba.toml"
 
 # z: (area, perimeter, arcs as a string of o/i in circle order of the exact boundary)
 TABLE = {
@@ -292,6 +293,24 @@ def test_volume_of_a_spherical_cap():
     coarse = workspace_volume(robot, "0,0,0", "90:101", 22, min_width=1e-2)
     assert coarse.volume()[0] <= float(cap) <= coarse.volume()[1]
     checked(coarse)
+
+
+def test_a_slab_above_the_workspace_is_empty_and_its_certificate_checks():
+    """Seed 000 at (5deg, 3deg, 0): the workspace ends near z = 710.9, and over [711, 718] the solver
+    proves the slab empty from the disks' boxes and the candidate extreme points together, which the
+    checker did not accept ("'empty' not proved": the candidates of a slab, enclosed over its heights,
+    are too wide to be ruled out one by one; a third of the volume runs over a range reaching above a
+    workspace's top were rejected).  It now accepts that rule (``proofs/workspace.py``, ``_domain``): K's
+    extremes are candidates left, and K lies in every disk's box, so crossing bounds prove K empty.  A
+    slab that meets the workspace is not empty, and an "empty" forged on it is rejected."""
+    above = workspace_volume(MEL, "5deg,3deg,0", "711:718", 1)
+    assert above.status == "empty" and above.to_json()["sections"][0]["outer"] == 0.0
+    checked(above)
+    below = workspace_volume(MEL, "5deg,3deg,0", "500:510", 1)
+    assert below.status == "non-empty"
+    cert = checked(below)
+    cert.claim(0)["domain"] = "empty"
+    assert "'empty' not proved" in cert.check().step
 
 
 def test_volume_certificate_checks_and_rejects_a_raised_bound(micro):
