@@ -295,6 +295,21 @@ def test_volume_of_a_spherical_cap():
     checked(coarse)
 
 
+@pytest.mark.parametrize("phi", ["0", "1e-300"])
+def test_a_section_at_a_tangency_checks(phi):
+    """Legs 1 and 2 reach at most 10 and 9 from base points 20 apart (platform point 2 is (1, 0), so the
+    ball centres are 19 apart): the two outer circles touch at one point, (10, 0), and the section is
+    that point (area 0; 10 + 9 = 19, exact).  Outside boxes 1e-15 wide there were decided by the last bit
+    of ρ², and the checker's own ρ², exactly 81 = ρmax², refused one ("outside not proved").  A box now
+    needs ``paving.SLACK`` of the limit to be decided; the certificate checks and the bracket holds 0."""
+    robot = robot_from_dict({"name": "t1", "kind": "planar-3rpr", "base": [[0, 0], [20, 0], [10, 10]],
+                             "platform": [[0, 0], [1, 0], [0, 1]],
+                             "limits": {"leg_length": [["0.5", "10"], ["0.5", "9"], ["0.5", "100"]]}})
+    s = workspace_section(robot, phi)
+    assert s.inner == 0.0 <= s.outer < 1e-15
+    checked(s)
+
+
 def test_a_slab_above_the_workspace_is_empty_and_its_certificate_checks():
     """Seed 000 at (5deg, 3deg, 0): the workspace ends near z = 710.9, and over [711, 718] the solver
     proves the slab empty from the disks' boxes and the candidate extreme points together, which the

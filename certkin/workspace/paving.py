@@ -29,6 +29,9 @@ REASONS = ("inside: every leg length within its limits on the whole box",
            "outside: one leg length outside its limits on the whole box")
 
 
+SLACK = 2.0 ** -48      # relative margin of a decided box's ρ² from the leg-length limits (``decide``)
+
+
 class PavingProblem:
     """Decides batches of (X, Y) boxes; root k carries the z-interval Z[k]."""
 
@@ -46,10 +49,14 @@ class PavingProblem:
         return sqr(X - L.ux) + sqr(Y - L.uy) + self.h2[roots]
 
     def decide(self, lo, hi, roots):
+        """Inside when every leg's ρ² is within its limits, outside when one leg's is beyond them, each
+        by ``SLACK`` of the limit: a box decided by the last bits of ρ² (one 1e-15 wide at a tangency)
+        stays open, since the checker's own enclosure may reach the limit there."""
         L = self.legs
         d2 = self.rho2(lo, hi, roots)
-        inside = ((d2.lo >= L.rmin2.hi) & (d2.hi <= L.rmax2.lo)).all(axis=1)
-        out = (d2.hi < L.rmin2.lo) | (d2.lo > L.rmax2.hi)
+        smin, smax = np.abs(L.rmin2.lo) * SLACK, np.abs(L.rmax2.hi) * SLACK
+        inside = ((d2.lo >= L.rmin2.hi + smin) & (d2.hi <= L.rmax2.lo - smax)).all(axis=1)
+        out = (d2.hi < L.rmin2.lo - smin) | (d2.lo > L.rmax2.hi + smax)
         excluded = out.any(axis=1) & ~inside
         leg = np.argmax(out, axis=1)
         status = np.where(inside, PROVED, np.where(excluded, EXCLUDED, OPEN)).astype(np.int8)
