@@ -86,6 +86,15 @@ def _count(value, name: str, least: int, most: int) -> int:
     return int(value)
 
 
+def _stopped(clock, otherwise: str) -> str:
+    """What stopped a search without a path: Ctrl-C (noted as cutting the answer short, so that the
+    command line marks it interrupted), the time budget, or ``otherwise``."""
+    if interrupt.requested():
+        interrupt.cut()
+        return "interrupted"
+    return "time" if clock.out() else otherwise
+
+
 def _checked(result: PlanResult, start, goal) -> PlanResult:
     """A ``found`` path runs from the start pose to the goal pose with one verified segment per step."""
     w = result.waypoints
@@ -135,7 +144,7 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
             failing = [v for v in r.violations if v.get("certain")] or r.violations
             stats = {"seconds": clock.elapsed()}
             if r.status != "infeasible":
-                stats["stopped"] = "interrupted" if interrupt.requested() else "time" if clock.out() else "undecided"
+                stats["stopped"] = _stopped(clock, "undecided")
             return PlanResult(robot, "infeasible-endpoint" if r.status == "infeasible" else "no-path-found",
                               endpoint={"pose": name, "status": r.status, "violations": failing}, stats=stats)
     straight = verify([parse_path(robot, s_txt, g_txt)])[0]
@@ -277,8 +286,7 @@ def _astar(robot, grid: _Grid, verify, max_edges, clock):
                 heapq.heappush(frontier, (c + grid.distance(nb, grid.goal), c, nb))
     stats = {"edges_verified": edges, "nodes_expanded": len(closed)}
     if not found:       # what ended the search: a budget, or every reachable node of the grid expanded
-        stats["stopped"] = ("interrupted" if interrupt.requested() else "time" if clock.out() else
-                            "max-edges" if edges >= max_edges else "grid")
+        stats["stopped"] = _stopped(clock, "max-edges" if edges >= max_edges else "grid")
         return None, edge_result, stats
     nodes = [grid.goal]
     while parent[nodes[-1]] is not None:
