@@ -320,6 +320,7 @@ def test_a_slab_above_the_workspace_is_empty_and_its_certificate_checks():
     slab that meets the workspace is not empty, and an "empty" forged on it is rejected."""
     above = workspace_volume(MEL, "5deg,3deg,0", "711:718", 1)
     assert above.status == "empty" and above.to_json()["sections"][0]["outer"] == 0.0
+    assert above.volume() == (0.0, 0.0)            # (it was [0, 6.7e-308]: each slab's 0 rounded up a step)
     checked(above)
     below = workspace_volume(MEL, "5deg,3deg,0", "500:510", 1)
     assert below.status == "non-empty"

@@ -68,9 +68,10 @@ class VolumeResult:
                         for a, b in zip(self.bounds[:-1], self.bounds[1:])])
         ar = np.array(self.areas()).reshape(-1, 2)
         lo = np.maximum(down(hlo * ar[:, 0]), 0.0)
-        hi = up(hhi * ar[:, 1])
-        inner = math.fsum(lo)               # (a volume is >= 0: a lower bound below 0 is 0)
-        return (float(np.nextafter(inner, -np.inf)) if inner > 0 else 0.0), float(np.nextafter(math.fsum(hi), np.inf))
+        hi = np.where(ar[:, 1] == 0, 0.0, up(hhi * ar[:, 1]))     # (0 times a height is exactly 0)
+        inner, outer = math.fsum(lo), math.fsum(hi)     # (a volume is >= 0: a lower bound below 0 is 0)
+        return (float(np.nextafter(inner, -np.inf)) if inner > 0 else 0.0), \
+            (float(np.nextafter(outer, np.inf)) if np.any(hi > 0) else 0.0)
 
     def counts(self) -> dict:
         out = {"inner_boxes": 0, "boundary_boxes": 0, "outside_boxes": 0}
