@@ -498,6 +498,8 @@ def test_cells_around_plan_and_workspace_answers_are_resumed_only_for_their_own_
     jobs = [{"id": "c1", "command": "singular", "robot": PLANAR, "box": "x=-50:0,y=-50:0,phi=0:0.3925", "cells": 2},
             {"id": "c2", "command": "singular", "robot": PLANAR, "box": "x=-50:0,y=-50:0,phi=0.1", "cells": 2},
             {"id": "c3", "command": "singular", "robot": PLANAR, "box": "x=-50:0,y=-50:0,phi=0.1", "cells": 3},
+            {"id": "c4", "command": "singular", "robot": PLANAR, "box": "x=-50:0,y=-50:0,phi=0deg:22.5deg", "cells": 2},
+            {"id": "c5", "command": "singular", "robot": PLANAR, "box": "x=-50:0,y=-50:0,phi=0.1deg:22.5deg", "cells": 1},
             {"id": "a1", "command": "singular", "robot": PLANAR, "around": "-15,25,0.1"},
             {"id": "a2", "command": "singular", "robot": PLANAR, "around": "-15,25,5deg"},
             {"id": "p1", "command": "plan", "robot": planning, "from": "20,0,3.0", "to": "40,20,3.0"},
@@ -513,7 +515,7 @@ def test_cells_around_plan_and_workspace_answers_are_resumed_only_for_their_own_
     assert run_batch(jobs, out, run_job)["resumed"] == len(jobs)
     answers = {j["id"]: ((out / f"{j['id']}.cert").read_bytes(), json.loads((out / f"{j['id']}.json").read_text()))
                for j in jobs}
-    swaps = [("c1", "c2"), ("c2", "c3"), ("a1", "a2"), ("p1", "p2"), ("w1", "w2"), ("v1", "v2"), ("s1", "v1"),
+    swaps = [("c1", "c2"), ("c2", "c3"), ("c4", "c5"), ("c5", "c4"), ("a1", "a2"), ("p1", "p2"), ("w1", "w2"), ("v1", "v2"), ("s1", "v1"),
              ("v2", "s1"), ("a2", "c1")]
     for mine, other in swaps:
         cert, doc = answers[other]

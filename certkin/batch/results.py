@@ -344,22 +344,23 @@ def _exact(value) -> str:
 
 def _cells_cover(job, claims) -> bool:
     """A cells job: its claims' requested boxes span the job's box enclosed in floats (each bound the
-    exact one, or within two float steps outside it), with ``cells`` per side of every variable of
+    exact one, or within a few float steps outside it), with ``cells`` per side of every variable of
     nonzero width: no other job's cells are taken for this one's."""
     texts = _box_texts({**(job or {}), "cells": None})
+
+    def value(t):          # (a cell's bound: a float's exact decimal, or the job's own text with one cell)
+        q, deg = exact_value(t)
+        return float(q) * (math.pi / 180 if deg else 1)
     try:
         cells = int((job or {}).get("cells"))
-        lo = {k: min(float(c["requested"][k][0]) for c in claims) for k in texts}
-        hi = {k: max(float(c["requested"][k][1]) for c in claims) for k in texts}
-    except (TypeError, ValueError, KeyError, AttributeError, OverflowError):
+        lo = {k: min((c["requested"][k][0] for c in claims), key=value) for k in texts}
+        hi = {k: max((c["requested"][k][1] for c in claims), key=value) for k in texts}
+    except (TypeError, ValueError, KeyError, AttributeError, OverflowError, ZeroDivisionError):
         return texts is None
-
-    def near(v, t):
-        q, deg = exact_value(t)
-        return abs(v - float(q) * (math.pi / 180 if deg else 1)) <= 4 * math.ulp(v) + 1e-300
+    near = lambda t, u: abs(value(t) - value(u)) <= 16 * math.ulp(value(u)) + 1e-300   # noqa: E731  (deg: a product)
     wide = sum(exact_value(a) != exact_value(b) for a, b in texts.values())
     return len(claims) == cells ** wide and len(lo) == len(claims[0]["requested"]) and all(
-        not exceeds(_exact(lo[k]), a) and not exceeds(b, _exact(hi[k])) and near(lo[k], a) and near(hi[k], b)
+        not exceeds(lo[k], a) and not exceeds(b, hi[k]) and near(lo[k], a) and near(hi[k], b)
         for k, (a, b) in texts.items())
 
 
