@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import proofs
-from certkin import load_robot
+from certkin import load_robot, robot_from_dict
 from certkin.fk import forward_kinematics
 from certkin.fk.angles import in_ranges
 from intervals import Interval
@@ -107,6 +107,22 @@ def test_the_other_gough_triple_names_the_same_rotation_and_is_inside(seed):
     assert in_ranges(pose, {"theta": (theta + 0.05, theta + 0.06)}) is False
     assert in_ranges(pose, {"psi": (psi + 0.5, psi + 0.6), "theta": (theta - 0.1, theta + 0.1)}) is False
     assert in_ranges(pose, {"psi": (psi - 0.1, psi + 0.1), "theta": (-4.0, 4.0)}) is True
+
+
+def test_postures_where_the_euler_angles_are_free_are_named_as_such():
+    """R = I and R = Rz(pi) Rx(pi) (phi2 = 0 and pi: phi1 and phi3 not determined, only their sum or
+    difference) are postures of this spherical robot at lengths 3, 3, 4 (|a_i − b_i| and |a_i − R b_i|,
+    exact integers).  With a range on phi1 alone they are neither inside nor outside it; the note said
+    they lie "on an edge of the angle ranges", far from any edge: it now names this case too."""
+    robot = robot_from_dict({"name": "r6", "kind": "spherical-3dof", "base": [[4, 1, 2], [0, 0, -1], [-2, 0, 4]],
+                             "platform": [[2, 0, 0], [2, -2, 0], [-2, 0, 0]]})
+    a, b = np.array(robot.base, float), np.array(robot.platform, float)
+    assert np.linalg.norm(a - b, axis=1).tolist() == [3.0, 3.0, 4.0]
+    flip = np.diag([1.0, -1.0, -1.0])        # Rx(pi): the same lengths (exact: integer coordinates)
+    assert np.linalg.norm(a - b @ flip.T, axis=1).tolist() == [3.0, 3.0, 4.0]
+    r = forward_kinematics(robot, "3,3,4", domain="phi1=-0.1:0.1")
+    assert not r.complete
+    assert "angles are not determined (a middle angle of 0 or pi leaves the other two free)" in r.message
 
 
 def test_an_angle_range_ending_on_a_mode_leaves_it_unresolved_never_dropped():
