@@ -49,9 +49,9 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
     and products would lose every digit or overflow), or an angle above ``MAX_ANGLE`` radians.
     """
     iv, text = _parse_number(value, source, field, angle)
-    if not (abs(float(iv.lo)) <= MAX_MAGNITUDE and abs(float(iv.hi)) <= MAX_MAGNITUDE):
+    if not angle and not (abs(float(iv.lo)) <= MAX_MAGNITUDE and abs(float(iv.hi)) <= MAX_MAGNITUDE):
         raise RobotFileError(source, field, f"{text} is out of range (at most {MAX_MAGNITUDE:g} in magnitude)")
-    if angle and not (abs(float(iv.lo)) <= MAX_ANGLE and abs(float(iv.hi)) <= MAX_ANGLE):
+    if angle and not (abs(float(iv.lo)) <= MAX_ANGLE and abs(float(iv.hi)) <= MAX_ANGLE):     # (the smaller limit)
         raise RobotFileError(source, field, f"{text} is out of range for an angle (at most {MAX_ANGLE:g} rad in "
                                             "magnitude, where a certificate can still be checked)")
     return iv, text
@@ -85,8 +85,9 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
         if not math.isfinite(text):
             raise RobotFileError(source, field, f"not a finite number: {text!r}")
         text = repr(text)
+    limit = f"at most {MAX_ANGLE:g} rad in magnitude" if angle else f"at most {MAX_MAGNITUDE:g} in magnitude"
     if isinstance(text, int) and abs(text) > MAX_MAGNITUDE:     # (before any text of its 5000 digits)
-        raise RobotFileError(source, field, f"out of range (at most {MAX_MAGNITUDE:g} in magnitude)")
+        raise RobotFileError(source, field, f"out of range ({limit})")
     if _below_any_float(text):
         raise RobotFileError(source, field, f"{_shown(value)} is below 1e-400 in magnitude: write 0")
     try:
@@ -94,7 +95,7 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
     except (ValueError, TypeError):
         raise RobotFileError(source, field, f"not a finite number: {_shown(value)}") from None
     if not (math.isfinite(lo) and math.isfinite(hi)):       # a finite decimal beyond the float range
-        raise RobotFileError(source, field, f"{_shown(value)} is out of range (at most {MAX_MAGNITUDE:g} in magnitude)")
+        raise RobotFileError(source, field, f"{_shown(value)} is out of range ({limit})")
     return Interval.from_bounds(np.array(lo), np.array(hi)), exact_text(text)
 
 

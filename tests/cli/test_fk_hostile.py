@@ -41,6 +41,8 @@ HOSTILE = [
     (F + ["--track", "30,13,-1.9", "--domain", "x=0:50,y=-10:20,phi=-3:3"], ["--domain", "--track"]),
     (F + ["--track", "30,13"], ["--track"]),
     (F + ["--track", "1e300,0,0"], ["--track", "x", "out of range"]),        # once: ignored, full search
+    (F + ["--track", "0,0,1e300"], ["--track", "phi", "out of range for an angle", "1e+06 rad"]),  # (it named 1e+12)
+    (F + ["--track", "0,0,1e400"], ["--track", "phi", "out of range", "1e+06 rad"]),
     (["fk", R2, "--lengths", "29+-1e300,13.66,40.53"], ["--lengths", "out of range"]),   # once: 300 digits
     (F + ["--max-seconds", "-inf"], ["--max-seconds"]),
     (F + ["--domain", "x=0:50,q=-10:20"], ["--domain", "q"]),          # (a domain names only what it narrows)
