@@ -310,6 +310,18 @@ def test_a_section_at_a_tangency_checks(phi):
     checked(s)
 
 
+def test_the_undecided_boundary_names_the_circles_that_coincide():
+    """Base = platform at phi = 0: every leg's circles share one centre, and leg 1's outer circle (radius
+    10) is leg 2's inner one (radius 10).  The reason named leg 1's and leg 2's outer circles (radii 10
+    and 20, which cannot coincide); it now names the pair whose radii may be equal."""
+    robot = robot_from_dict({"name": "co", "kind": "planar-3rpr", "base": [[0, 0], [1, 0], [5, 5]],
+                             "platform": [[0, 0], [1, 0], [5, 5]],
+                             "limits": {"leg_length": [["0.5", "10"], ["10", "20"], ["0.5", "30"]]}})
+    s = workspace_section(robot, "0")
+    assert s.boundary.reason == "the outer circle of leg 1 and the inner circle of leg 2 may coincide"
+    checked(s)
+
+
 def test_a_slab_above_the_workspace_is_empty_and_its_certificate_checks():
     """Seed 000 at (5deg, 3deg, 0): the workspace ends near z = 710.9, and over [711, 718] the solver
     proves the slab empty from the disks' boxes and the candidate extreme points together, which the

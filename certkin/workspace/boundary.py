@@ -170,8 +170,11 @@ def _points(c: _Circles):
     coincident = same_centre & ~cr2[a].disjoint(cr2[b])
     doubtful = (~same_centre & (D.lo <= 0)) | (~same_centre & ~(disc.lo > 0) & ~(disc.hi < 0)) | coincident
     if doubtful.any():
-        p = int(np.argmax(doubtful))
-        why = "may coincide" if same_centre[p] or D.lo[p] <= 0 else "may be tangent"
+        overlap = ~cr2[a].disjoint(cr2[b])          # (radii that may be equal: name such a pair first)
+        alike = doubtful & (same_centre | (D.lo <= 0)) & overlap
+        p = int(np.argmax(alike)) if alike.any() else int(np.argmax(doubtful))
+        why = "may be tangent" if not (same_centre[p] or D.lo[p] <= 0) else "may coincide" if overlap[p] else \
+            "may have the same centre (not resolved)"
         raise _Undecided(Boundary(reason=f"the {c.names[a[p]]} and the {c.names[b[p]]} {why}"))
     two = ~same_centre & (disc.lo > 0)
     a2, b2 = a[two], b[two]
