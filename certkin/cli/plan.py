@@ -62,6 +62,11 @@ def describe(robot, result):
     stopped = result.stats.get("stopped")
     if stopped:
         lines.append("  " + STOPPED[stopped])
+    if result.stats.get("narrow"):
+        names = ", ".join(result.stats["narrow"])
+        lines.append(f"  note: start and goal differ only a little in {names}: the grid moves there only between "
+                     "the two values, so it cannot go around an obstacle in that direction; give both poses the "
+                     "same value there (or values further apart)")
     return "\n".join(lines)
 
 

@@ -156,6 +156,8 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
     nodes, edge_result, stats = _astar(robot, grid, verify, max_edges, clock)
     if nodes is None:
         stats["seconds"] = clock.elapsed()
+        if grid.narrow:
+            stats["narrow"] = grid.narrow
         return PlanResult(robot, "no-path-found", stats=stats)
     kept, segments = _shortcuts(robot, grid, nodes, edge_result, verify, stats)
     stats["seconds"] = clock.elapsed()
@@ -228,6 +230,10 @@ class _Grid:
         self.moves = [m for m in itertools.product((-1, 0, 1), repeat=len(moving)) if any(m)]
         self.moving = moving
         self.s_txt, self.g_txt = s_txt, g_txt
+        # positions in which the end poses differ by less than one step of the others: the grid moves them
+        # only between the two values (and ``margin`` such tiny steps beyond), which leaves no room there
+        self.narrow = [robot.pose_names[k] for k in moving if differs[k] and not angle[k]
+                       and abs(step[k]) * divisions < max(span, 1e-9) / divisions]
 
     def pose(self, node):
         """The exact texts of a node's pose (the end poses as the user wrote them)."""

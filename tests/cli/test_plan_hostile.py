@@ -112,3 +112,17 @@ def test_no_path_found_says_which_budget_ended_the_search(cli, budget, stopped, 
     answered(run, "no-path-found", words)
     run = cli(*argv, "--json")
     assert json.loads(run.out)["stats"]["stopped"] == stopped
+
+
+def test_end_poses_that_differ_a_little_in_a_position_get_a_note(cli):
+    """z = 520.001 against 520: the grid's z step was 0.001 / 6, so it could not climb over the obstacle
+    the path at z = 520 goes around, and the answer only said a larger budget "may find a path".  A
+    note now names the coordinate; equal values (the usual case) get none."""
+    run = cli("plan", MEL, "--from", "-90,140,520.001,0,0,0", "--to", G, "--max-edges", "300", "--json")
+    doc = json.loads(run.out)
+    assert doc["status"] == "no-path-found" and doc["stats"]["narrow"] == ["z"]
+    run = cli("plan", MEL, "--from", "-90,140,520.001,0,0,0", "--to", G, "--max-edges", "300")
+    answered(run, "no-path-found", "differ only a little in z")
+    run = cli(*P, "--json")
+    doc = json.loads(run.out)
+    assert doc["status"] == "found" and "narrow" not in doc["stats"]
