@@ -540,6 +540,49 @@ def test_cells_around_plan_and_workspace_answers_are_resumed_only_for_their_own_
     assert all(proofs.check_file(out / f"{j['id']}.cert").ok for j in jobs)
 
 
+def test_an_answer_for_another_robot_constraints_domain_or_form_is_not_resumed(tmp_path):
+    """A second review's transplants (another job's certificate and document, this job's line and robot
+    hash put back) that were still resumed: an FK answer for another robot (6 postures for a robot with
+    2), a path checked for fewer constraints (feasible for a colliding motion), an FK answer over a
+    domain, or tracked, for a job asking every posture, and forms resume does not compare (a box as a
+    list, lengths v+-t) or a cell count the command refuses (2.5).  Each now runs again and answers as at
+    first; the untouched answers are resumed."""
+    example1 = str(ROOT / "examples" / "robots" / "seed003-planar-example-1.toml")
+    t = {"command": "trajectory", "robot": MEL, "from": "-69,-50,500,85deg,10deg,0", "to": "84,92,500,85deg,10deg,0"}
+    jobs = [{"id": "fA", "command": "fk", "robot": PLANAR, "lengths": "29,13.5,40.5"},
+            {"id": "fB", "command": "fk", "robot": example1, "lengths": "29,13.5,40.5"},
+            {"id": "fD", "command": "fk", "robot": PLANAR, "lengths": "29,13.5,40.5", "domain": "x=20:40"},
+            {"id": "fT", "command": "fk", "robot": PLANAR, "lengths": "29,13.5,40.5", "track": "21.7,-10.4,1.78"},
+            {"id": "fS", "command": "fk", "robot": PLANAR, "lengths": [29, 13.5, 40.5]},
+            {"id": "fE", "command": "fk", "robot": PLANAR, "lengths": "2.9e1,13.50,40.5"},
+            {"id": "fP", "command": "fk", "robot": PLANAR, "lengths": "29+-0.5,13.5,40.5"},
+            {"id": "tA", **t}, {"id": "tB", **t, "constraints": "leg-length,singularity"},
+            {"id": "sL", "command": "singular", "robot": PLANAR, "box": ["x=-5:5", "y=-5:5", "phi=0:0.2"]},
+            {"id": "sS", "command": "singular", "robot": PLANAR, "box": "x=-5:5,y=-5:5,phi=0:0.1"},
+            {"id": "c2", "command": "singular", "robot": PLANAR, "box": "x=-5:5,y=-5:5,phi=0:0.1", "cells": 2},
+            {"id": "cF", "command": "singular", "robot": PLANAR, "box": "x=-5:5,y=-5:5,phi=0:0.1", "cells": 2.5}]
+    out = tmp_path / "out"
+    first = {r["id"]: r["verdict"] for r in run_batch(jobs, out, run_job)["results"]}
+    assert first["tA"] == "infeasible" and first["tB"] == "feasible" and first["cF"] == "error"
+    assert first["fT"] == "tracked" and first["fA"] == "complete"
+    answers = {j["id"]: ((out / f"{j['id']}.cert").read_bytes(), json.loads((out / f"{j['id']}.json").read_text()))
+               for j in jobs if (out / f"{j['id']}.cert").exists()}
+    swaps = [("fB", "fA"), ("fD", "fS"), ("fT", "fE"), ("tB", "tA"), ("sS", "sL"), ("fA", "fP"), ("c2", "cF")]
+    for other, mine in swaps:
+        cert, doc = answers[other]
+        mine_doc = json.loads((out / f"{mine}.json").read_text())
+        (out / f"{mine}.cert").write_bytes(cert)
+        doc = {**doc, "job": mine_doc["job"], "sources": {**doc["sources"], "robot_sha256": mine_doc.get(
+            "sources", {}).get("robot_sha256", doc["sources"]["robot_sha256"]),
+            "certificate_sha256": hashlib.sha256(cert).hexdigest()}}
+        (out / f"{mine}.json").write_text(json.dumps(doc))
+    again = run_batch(jobs, out, run_job)
+    resumed = {r["id"] for r in again["results"] if r.get("resumed")}
+    assert not resumed & {mine for _, mine in swaps}
+    assert {"fB", "tB", "sS", "c2"} <= resumed
+    assert {r["id"]: r["verdict"] for r in again["results"]} == first
+
+
 def test_a_robot_that_is_a_named_pipe_is_an_error_job_not_a_hang(tmp_path):
     """A worker opening a named pipe waits for a writer: the whole batch hung (each job's budget does
     not start before its robot is read).  Such a job is now an error result and the batch carries on."""

@@ -147,11 +147,14 @@ def row(job: dict, verdict: str, seconds: float, attempts: int = 1, certificate:
     return out
 
 
-def done(out, job: dict, verdict, robot_sha256) -> dict | None:
+def done(out, job: dict, verdict, robot_sha256, robot=None, instances=None) -> dict | None:
     """The summary row of a job already answered in ``out``, else None: its document answers this very
     job, from the robot file as it is now (``robot_sha256()``: its SHA-256, as ``provenance``), with
-    the certificate that is beside it now (the same SHA-256: not another job's), and that certificate
-    re-checks.  ``verdict(command, document)`` names the answer."""
+    the certificate that is beside it now (the same SHA-256: not another job's), that certificate
+    re-checks, is about the job's robot (``robot()``: its ``to_dict()``; the same geometry SHA-256) and
+    ``agrees`` with the document and the job (``instances()``: a path's constraint instances for the
+    job's ``constraints``, which every claim of a path must list).  ``verdict(command,
+    document)`` names the answer."""
     path, cert = document_path(out, job["id"]), certificate_path(out, job["id"])
     try:
         document = json.loads(path.read_text())
@@ -171,16 +174,18 @@ def done(out, job: dict, verdict, robot_sha256) -> dict | None:
     import proofs           # the checker, imported by the runs that resume only
     try:
         certificate = proofs.load(cert)
-        if not proofs.check(certificate).ok or not agrees(document, certificate.header, job):
+        if not proofs.check(certificate).ok or not agrees(document, certificate.header, job, instances) or \
+                robot is not None and certificate.header.get("geometry_sha256") != proofs.geometry_sha256(robot()):
             return None
         document.pop("job")
         seconds = document.get("stats", {}).get("seconds", 0.0) if isinstance(document.get("stats"), dict) else 0.0
+        seconds = seconds if isinstance(seconds, (int, float)) and 0 <= seconds < 1e9 else 0.0     # (as written)
         return row(job, verdict(job.get("command"), document), seconds, 0, facts, resumed=True)
-    except (OSError, ValueError, LookupError, TypeError, AttributeError):     # (a document edited out of shape: run again)
+    except (OSError, ValueError, LookupError, TypeError, AttributeError, InputError):   # (edited out of shape: run again)
         return None
 
 
-def agrees(document: dict, header: dict, job: dict | None = None) -> bool:
+def agrees(document: dict, header: dict, job: dict | None = None, instances=None) -> bool:
     """Whether a document states what its certificate's claims (re-checked) prove, about the question they
     answer: an FK document its lengths and ``complete``; a singularity document its status and box (one
     claim) or its counts (cells); a trajectory document its status and path; a plan its waypoints and
@@ -196,16 +201,26 @@ def agrees(document: dict, header: dict, job: dict | None = None) -> bool:
     one = claims[0] if len(claims) == 1 else None
     same = lambda key: key not in document or one is None or key not in one or document[key] == one[key]  # noqa: E731
     problem = header.get("problem")
-    if job is not None and not _same_kind(job, problem, header, document):
+    if job is not None and not (_same_kind(job, problem, header, document) and _bound_options(job)):
         return False
+    if problem == "trajectory" and instances is not None and any(c.get("instances") != instances() for c in claims):
+        return False                             # (another selection of constraints)
     if problem == "forward-kinematics":
         asked = _lengths_asked(job)
+        if job is not None and (asked is None or one is None or one.get("covers") != "all-postures"):
+            return False                         # (lengths as v+-t, another form, a domain or a track: run again)
+        if one is not None and isinstance(document.get("solutions"), list) and \
+                sum(s.get("status") == "unique" for s in document["solutions"] if isinstance(s, dict)) != \
+                len(one.get("solutions", [])):
+            return False
         proved = [(Fraction(t), Fraction(t)) for t in one["lengths"]] if one and "lengths" in one else \
             [(Fraction(a), Fraction(b)) for a, b in one["length_ranges"]] if one and "length_ranges" in one else None
         return one is not None and same("lengths") and same("length_ranges") and \
             (document.get("tracked") or same("complete")) and (asked is None or asked == proved)
     if problem == "singularity" and one is not None and "counts" not in document:
         box, asked = document.get("box"), _box_asked(job)
+        if job is not None and asked is None and not job.get("around"):
+            return False                         # (a box in another form: not compared, run again)
         return same("status") and (not isinstance(box, dict) or [list(v) for v in box.values()] == one.get("box")) and \
             (asked is None or not isinstance(one.get("requested"), dict) or
              asked == {k: [exact_value(t) for t in v] for k, v in one["requested"].items()}) and \
@@ -214,17 +229,24 @@ def agrees(document: dict, header: dict, job: dict | None = None) -> bool:
         counts, tally = document.get("counts"), {}
         for c in claims:
             tally[c.get("status")] = tally.get(c.get("status"), 0) + 1
+        results = document.get("results")
         return isinstance(counts, dict) and all(counts.get(k, 0) == n for k, n in tally.items()) and \
-            sum(counts.values()) == len(claims) and _cells_cover(job, claims)
+            sum(counts.values()) == len(claims) and _cells_cover(job, claims) and isinstance(results, list) and \
+            [r.get("status") for r in results] == [c.get("status") for c in claims] and \
+            [[list(v) for v in r.get("box", {}).values()] for r in results] == [c.get("box") for c in claims]
     if document.get("problem") == "plan" and "route" not in header:
         return False                              # (a plan without a path: its answer is not a claim; run again)
     if problem == "trajectory" and "route" not in header:
         path, asked = document.get("path"), _path_asked(job)
+        if job is not None and asked is None:
+            return False                         # (poses by name, or another form: not compared, run again)
         return one is not None and same("status") and \
             (not isinstance(path, list) or [list(p.values()) if isinstance(p, dict) else p for p in path] == one.get("path")) and \
             (asked is None or asked == [[exact_value(t) for t in pose] for pose in one.get("path", [])])
     if problem == "trajectory":                  # a plan found: its route, its segments, the job's start and goal
         route, asked, waypoints = header["route"], _path_asked(job), document.get("waypoints")
+        if job is not None and asked is None:
+            return False
         chain = [c["path"][0] for c in claims] + [claims[-1]["path"][-1]]
         return document.get("status") == "found" and [list(w.values()) for w in waypoints] == chain and \
             [s.get("status") for s in document.get("segments")] == [c.get("status") for c in claims] and \
@@ -304,6 +326,27 @@ def _box_asked(job) -> dict | None:
     return None if texts is None else {k: [exact_value(t) for t in v] for k, v in texts.items()}
 
 
+BOUND = {"fk": {"lengths"}, "singular": {"box", "cells", "around"}, "trajectory": {"from", "to", "via", "constraints"},
+         "plan": {"from", "to", "divisions", "margin", "max_edges", "constraints"},
+         "workspace": {"orientation", "z", "z_range", "slabs"}}
+FREE = {"id", "command", "robot", "max_boxes", "max_seconds", "min_width", "max_memory"}   # (budgets: answers as true)
+
+
+def _bound_options(job) -> bool:
+    """Whether every option of the job is one ``agrees`` compares with the certificate (``BOUND``), or a
+    budget: a job with any other (``domain``, ``track``, ``angles``, ``scale``) runs
+    again, since its certificate is not compared with it; so does a cell or slab count that is not a
+    plain integer (which the command refuses)."""
+    command = job.get("command")
+    if not {k for k, v in job.items() if v is not None and v is not False} <= FREE | BOUND.get(command, set()):
+        return False                             # (null and false leave an option out: its default)
+    return all(_integer(job[k]) for k in ("cells", "slabs") if job.get(k) is not None)
+
+
+def _integer(value) -> bool:
+    return (isinstance(value, int) and not isinstance(value, bool)) or (isinstance(value, str) and value.strip().isdigit())
+
+
 def _same_kind(job, problem, header, document) -> bool:
     """The certificate and document answer the kind of question the job asks: its command's problem, a
     volume for a ``z_range``, cells for ``cells``, a plan's route for ``plan``."""
@@ -323,10 +366,12 @@ def _around_inside(job, box) -> bool:
     other jobs, and a pose that is not plain decimals (a named pose), pass."""
     around = (job or {}).get("around")
     texts = around.split(",") if isinstance(around, str) else around if isinstance(around, list) else None
+    if around is None:
+        return True
     try:
         values = [exact_value(t) for t in texts]
     except (TypeError, ValueError, ZeroDivisionError):
-        return True
+        return False                    # (a named pose, or another form: not compared, run again)
     if not isinstance(box, list) or len(box) != len(texts):
         return False
     for t, (q, deg), (lo, hi) in zip(texts, values, box):
@@ -344,9 +389,11 @@ def _exact(value) -> str:
 
 def _cells_cover(job, claims) -> bool:
     """A cells job: its claims' requested boxes span the job's box enclosed in floats (each bound the
-    exact one, or within a few float steps outside it), with ``cells`` per side of every variable of
+    exact one, or one float step outside it; a few for degrees), with ``cells`` per side of every variable of
     nonzero width: no other job's cells are taken for this one's."""
     texts = _box_texts({**(job or {}), "cells": None})
+    if texts is None:
+        return False
 
     def value(t):          # (a cell's bound: a float's exact decimal, or the job's own text with one cell)
         q, deg = exact_value(t)
@@ -356,8 +403,9 @@ def _cells_cover(job, claims) -> bool:
         lo = {k: min((c["requested"][k][0] for c in claims), key=value) for k in texts}
         hi = {k: max((c["requested"][k][1] for c in claims), key=value) for k in texts}
     except (TypeError, ValueError, KeyError, AttributeError, OverflowError, ZeroDivisionError):
-        return texts is None
-    near = lambda t, u: abs(value(t) - value(u)) <= 16 * math.ulp(value(u)) + 1e-300   # noqa: E731  (deg: a product)
+        return False
+    steps = lambda u: 16 if exact_value(u)[1] else 1          # noqa: E731  (deg: a product enclosed; else one float)
+    near = lambda t, u: abs(value(t) - value(u)) <= steps(u) * math.ulp(value(u)) + 1e-300   # noqa: E731
     wide = sum(exact_value(a) != exact_value(b) for a, b in texts.values())
     return len(claims) == cells ** wide and len(lo) == len(claims[0]["requested"]) and all(
         not exceeds(lo[k], a) and not exceeds(b, hi[k]) and near(lo[k], a) and near(hi[k], b)
@@ -381,7 +429,9 @@ def _workspace_agrees(document, header, claims, job) -> bool:
     else:
         areas = [c["area"] for c in claims]
         if document.get("volume", {}).get("inner") != header["volume"]["inner"] or \
-                document.get("volume", {}).get("outer") != header["volume"]["outer"]:
+                document.get("volume", {}).get("outer") != header["volume"]["outer"] or \
+                [[a.get("inner"), a.get("outer")] for a in document.get("sections", [])] != \
+                [[a["inner"], a["outer"]] for a in areas]:
             return False
     status = document.get("status")
     if status == "non-empty" and not any(a["inner"] > 0 for a in areas) or \

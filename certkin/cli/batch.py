@@ -28,6 +28,7 @@ from ..display import printable
 from ..errors import InputError
 from ..robots import load_robot, robot_from_dict
 from ..robots.files import robot_file_bytes
+from ..trajectory.constraints import Constraints
 from . import COMMANDS as CLI_COMMANDS
 from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, options, \
     report_writer, write_certificate, write_text_out
@@ -203,12 +204,17 @@ def run_job(job: dict, out: str) -> dict:
 def answer_job(job: dict, out: str):
     """``run_job`` in two phases (``run_job.phased``, see ``certkin.batch.local.run_chunk``): the job's
     answer computed now; returned, a function that writes its files and gives its summary row."""
-    previous = done(out, job, verdict, partial(robot_fingerprint, job))
+    t0, c0 = time.perf_counter(), time.process_time()
+    try:
+        module, args = parse_job(job)           # (first: a job the command refuses is never taken as done)
+    except Exception as exc:
+        return partial(write_error, out, job, ERROR, _message(exc), time.perf_counter() - t0)
+    previous = done(out, job, verdict, partial(robot_fingerprint, job), lambda: robot_of(job)[0].to_dict(),
+                    lambda: [i.to_json() for i in Constraints.of(robot_of(job)[0], job.get("constraints")).instances])
     if previous is not None:
         return lambda: previous
     t0, c0 = time.perf_counter(), time.process_time()
     try:
-        module, args = parse_job(job)
         path = certificate_path(out, job["id"])
         args.certificate = str(path)         # as ``--certificate``: a search keeps what its certificate needs
         robot, fingerprint = robot_of(job)
