@@ -583,6 +583,26 @@ def test_an_answer_for_another_robot_constraints_domain_or_form_is_not_resumed(t
     assert {r["id"]: r["verdict"] for r in again["results"]} == first
 
 
+def test_a_directory_where_a_certificate_goes_is_an_error_job_not_the_end_of_the_batch(tmp_path):
+    """A directory at DIR/<id>.cert stopped the whole batch ("Is a directory", exit 2) and left the
+    previous summary.json in place; a seconds field edited to NaN went into summary.json (not JSON).
+    The job is now an error result naming the path, the batch carries on, and a resumed job's seconds
+    are taken only when they are a plain number."""
+    jobs = [{"id": "s2", "command": "singular", "robot": PLANAR, "box": "x=-20:-10,y=20:30,phi=0:0.3"},
+            {"id": "f", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"}]
+    out = tmp_path / "out"
+    run_batch(jobs, out, run_job)
+    (out / "s2.cert").unlink()
+    (out / "s2.cert").mkdir()
+    doc = json.loads((out / "f.json").read_text())
+    doc["stats"]["seconds"] = float("nan")
+    (out / "f.json").write_text(json.dumps(doc))
+    summary = run_batch(jobs, out, run_job)
+    verdicts = {r["id"]: r["verdict"] for r in summary["results"]}
+    assert verdicts == {"s2": "error", "f": "complete"} and "is a directory" in summary["errors"][0]["error"]
+    assert json.loads(json.dumps(summary, allow_nan=False))["job_seconds"] >= 0
+
+
 def test_a_robot_that_is_a_named_pipe_is_an_error_job_not_a_hang(tmp_path):
     """A worker opening a named pipe waits for a writer: the whole batch hung (each job's budget does
     not start before its robot is read).  Such a job is now an error result and the batch carries on."""

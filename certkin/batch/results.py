@@ -128,7 +128,10 @@ def provenance(robot_sha256: str | None, certificate: dict | None) -> dict:
 def write_error(out, job: dict, verdict: str, message: str, seconds: float = 0.0, attempts: int = 1) -> dict:
     """The result of a job without an answer (``error``: bad input; ``failed``: its worker died):
     its document, a stale certificate removed, and its summary row."""
-    certificate_path(out, job["id"]).unlink(missing_ok=True)
+    try:
+        certificate_path(out, job["id"]).unlink(missing_ok=True)
+    except OSError:                     # (a directory, say, in its place: left there; the error says why)
+        pass
     write_document(out, job, {"status": verdict, "error": message})
     return row(job, verdict, seconds, attempts, error=message)
 
