@@ -193,9 +193,11 @@ def agrees(document: dict, header: dict, job: dict | None = None, instances=None
     answer: an FK document its lengths and ``complete``; a singularity document its status and box (one
     claim) or its counts (cells); a trajectory document its status and path; a plan its waypoints and
     segments; a workspace document its orientation, height(s), areas or volume and a status they imply;
-    and the certificate answers the question of ``job`` (its lengths, box, cells, ``around`` pose, poses,
-    start and goal, orientation, ``z``, ``z_range`` or ``slabs``, compared exactly where they are plain
-    decimals).
+    and the certificate answers the question of ``job`` (its lengths over every posture, box, cells,
+    ``around`` pose, poses, start and goal, orientation, ``z``, ``z_range`` or ``slabs``, compared
+    exactly; ``instances()``: the constraint instances its ``constraints`` select).  A job with another
+    option, or written in a form not compared (``_bound_options``, the ``None`` of the readers), is not
+    taken as done: it runs again.
     A document edited after the fact, or a certificate of another job put beside it (its hash edited in),
     is then not taken as done."""
     claims = header.get("claims")
@@ -254,7 +256,7 @@ def agrees(document: dict, header: dict, job: dict | None = None, instances=None
         return document.get("status") == "found" and [list(w.values()) for w in waypoints] == chain and \
             [s.get("status") for s in document.get("segments")] == [c.get("status") for c in claims] and \
             chain[0] == route.get("from") and chain[-1] == route.get("to") and \
-            (asked is None or asked == [[exact_value(t) for t in route[k]] for k in ("from", "to")])
+            (job is None or asked == [[exact_value(t) for t in route[k]] for k in ("from", "to")])
     if problem in ("workspace-section", "workspace-volume"):
         return _workspace_agrees(document, header, claims, job)
     return False
@@ -366,7 +368,7 @@ def _same_kind(job, problem, header, document) -> bool:
 def _around_inside(job, box) -> bool:
     """A largest-free-box job (``around``): the proved box is centred on its pose (each side's ends
     within a few float steps of the same distance from it; compared exactly that the pose is inside);
-    other jobs, and a pose that is not plain decimals (a named pose), pass."""
+    other jobs pass, and a pose that is not plain decimals (a named pose) fails: it runs again."""
     around = (job or {}).get("around")
     texts = around.split(",") if isinstance(around, str) else around if isinstance(around, list) else None
     if around is None:
