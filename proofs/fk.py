@@ -85,8 +85,8 @@ def check(cert, report) -> None:
             cl.rules[LEAVES[c][0]] = cl.rules.get(LEAVES[c][0], 0) + int(rules[j, c])
         if "figures" in cl.raw and cl.raw["figures"] != cl.figures():
             raise Rejected(f"claims[{cl.index}].figures: stated {cl.raw['figures']}, found {cl.figures()}")
-    report.about["question"] = (f"every assembly mode for {len(claims)} set(s) of leg lengths; first: {claims[0].text}, "
-                                f"domain: {h['claims'][0].get('covers', 'empty')}")
+    report.about["question"] = (f"every assembly mode for {len(claims)} set(s) of leg lengths; first: {claims[0].text}, domain: " + (
+        f"the box {c0.get('domain')} (floats)" if (c0 := h["claims"][0]).get("covers") == "box" else c0.get("covers", "empty")))
     for cl in claims[:5]:
         report.proved.append(cl.summary())
     if len(claims) > 5:

@@ -36,6 +36,9 @@ KINDS = {   # name: (robot file or None, solve, fragments of the question, fragm
     "fk-ranges": (EX2, lambda: forward_kinematics(load_robot(EX2), "28.99:29.01,13.66,40.53"),
                   ["lengths in [28.99, 29.01], [13.66, 13.66], [40.53, 40.53]"], ["6 unique postures", "complete: proved"]),
     "fk-clusters": (None, _clusters, ["every assembly mode"], ["0 unique postures", "1 unresolved clusters"]),
+    "fk-tracked": (EX2, lambda: forward_kinematics(load_robot(EX2), "28.99,13.66,40.53", track=(21.88, -10.2, 1.803)),
+                   ["domain: the box [[", "(floats)"], ["1 unique postures in the domain"]),   # (the box it covers)
+    "fk-all": (EX2, lambda: forward_kinematics(load_robot(EX2), "28.99,13.66,40.53"), ["domain: all-postures"], []),
     "trajectory": (MEL, lambda: verify_trajectory(load_robot(MEL), "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0"),
                    ["-69,-50,500,85deg,10deg,0 -> 84,92,500,85deg,10deg,0", "constraints: interference, leg-length"],
                    ["1 path infeasible", "interference (legs 1, 2) fails for s in [0.548"]),
