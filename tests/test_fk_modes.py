@@ -191,6 +191,27 @@ def test_spherical_robot_with_vertical_legs_at_home_gives_a_cluster_its_checker_
     assert report.ok, report.step
 
 
+def test_a_cluster_that_is_a_mode_again_with_its_quaternion_negated_is_named_so():
+    """A rotation about x by nearly pi (q0 about 2^-10) is a posture of this spherical robot; its other
+    quaternion −q lies on the domain's face q0 = −2^-10, where the search ends in a cluster.  The answer
+    listed 4 modes and a cluster "holding any number of postures", though the cluster is mode 2 again
+    (a reviewer's solver finds 4 real postures; the cluster's platform points are mode 2's).  With the
+    cluster's box negated inside mode 2's uniqueness box, it is now named as that mode's twin (``twin_of``);
+    the certificate, which still lists the cluster, checks."""
+    robot = robot_from_dict({"name": "r6", "kind": "spherical-3dof", "base": [[4, 1, 2], [0, 0, -1], [-2, 0, 4]],
+                             "platform": [[2, 0, 0], [2, -2, 0], [-2, 0, 0]]})
+    result = forward_kinematics(robot, "3,2.998697634594940,4")
+    assert result.complete and len(result.solutions) == 4 and len(result.clusters) == 1
+    k = result.clusters[0]["twin_of"]
+    same = [[max(float(a.lo), float(b.lo)) <= min(float(a.hi), float(b.hi)) for a, b in zip(pa, pb)]
+            for pa, pb in zip(result.clusters[0]["platform_points"], result.solutions[k]["platform_points"])]
+    assert all(all(row) for row in same)              # the same world points: the same posture
+    assert result.message.startswith(f"cluster 1 is mode {k + 1} again") and "any number" not in result.message
+    assert result.to_json()["solutions"][-1] == {**result.to_json()["solutions"][-1], "status": "cluster", "twin_of": k + 1}
+    report = Doc(result.certificate()).check()
+    assert report.ok, report.step
+
+
 # ----- uncertain leg lengths ------------------------------------------------------------------------
 def corners(lengths, tol):
     """The 2^3 corner length vectors of [v - tol, v + tol] as exact decimal texts."""

@@ -73,8 +73,9 @@ def describe(robot, r):
     """Each assembly mode's box (an enclosure: printed outward), each cluster and unresolved region
     outward; with length ranges a mode's box holds its posture for every length in the ranges."""
     ranges = any(":" in t for t in r.lengths)
-    c = len(r.clusters)
-    clusters = f", {display.counted(c, 'cluster')} (postures not resolved)" if c else ""
+    c, twins = len(r.clusters), sum("twin_of" in x for x in r.clusters)
+    clusters = (f", {display.counted(c, 'cluster')} (" + ("postures not resolved" if twins < c else
+                                                          "a mode again, its quaternion negated") + ")") if c else ""
     n, u = len(r.solutions), len(r.unresolved)
     modes = {0: "0 assembly modes", 1: "1 assembly mode, proved unique"}.get(n, f"{n} assembly modes, each proved unique")
     head = (f"{robot.name}: {modes}"
@@ -87,7 +88,8 @@ def describe(robot, r):
         lines.append(f"  {k + 1}: " + ", ".join(f"{n}={display.interval(v, 12)}" for n, v in s["pose"].items()))
     for name, regions in (("cluster", r.clusters), ("unresolved", r.unresolved)):
         for k, s in enumerate(regions[:SHOWN]):
-            lines.append(f"  {name} {k + 1}: " + ", ".join(f"{n}={display.interval(v, 6)}" for n, v in s["pose"].items()))
+            lines.append(f"  {name} {k + 1}: " + ", ".join(f"{n}={display.interval(v, 6)}" for n, v in s["pose"].items())
+                         + (f" (mode {s['twin_of'] + 1} again)" if "twin_of" in s else ""))
         if len(regions) > SHOWN:
             lines.append(f"  ... {len(regions) - SHOWN} more {name} regions (all of them in --json and the certificate)")
     if r.message:

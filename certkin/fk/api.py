@@ -343,9 +343,30 @@ def _finish(result, system, pending, angle_filter, computed=None):
             result.message = (("the budget ran out after " if result.message else "") +
                               f"the search reached the resolution limit in {len(result.clusters)} separate places "
                               f"without proving a posture there: {why}")
+    result.solutions.sort(key=lambda s: [float(v.lo) for v in s["pose"].values()])
+    _twins(result, system)
     if result.clusters and not result.message:      # complete, with clusters: say what they are and how large
         result.message = _cluster_note(result)
-    result.solutions.sort(key=lambda s: [float(v.lo) for v in s["pose"].values()])
+
+
+def _twins(result, system):
+    """Mark a cluster ``twin_of`` mode k (0-based) when its box with the quaternion negated lies in mode
+    k's uniqueness box X*: a root (p, q) in the cluster gives the root (p, −q) in X*, which is mode k's
+    one root, so the cluster holds no posture but mode k's own rotation (q and −q are one rotation).
+    This happens when the twin sits on the domain's face q0 = −δ.  Exact float comparisons of negated
+    bounds; the certificate still lists the cluster (what it proves is unchanged)."""
+    if system.kind == "planar-3rpr" or not result.clusters:
+        return
+    p = system.n_pos
+    stars = {(tuple(r["box"][0]), tuple(r["box"][1])): r["star"] for r in result.regions}
+    for c in result.clusters:
+        lo, hi = c["box"].lo, c["box"].hi
+        nlo, nhi = np.concatenate([lo[:p], -hi[p:]]), np.concatenate([hi[:p], -lo[p:]])
+        for k, s in enumerate(result.solutions):
+            star = stars.get((tuple(s["box"].lo), tuple(s["box"].hi)))
+            if star is not None and np.all(nlo >= star[0]) and np.all(nhi <= star[1]):
+                c["twin_of"] = k
+                break
 
 
 def _cluster_note(result) -> str:
@@ -363,9 +384,14 @@ def _cluster_note(result) -> str:
                                   for c in result.clusters):
         why = ("a posture on a face of the domain (not proved inside or outside it: move the domain's bounds "
                f"off it to decide), {why}")
-    n = len(result.clusters)
+    twins = [c for c in result.clusters if "twin_of" in c]
+    twin_note = "; ".join(f"cluster {result.clusters.index(c) + 1} is mode {c['twin_of'] + 1} again (its quaternion "
+                          "negated, on the domain's face q0 = -2^-10): no other posture" for c in twins)
+    n = len(result.clusters) - len(twins)
+    if not n:
+        return twin_note
     return (f"{display.counted(n, 'cluster')} at the resolution limit, {'each ' if n > 1 else ''}holding any number "
-            f"of postures: {why}{share}")
+            f"of postures: {why}{share}" + (f"; {twin_note}" if twin_note else ""))
 
 
 BUDGET_MESSAGE = "the budget (boxes, seconds or memory) ran out before every region was decided"

@@ -61,7 +61,8 @@ class FKResult:
         out = {"problem": "forward-kinematics", "robot": self.robot.name, "kind": self.robot.kind,
                "lengths": self.lengths, "complete": self.complete,
                "solutions": [entry(s, True) for s in self.solutions]
-               + [{"status": "cluster", **entry(c, False)} for c in self.clusters],
+               + [{"status": "cluster", **entry(c, False), **({"twin_of": c["twin_of"] + 1} if "twin_of" in c else {})}
+                  for c in self.clusters],
                "unresolved": [entry(s, False) for s in self.unresolved],
                "stats": {"boxes": self.boxes, "seconds": round(self.seconds, 6)}, "tracked": bool(self.tracked)}
         if self.message:
