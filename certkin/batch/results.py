@@ -12,7 +12,6 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 from datetime import datetime, timezone
-from decimal import Decimal
 import fcntl
 from fractions import Fraction
 import hashlib
@@ -25,7 +24,7 @@ from pathlib import Path
 from .. import __version__
 from ..certificates import temporary_of, write_text
 from ..errors import InputError
-from ..robots.poses import exact_value, exceeds
+from ..robots.poses import decimal_text, exact_value, exceeds
 from ..workspace.volume import DEFAULT_SLABS
 from .jobs import canonical
 
@@ -374,13 +373,13 @@ def _around_inside(job, box) -> bool:
     if around is None:
         return True
     try:
-        values = [exact_value(t) for t in texts]
+        [exact_value(t) for t in texts]
     except (TypeError, ValueError, ZeroDivisionError):
         return False                    # (a named pose, or another form: not compared, run again)
     if not isinstance(box, list) or len(box) != len(texts):
         return False
-    for t, (q, deg), (lo, hi) in zip(texts, values, box):
-        centre = float(q) * (math.pi / 180 if deg else 1)
+    for t, (lo, hi) in zip(texts, box):
+        centre = _radians(t)
         if exceeds(_exact(lo), str(t)) or exceeds(str(t), _exact(hi)) or \
                 abs((hi - centre) - (centre - lo)) > 8 * math.ulp(max(abs(lo), abs(hi), abs(centre))) + 1e-300:
             return False
@@ -389,28 +388,31 @@ def _around_inside(job, box) -> bool:
 
 def _exact(value) -> str:
     """The exact decimal of a float (every digit)."""
-    return str(Decimal(float(value)))
+    return decimal_text(float(value))
+
+
+def _radians(text) -> float:
+    """A decimal text (``deg`` allowed) as a float of its value in radians (to within rounding)."""
+    q, deg = exact_value(text)
+    return float(q) * (math.pi / 180 if deg else 1)
 
 
 def _cells_cover(job, claims) -> bool:
     """A cells job: its claims' requested boxes span the job's box enclosed in floats (each bound the
     exact one, or one float step outside it; a few for degrees), with ``cells`` per side of every variable of
-    nonzero width: no other job's cells are taken for this one's."""
+    nonzero width: no other job's cells are taken for this one's.  (A cell's bound is a float's exact
+    decimal, or the job's own text when there is one cell.)"""
     texts = _box_texts({**(job or {}), "cells": None})
     if texts is None:
         return False
-
-    def value(t):          # (a cell's bound: a float's exact decimal, or the job's own text with one cell)
-        q, deg = exact_value(t)
-        return float(q) * (math.pi / 180 if deg else 1)
     try:
         cells = int((job or {}).get("cells"))
-        lo = {k: min((c["requested"][k][0] for c in claims), key=value) for k in texts}
-        hi = {k: max((c["requested"][k][1] for c in claims), key=value) for k in texts}
+        lo = {k: min((c["requested"][k][0] for c in claims), key=_radians) for k in texts}
+        hi = {k: max((c["requested"][k][1] for c in claims), key=_radians) for k in texts}
     except (TypeError, ValueError, KeyError, AttributeError, OverflowError, ZeroDivisionError):
         return False
     steps = lambda u: 16 if exact_value(u)[1] else 1          # noqa: E731  (deg: a product enclosed; else one float)
-    near = lambda t, u: abs(value(t) - value(u)) <= steps(u) * math.ulp(value(u)) + 1e-300   # noqa: E731
+    near = lambda t, u: abs(_radians(t) - _radians(u)) <= steps(u) * math.ulp(_radians(u)) + 1e-300   # noqa: E731
     wide = sum(exact_value(a) != exact_value(b) for a, b in texts.values())
     return len(claims) == cells ** wide and len(lo) == len(claims[0]["requested"]) and all(
         not exceeds(lo[k], a) and not exceeds(b, hi[k]) and near(lo[k], a) and near(hi[k], b)

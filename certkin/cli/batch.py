@@ -213,7 +213,6 @@ def answer_job(job: dict, out: str):
                     lambda: [i.to_json() for i in Constraints.of(robot_of(job)[0], job.get("constraints")).instances])
     if previous is not None:
         return lambda: previous
-    t0, c0 = time.perf_counter(), time.process_time()
     try:
         path = certificate_path(out, job["id"])
         args.certificate = str(path)         # as ``--certificate``: a search keeps what its certificate needs
