@@ -81,7 +81,7 @@ def describe(robot, r):
     head = (f"{robot.name}: {modes}"
             + (" for every length in the ranges" if ranges and n else "")
             + (" (tracked from the previous pose)" if r.tracked else
-               f"{clusters}; complete" if r.complete else
+               f"{clusters}; complete" + (f" in the domain {r.domain_text}" if r.domain_text else "") if r.complete else
                f"{clusters}; INCOMPLETE, {display.counted(u, 'unresolved region')}"))
     lines = [head + f" [{r.boxes} boxes, {r.seconds:.3f} s]"]
     for k, s in enumerate(r.solutions):

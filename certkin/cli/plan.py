@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import sys
 
+from .. import display
 from ..engine import budgets
 from ..robots import load_robot
 from ..trajectory import plan
@@ -53,10 +54,12 @@ def run(args):
 
 
 def describe(robot, result):
-    lines = [f"{robot.name}: {result.status} [{result.stats.get('edges_verified', 0)} segments verified, "
+    lines = [f"{robot.name}: {result.status} [{display.counted(result.stats.get('edges_verified', 0), 'segment')} verified, "
              f"{result.stats.get('seconds', 0):.2f} s]"]
     for w in result.waypoints:
         lines.append("  " + ",".join(w))
+    for k, why in result.constraints.unchecked() if result.constraints is not None else ():
+        lines.append(f"  not checked: {k} ({why})")
     if result.endpoint:
         lines.append(f"  the {result.endpoint['pose']} pose is {result.endpoint['status']}: {result.failing}")
     stopped = result.stats.get("stopped")

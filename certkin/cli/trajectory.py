@@ -46,7 +46,7 @@ def describe(robot, r):
     it is not claimed to fail throughout."""
     j = r.to_json()
     lines = [f"{robot.name}: {r.status.upper()} [{j['stats']['boxes']} boxes, {j['stats']['seconds']:.3f} s]"]
-    for k, why in j["skipped"].items():
+    for k, why in r.constraints.unchecked():
         lines.append(f"  not checked: {k} ({why})")
     for m in j["margins"]:
         extra = "" if "sign" not in m else (f", det sign {m['sign']:+d}" if m["sign"] else

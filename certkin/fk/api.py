@@ -92,6 +92,7 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     again = {}
     for k, r in enumerate(out):
         r.user_domain = domain is not None
+        r.domain_text = None if domain is None else _domain_text(domain)
         if res is not None and (not res.tree.complete_record or res.tree.record_sink):   # for a certificate
             r.recorded = lambda whole=False, k=k: _again(robot, lengths, domain, budget, record_limit, k, whole, again)
     seconds = time.perf_counter() - t0
@@ -484,6 +485,14 @@ def _touching(lo, hi):
         hulls = [(np.min([hulls[i][0] for i in members], axis=0).tolist(),
                   np.max([hulls[i][1] for i in members], axis=0).tolist()) for members in joined.values()]
     return [order[np.array(g)] for g in groups]
+
+
+def _domain_text(spec) -> str:
+    """A user domain as text, "x=a:b,..." (a dict's ranges joined the same way)."""
+    if isinstance(spec, str):
+        return spec.strip()
+    return ",".join(f"{k}=" + (":".join(str(x) for x in v) if isinstance(v, (list, tuple)) else str(v))
+                    for k, v in spec.items())
 
 
 def _apply_domain(robot, system, spec, lo, hi):

@@ -28,6 +28,7 @@ class FKResult:
     seconds: float = 0.0
     tracked: bool = False
     user_domain: bool = False                           # a user domain narrowed the search
+    domain_text: str | None = None                      # that domain as given ("x=a:b,...")
     track_C: np.ndarray | None = None                   # the Krawczyk matrix of a tracking proof
     all_solutions: list = field(default_factory=list)   # every proved root of the searched box (certificate order)
     filtered: list = field(default_factory=list)        # solutions outside a user domain (pose filter)
@@ -65,6 +66,8 @@ class FKResult:
                   for c in self.clusters],
                "unresolved": [entry(s, False) for s in self.unresolved],
                "stats": {"boxes": self.boxes, "seconds": round(self.seconds, 6)}, "tracked": bool(self.tracked)}
+        if self.domain_text is not None:     # complete means: every posture of this domain listed
+            out["domain"] = self.domain_text
         if self.message:
             out["message"] = self.message
         return out

@@ -14,7 +14,8 @@ def fk_verdict(result) -> str:
     clusters = (f", {counted(c, 'cluster')} that may hold postures (not resolved: a singular pose, "
                 "postures closer than the resolution, or a continuum)") if c else ""
     if result.complete:
-        return f"{modes}{clusters}; the rest of the domain is proved to hold none (complete)."
+        where = f" {result.domain_text}" if result.domain_text else ""
+        return f"{modes}{clusters}; the rest of the domain{where} is proved to hold none (complete)."
     why = f" ({result.message})" if result.message else " (a budget ran out, or the search was interrupted)"
     return f"INCOMPLETE: {modes}{clusters}, and {counted(u, 'region')} left unresolved{why}."
 
@@ -26,12 +27,19 @@ def fk_report(robot, result, path, certificate=None, budget=None) -> None:
     poses = [(f"mode {k + 1}", m) for k, m in enumerate(mids)] if names == list(robot.pose_names) else []
     sections = [("Robot", robot_section(robot, poses, "Drawn in each assembly mode (at the midpoint of its proved box)."
                                         if poses else "No assembly mode to draw."))]
-    domain = "the domain given with --domain (positions narrow the search, angles filter the modes)" \
-        if result.user_domain else "every real posture (the full rotation range)"
+    if result.tracked:
+        domain = ("a box around the previous pose (--track): only the posture there is proved; the other "
+                  "assembly modes were not searched")
+    elif result.user_domain:
+        given = f"<code>{esc(result.domain_text)}</code> given with --domain" if result.domain_text else "a box"
+        domain = (f"the domain {given} (positions narrow the search, angles filter the modes): the postures "
+                  "outside it are not listed")
+    else:
+        domain = "every real posture (the full rotation range): every real posture for these lengths is listed"
     sections.append(("Question and assumptions", (
         f"<p>Which postures of the platform give the leg lengths <code>{esc(', '.join(result.lengths))}</code> "
         f"(exact decimals, enclosed outward)? Domain searched: {domain}. The limits of the robot file are not "
-        "applied: every real posture for these lengths is listed.</p>")))
+        "applied.</p>")))
     used = {"boxes decided": result.boxes, "seconds": f"{result.seconds:.3f}"}
     evidence = tree_evidence(result.tree, [result.node]) if result.tree is not None else None
     sections.append(("Evidence", evidence_section(evidence, budget, used) + (

@@ -1,13 +1,16 @@
 """The report of a plan: the path found (every segment certified feasible) or why none was."""
 from __future__ import annotations
 
-from .page import evidence_section, robot_section, table, write_report
+from ..display import counted
+from .page import esc, evidence_section, robot_section, table, write_report
 from .trajectory import trajectory_sections
 
 
 def plan_verdict(result) -> str:
     if result.status == "found":
-        return f"Path found: {len(result.segments)} segments, each certified feasible."
+        only = " for the constraints checked (not all the robot file allows)" if result.constraints is not None \
+            and result.constraints.unchecked() else ""
+        return f"Path found: {counted(len(result.segments), 'segment')}, each certified feasible{only}."
     if result.status == "infeasible-endpoint" and result.endpoint:
         return f"No path: the {result.endpoint['pose']} pose is {result.endpoint['status']}" + \
             (f" ({result.failing})." if result.failing else ".")
@@ -20,10 +23,14 @@ def plan_report(robot, result, path, certificate=None, budget=None) -> None:
     sections = [("Robot", robot_section(robot, poses, "Drawn at the start and the goal." if poses else
                                         "No path to draw."))]
     rows = [(k, ",".join(p)) for k, p in enumerate(w)]
+    c = result.constraints
+    checked = ", ".join(sorted({i.constraint for i in c.instances})) if c is not None else "?"
+    unchecked = "".join(f"<li>not checked: {esc(k)} ({esc(why)})</li>" for k, why in c.unchecked()) if c else ""
     sections.append(("Question and assumptions", (
-        "<p>A path from the start to the goal whose every straight segment is certified feasible for all "
-        "the constraints the robot file allows to check; waypoints are searched on a grid between the two "
-        f"poses.</p>{table(('waypoint', 'pose'), rows) if rows else ''}")))
+        "<p>A path from the start to the goal whose every straight segment is certified feasible for the "
+        f"constraints checked: {esc(checked)}; waypoints are searched on a grid between the two poses.</p>"
+        f"<ul>{unchecked or '<li>every constraint family was checked</li>'}</ul>"
+        f"{table(('waypoint', 'pose'), rows) if rows else ''}")))
     stats = {{"edges_verified": "segments verified", "nodes_expanded": "grid nodes expanded"}.get(k, k): v
              for k, v in result.stats.items()}
     sections.append(("Evidence", evidence_section(None, budget, stats)))

@@ -81,7 +81,9 @@ class Constraints:
             if k not in KINDS:
                 raise InputError("constraints", k, f"unknown constraint (known: {', '.join(KINDS)})")
         self.n = robot.n_legs
-        self.skipped = {}
+        self.skipped = {}           # families asked for that the robot file gives no limits for: why
+        self.not_asked = []         # families the robot file allows that the selection leaves out
+        self.partial = {}           # families checked in part only: what is not checked
         self.instances: list[Instance] = []
         self.families = []
         self.vectors = robot.compiled("leg_vectors")
@@ -91,13 +93,17 @@ class Constraints:
         self.platform = cached(robot, "platform", lambda: [enclose_all([Interval(p[k]) for p in robot.platform])
                                                            for k in range(robot.dim)])
         for family in FAMILIES:
-            if family.constraint not in kinds:
-                continue
             why = family.missing(robot)
+            if family.constraint not in kinds:
+                if why is None:
+                    self.not_asked.append(family.constraint)
+                continue
             if why is not None:
                 self.skipped[family.constraint] = why
             else:
                 self._add(family.build(robot, self.base))
+                if (part := family.partial(robot)) is not None:
+                    self.partial[family.constraint] = part
         self.det = next((f for f in self.families if f.sign_only), None)
         self.uses_lengths = any(f.uses_lengths for f in self.families)
         self.function_keys = [LENGTHS] + [f.key for f in self.families if f.key is not None]
@@ -116,6 +122,11 @@ class Constraints:
         self.instances.extend(family.instances)
         family.columns = slice(start, len(self.instances))
         self.families.append(family)
+
+    def unchecked(self) -> list[tuple[str, str]]:
+        """(family, why) of every constraint family not checked, or checked in part only."""
+        return ([(k, why) for k, why in self.skipped.items()] + [(k, "not asked: --constraints") for k in self.not_asked]
+                + [(f"{k} (in part)", why) for k, why in self.partial.items()])
 
     def family(self, constraint: str):
         """The family of one constraint kind, or None when it is not selected or not checkable."""

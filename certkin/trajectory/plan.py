@@ -35,6 +35,7 @@ from ..errors import InputError
 from ..quiet import quiet
 from ..robots import as_robot
 from ..robots.poses import parse_pose
+from .constraints import Constraints
 from .path import parse_path
 from .verify import verify_trajectories
 
@@ -47,6 +48,7 @@ class PlanResult:
     segments: list = field(default_factory=list)    # TrajectoryResult of each emitted segment
     endpoint: dict | None = None                    # the verdict on a failing end pose
     stats: dict = field(default_factory=dict)
+    constraints: object = None                      # the Constraints checked on every segment
 
     @property
     def failing(self) -> str:
@@ -64,6 +66,10 @@ class PlanResult:
                "waypoints": [dict(zip(self.robot.pose_names, w)) for w in self.waypoints],
                "segments": [{"status": s.status, "margins": s.margins} for s in self.segments],
                "stats": self.stats}
+        if self.constraints is not None:
+            c = self.constraints
+            out.update(constraints=sorted({i.constraint for i in c.instances}), skipped=dict(c.skipped),
+                       not_asked=list(c.not_asked), partly_checked=dict(c.partial))
         if self.endpoint is not None:
             out["endpoint"] = self.endpoint
         return out
@@ -129,6 +135,7 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
     s_iv, s_txt = parse_pose(start, robot, "start")
     g_iv, g_txt = parse_pose(goal, robot, "goal")
     verified = [0]
+    constraints = Constraints.of(robot, constraints)
 
     def verify(paths):
         out = verify_trajectories(robot, paths, constraints, budget.within(clock.left()), indices=False, rtol=None,
@@ -146,11 +153,13 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
             if r.status != "infeasible":
                 stats["stopped"] = _stopped(clock, "undecided")
             return PlanResult(robot, "infeasible-endpoint" if r.status == "infeasible" else "no-path-found",
-                              endpoint={"pose": name, "status": r.status, "violations": failing}, stats=stats)
+                              endpoint={"pose": name, "status": r.status, "violations": failing}, stats=stats,
+                              constraints=constraints)
     straight = verify([parse_path(robot, s_txt, g_txt)])[0]
     if straight.status == "feasible":
         return _checked(PlanResult(robot, "found", [s_txt, g_txt], [straight],
-                                   stats={"edges_verified": 1, "seconds": clock.elapsed()}), s_txt, g_txt)
+                                   stats={"edges_verified": 1, "seconds": clock.elapsed()}, constraints=constraints),
+                        s_txt, g_txt)
 
     grid = _Grid(robot, s_iv, s_txt, g_iv, g_txt, divisions, margin)
     nodes, edge_result, stats = _astar(robot, grid, verify, max_edges, clock)
@@ -158,10 +167,11 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
         stats["seconds"] = clock.elapsed()
         if grid.narrow:
             stats["narrow"] = grid.narrow
-        return PlanResult(robot, "no-path-found", stats=stats)
+        return PlanResult(robot, "no-path-found", stats=stats, constraints=constraints)
     kept, segments = _shortcuts(robot, grid, nodes, edge_result, verify, stats)
     stats["seconds"] = clock.elapsed()
-    return _checked(PlanResult(robot, "found", [grid.pose(n) for n in kept], segments, stats=stats), s_txt, g_txt)
+    return _checked(PlanResult(robot, "found", [grid.pose(n) for n in kept], segments, stats=stats,
+                               constraints=constraints), s_txt, g_txt)
 
 
 def _value(text: str, robot_angle: bool):

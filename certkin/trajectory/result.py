@@ -45,6 +45,8 @@ class TrajectoryResult:
                "path": [dict(zip(self.robot.pose_names, t)) for t in self.path.texts],
                "constraints": sorted({i.constraint for i in c.instances}),
                "skipped": dict(c.skipped),
+               "not_asked": list(c.not_asked),
+               "partly_checked": dict(c.partial),
                "margins": self.margins,
                "violations": self.violations,
                "undecided": self.undecided,

@@ -73,6 +73,11 @@ class Family:
     def missing(robot) -> str | None:
         return None
 
+    @staticmethod
+    def partial(robot) -> str | None:
+        """What of the family the robot file gives no limits for, when it is checked only in part."""
+        return None
+
     @classmethod
     def build(cls, robot, base):
         """The family of ``robot`` (``base``: the base points A_i as three (n,) enclosures)."""

@@ -33,6 +33,13 @@ class Joints(Family):
             return None
         return "no [limits] base_joints or platform_joints in the robot file"
 
+    @staticmethod
+    def partial(robot):
+        for side, other in (("base", "platform"), ("platform", "base")):
+            if f"{side}_joints" in robot.limits and f"{other}_joints" not in robot.limits:
+                return f"the {other} joints: no [limits] {other}_joints in the robot file"
+        return None
+
     def functions(self, pose: PathPose):
         """Per facet n·u (base) or −(R n)·l (platform); per cone a·u and (a·u)² − |a|²cos²α |u|²."""
         out = []

@@ -1,0 +1,82 @@
+"""What a report, the terminal and ``--json`` say an answer covers is what was checked: an FK answer
+over ``--domain`` or ``--track`` does not say every posture is listed, and a trajectory or plan
+checked for some constraint families does not say every family was checked."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import proofs
+from certkin import load_robot, robot_from_dict, verify_trajectory
+from certkin.cli import main
+
+ROBOTS = Path(__file__).resolve().parent.parent / "examples" / "robots"
+PLANAR = str(ROBOTS / "seed003-planar-example-2.toml")
+MEL = str(ROBOTS / "seed000-mel-tsukuba.toml")
+LENGTHS = "28.99,13.66,40.53"        # seed 003, example 2: six assembly modes (Constantinescu 2004, Tab. 3.9)
+START, GOAL = "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0"
+
+
+def _run(capsys, *argv) -> str:
+    assert main(list(argv)) == 0
+    return capsys.readouterr().out
+
+
+def test_fk_over_a_domain_says_which_domain(tmp_path, capsys):
+    full = json.loads(_run(capsys, "fk", PLANAR, "--lengths", LENGTHS, "--json"))
+    report, cert = tmp_path / "d.html", tmp_path / "d.cert"
+    doc = json.loads(_run(capsys, "fk", PLANAR, "--lengths", LENGTHS, "--domain", "x=20:40", "--json",
+                          "--report", str(report), "--certificate", str(cert)))
+    assert len(full["solutions"]) == 6 and full["complete"] and "domain" not in full
+    assert doc["complete"] and doc["domain"] == "x=20:40"
+    outside = [s for s in full["solutions"] if not 20 <= s["pose"]["x"][0] <= 40]
+    assert outside and len(doc["solutions"]) == 6 - len(outside)          # the modes left out exist
+    page = report.read_text()
+    assert "every real posture for these lengths is listed" not in page
+    assert "x=20:40" in page and "outside it are not listed" in page
+    assert "complete in the domain x=20:40" in _run(capsys, "fk", PLANAR, "--lengths", LENGTHS, "--domain", "x=20:40")
+    assert proofs.check(str(cert)).ok
+
+
+def test_fk_tracked_says_the_other_modes_were_not_searched(tmp_path, capsys):
+    report = tmp_path / "t.html"
+    doc = json.loads(_run(capsys, "fk", PLANAR, "--lengths", LENGTHS, "--track", "13.3,-17,1.13", "--json",
+                          "--report", str(report)))
+    assert doc["tracked"] and len(doc["solutions"]) == 1
+    page = report.read_text()
+    assert "every real posture for these lengths is listed" not in page and "were not searched" in page
+
+
+def test_constraints_left_out_are_named(tmp_path, capsys):
+    robot = load_robot(MEL)
+    assert "leg_radius" in robot.limits          # the file allows the interference check
+    report = tmp_path / "t.html"
+    doc = json.loads(_run(capsys, "trajectory", MEL, "--from", START, "--to", GOAL, "--constraints", "leg-length",
+                          "--json", "--report", str(report)))
+    assert doc["constraints"] == ["leg-length"] and doc["not_asked"] == ["interference", "singularity"]
+    page = report.read_text()
+    assert "every constraint family was checked" not in page and "not asked: --constraints" in page
+    terminal = _run(capsys, "trajectory", MEL, "--from", START, "--to", GOAL, "--constraints", "leg-length")
+    assert "not checked: interference (not asked: --constraints)" in terminal
+    whole = verify_trajectory(robot, START, GOAL)        # all of them: the interference family is not met
+    assert whole.status != "feasible" and whole.to_json()["not_asked"] == []
+
+
+def test_a_plan_checked_for_some_constraints_says_so(tmp_path, capsys):
+    report = tmp_path / "p.html"
+    doc = json.loads(_run(capsys, "plan", MEL, "--from", START, "--to", GOAL, "--constraints", "leg-length",
+                          "--json", "--report", str(report)))
+    assert doc["status"] == "found" and doc["constraints"] == ["leg-length"]
+    assert doc["not_asked"] == ["interference", "singularity"]
+    page = report.read_text()
+    assert "all the constraints the robot file allows" not in page and "every constraint family was checked" not in page
+    assert "not all the robot file allows" in page
+
+
+def test_joints_checked_on_one_side_only_are_named():
+    mel = load_robot(MEL)
+    data = {"kind": "gough-stewart", "base": [list(p) for p in mel.base], "platform": [list(p) for p in mel.platform],
+            "limits": {"base_joints": [{"axis": ["0", "0", "1"], "half_angle": "80deg"}] * 6}}
+    doc = verify_trajectory(robot_from_dict(data), "0,0,500,0,0,0", "1,0,500,0,0,0", constraints="joints").to_json()
+    assert doc["constraints"] == ["joints"]
+    assert doc["partly_checked"] == {"joints": "the platform joints: no [limits] platform_joints in the robot file"}
