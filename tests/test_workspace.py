@@ -564,3 +564,20 @@ def test_a_paving_of_many_boxes_is_drawn_as_an_image_with_boundary_on_top(micro,
     plt.close(fig)
     wplot.plot_section(r, tmp_path / "p.png")
     assert (tmp_path / "p.png").stat().st_size > 10_000
+
+
+def test_a_small_paving_shows_its_boundary_boxes(micro, tmp_path):
+    """A paving of fewer than ``MAX_PATCHES`` boxes, its boundary boxes far below a pixel (the README's
+    example): the inside boxes drawn one by one painted over them, and the plot showed no boundary at
+    all.  Boundary boxes narrower than a pixel now send the paving to the image, where a pixel a boundary
+    box touches is boundary."""
+    pytest.importorskip("matplotlib")
+    from PIL import Image
+    from certkin.plots import workspace as wplot
+    r = workspace_section(micro, "0,0,0", "20005")
+    lo, hi = r.paving.boxes(UNDECIDED)
+    assert 0 < sum(r.paving.counts().values()) <= wplot.MAX_PATCHES and len(lo)
+    wplot.plot_section(r, tmp_path / "p.png")
+    rgb = np.asarray(Image.open(tmp_path / "p.png").convert("RGB")).astype(int)
+    yellow = np.all(np.abs(rgb - [int(wplot.COLOURS["boundary"][k:k + 2], 16) for k in (1, 3, 5)]) < 12, axis=2)
+    assert yellow.sum() > 2000          # the legend's patch is about 200 pixels

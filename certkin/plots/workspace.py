@@ -59,10 +59,12 @@ def plot_section(result, path):
     fig, ax = plt.subplots(figsize=(6.4, 6.0))
     if result.paving is not None:
         dlo, dhi = result.domain
-        if sum(result.paving.counts().values()) > MAX_PATCHES:
-            _raster(ax, result.paving, dlo, dhi)
-        else:
-            for kind, name in ((EXCLUDED, "outside"), (UNDECIDED, "boundary"), (PROVED, "inside")):
+        blo, bhi = result.paving.boxes(UNDECIDED)
+        pixel = float(np.max(np.asarray(dhi, float) - np.asarray(dlo, float))) / PIXELS
+        if sum(result.paving.counts().values()) > MAX_PATCHES or np.any(np.min(bhi - blo, axis=1) < pixel):
+            _raster(ax, result.paving, dlo, dhi)        # (a boundary box below a pixel: drawn at least a pixel wide)
+        else:                                           # boundary boxes on top, never hidden by an inside box
+            for kind, name in ((EXCLUDED, "outside"), (PROVED, "inside"), (UNDECIDED, "boundary")):
                 lo, hi = result.paving.boxes(kind)
                 _rects(ax, lo, hi, COLOURS[name], "white" if name != "outside" else "#f7f7f7")
         ax.set_xlim(dlo[0], dhi[0])
