@@ -187,6 +187,7 @@ class SingularityResult:
     boxes: int = 0
     seconds: float = 0.0
     scale_factor: float | None = None  # for largest_free_box
+    around: dict | None = None         # for largest_free_box: {"pose": texts, "scale": half-widths of the unit box}
     exact_values: dict = field(default_factory=dict)   # witness coordinates that are an exact text ({name: text})
 
     def witness(self, key: str, text: bool = False) -> list:
@@ -224,6 +225,8 @@ class SingularityResult:
             out["undecided_count"] = len(self.undecided)
         if self.scale_factor is not None:
             out["scale_factor"] = self.scale_factor
+        if self.around is not None:
+            out["around"] = self.around
         out["stats"] = {"boxes": self.boxes, "seconds": round(self.seconds, 6)}
         return out
 
@@ -414,16 +417,17 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
         if len(sc) != d or not np.all(np.isfinite(sc)) or np.any(sc <= 0) or np.any(sc > MAX_SCALE):
             raise InputError("scale", "", f"expected {d} comma-separated positive numbers up to {MAX_SCALE:g}")
     tried, proved = 0, 0.0
+    asked = {"pose": list(texts) if texts is not None else [float(v) for v in center.mid()], "scale": sc.tolist()}
 
     def attempt(s):
         nonlocal tried, proved
         w = Interval.from_bounds(np.full(d, s), np.full(d, s)) * Interval.from_bounds(sc, sc)
         lo, hi = ((center - w).lo, (center + w).hi) if s else (center.lo, center.hi)  # outward: ⊇ pose ± s·scale
         if not (np.all(np.abs(lo) <= MAX_MAGNITUDE) and np.all(np.abs(hi) <= MAX_MAGNITUDE)):
-            return SingularityResult(robot, None, lo, hi, "undecided", scale_factor=s)    # not tried: not proved
+            return SingularityResult(robot, None, lo, hi, "undecided", scale_factor=s, around=asked)  # not tried
         iv = Interval.from_bounds(lo, hi)
         r = classify_cells(robot, (iv, _cell_texts(robot, lo, hi)), 1, budget.within(clock.left()))[0]
-        r.scale_factor = s
+        r.scale_factor, r.around = s, asked
         tried += 1
         if r.status == "singularity-free":
             proved = max(proved, s)

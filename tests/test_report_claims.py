@@ -80,3 +80,52 @@ def test_joints_checked_on_one_side_only_are_named():
     doc = verify_trajectory(robot_from_dict(data), "0,0,500,0,0,0", "1,0,500,0,0,0", constraints="joints").to_json()
     assert doc["constraints"] == ["joints"]
     assert doc["partly_checked"] == {"joints": "the platform joints: no [limits] platform_joints in the robot file"}
+
+
+PLANAR1 = str(ROBOTS / "seed003-planar-example-1.toml")
+
+
+def test_around_report_states_the_pose_and_scale(tmp_path, capsys):
+    report = tmp_path / "a.html"
+    doc = json.loads(_run(capsys, "singular", PLANAR, "--around", "10,10,22.5deg", "--scale", "1,1,0.1", "--json",
+                          "--report", str(report)))
+    assert doc["around"] == {"pose": ["10", "10", "22.5deg"], "scale": [1.0, 1.0, 0.1]}
+    assert doc["status"] == "singularity-free" and doc["scale_factor"] > 0
+    assert "x=10, y=10, phi=22.5deg" in report.read_text() and "scale 1, 1, 0.1" in report.read_text()
+
+
+def test_around_a_pose_not_proved_regular_does_not_blame_the_budget(tmp_path, capsys):
+    """Seed 003 example 1 at phi = 0 with x = y = 0: the platform's joints lie on the base's (a
+    simplified robot, similar triangles), det(A) = 0 there (the seed's singular configuration)."""
+    report = tmp_path / "a.html"
+    doc = json.loads(_run(capsys, "singular", PLANAR1, "--around", "0,0,0", "--json", "--report", str(report)))
+    assert doc["status"] == "undecided" and doc["scale_factor"] == 0.0 and doc["stats"]["boxes"] <= 10
+    page = report.read_text()
+    assert "budget ran out" not in page and "not proved non-zero at the pose itself" in page
+
+
+def test_singular_report_lists_the_undecided_boxes(tmp_path, capsys):
+    report = tmp_path / "u.html"
+    doc = json.loads(_run(capsys, "singular", PLANAR1, "--box", "x=0,y=0,phi=0.1:0.3", "--max-boxes", "2000", "--json",
+                          "--report", str(report)))
+    assert doc["status"] == "undecided" and doc["undecided_count"] > 0
+    assert "undecided box 1" in report.read_text()
+
+
+def test_trajectory_report_lists_the_undecided_instants(tmp_path, capsys):
+    report = tmp_path / "t.html"
+    doc = json.loads(_run(capsys, "trajectory", MEL, "--from", START, "--to", GOAL, "--max-boxes", "40", "--json",
+                          "--report", str(report)))
+    assert doc["undecided"]             # (instants where a crossing is not resolved, beside proved violations)
+    page = report.read_text()
+    assert "Undecided instants" in page and f"{doc['undecided'][0]['s'][0]:.9f}"[:10] in page
+
+
+def test_workspace_report_of_a_robot_with_unused_limits_says_only_the_outer_bound_holds(tmp_path, capsys):
+    assert "leg_radius" in load_robot(MEL).limits     # interference: not a constraint of the workspace
+    report = tmp_path / "w.html"
+    doc = json.loads(_run(capsys, "workspace", MEL, "--orientation", "0,0,0", "--z", "600", "--min-width", "0.05",
+                          "--json", "--report", str(report)))
+    assert doc["ignored_limits"] == ["leg_radius"]
+    page = report.read_text()
+    assert "only the outer bound holds" in page and "superset of the robot's workspace" in page

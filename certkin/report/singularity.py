@@ -9,6 +9,9 @@ from ..plots import plot_cells
 from .page import esc, evidence_section, figure, robot_section, table, tree_evidence, write_report
 
 
+SHOWN = 20          # undecided boxes listed
+
+
 def singularity_verdict(results) -> str:
     if len(results) == 1:
         r = results[0]
@@ -16,7 +19,10 @@ def singularity_verdict(results) -> str:
             return f"Singularity-free: det(A) {'>' if r.sign > 0 else '<'} 0 on the whole box."
         if r.status == "singular":
             return "Singular: det(A) changes sign in the box (two poses of certified opposite signs)."
-        return "UNDECIDED: the budget ran out before the whole box was decided."
+        if r.around is not None and not r.scale_factor:
+            return ("UNDECIDED: det(A) is not proved non-zero at the pose itself (it may be singular there): "
+                    "no box around it is claimed free.")
+        return "UNDECIDED: part of the box was not decided (the budget ran out, or boxes reached the resolution)."
     counts = {s: sum(r.status == s for r in results) for s in ("singularity-free", "singular", "undecided")}
     whole = "singular" if counts["singular"] else "undecided" if counts["undecided"] else "singularity-free"
     return (f"The box is {whole}: {len(results)} cells, {counts['singularity-free']} singularity-free, "
@@ -34,10 +40,13 @@ def singularity_report(robot, results, path, certificate=None, budget=None) -> N
     centre = list(0.5 * (lo + hi))
     sections = [("Robot", robot_section(robot, [("centre of the box", centre)], "Drawn at the centre of the box."))]
     cells = "" if len(results) == 1 else f", cut into {len(results)} cells"
-    if len(results) == 1 and results[0].scale_factor is not None:      # --around: the box is the answer
-        question = ("How large a box around the pose given (the pose ± s times the scale, s found by bisection) "
-                    "can be proved free of singularities, det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) "
-                    "never 0 on it? The box found is in the answer below")
+    if len(results) == 1 and results[0].around is not None:      # --around: the box is the answer
+        a = results[0].around
+        pose = ", ".join(f"{n}={v}" for n, v in zip(robot.pose_names, a["pose"]))
+        question = (f"How large a box around the pose {pose} (the pose ± s times the scale "
+                    f"{', '.join(f'{v:g}' for v in a['scale'])}, s found by bisection) can be proved free of "
+                    "singularities, det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) never 0 on it? The box found "
+                    "is in the answer below")
     else:
         question = (f"Does det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) vanish on the box "
                     f"{_box_text(robot, lo, hi, False)}{cells}? The box as searched encloses the decimal box given "
@@ -55,6 +64,10 @@ def singularity_report(robot, results, path, certificate=None, budget=None) -> N
             rows += [(f"det(A) {'>' if k == 'positive' else '<'} 0 at",
                       ", ".join(x if isinstance(x, str) else point(x) for x in r.witness(k, text=True)))
                      for k in r.witnesses]
+        if r.undecided:
+            rows += [(f"undecided box {k + 1}", _box_text(robot, a, b, False)) for k, (a, b) in enumerate(r.undecided[:SHOWN])]
+            if len(r.undecided) > SHOWN:
+                rows.append(("", f"... {len(r.undecided) - SHOWN} more undecided boxes (all of them in --json)"))
         sections.append(("Answer", table(("", ""), rows)))
     else:
         sections.append(("Cell classification", figure(lambda p: plot_cells(robot, results, p),

@@ -12,6 +12,9 @@ VERDICTS = {"feasible": "Feasible: every constraint checked holds at every insta
             "undecided": "UNDECIDED: some instants are not decided (budget, resolution or interrupt)."}
 
 
+SHOWN = 20          # undecided ranges listed
+
+
 def _legs(m) -> str:
     return "-".join(map(str, m["legs"])) + (f" {m['detail']}" if m.get("detail") else "")
 
@@ -40,6 +43,11 @@ def trajectory_sections(robot, result, budget=None) -> list:
                 for v in j["violations"]]
         out.append(("Forbidden instants", "<p>Their union contains every violation (s = segment + t).</p>" +
                     table(("constraint", "legs", "s interval", "violation"), rows)))
+    if j["undecided"]:
+        rows = [(outward(*u["s"]),) for u in j["undecided"][:SHOWN]]
+        more = f"<p>... {len(j['undecided']) - SHOWN} more (all of them in --json).</p>" if len(j["undecided"]) > SHOWN else ""
+        out.append(("Undecided instants", "<p>A constraint is neither proved to hold nor proved violated there (s = segment + t).</p>" +
+                    table(("s interval",), rows) + more))
     out.append(("Margins along the motion", figure(lambda p: plot_margins(result, p),
                                                     "certified margin lower bounds per constraint family")))
     return out

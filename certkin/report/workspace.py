@@ -24,8 +24,13 @@ def _pose(robot, result, z) -> list:
 
 
 def workspace_verdict(result) -> str:
-    """The verdict in one line (the inner bound rounded down and never below 0, as on the terminal)."""
+    """The verdict in one line (the inner bound rounded down and never below 0, as on the terminal); for
+    a robot with limits the workspace does not use, the bracket is of the leg-length workspace only."""
     stopped = "; a budget or Ctrl-C stopped the paving before its resolution" if result.stats.get("exhausted") else ""
+    ignored = ignored_limits(result.robot)
+    if ignored:
+        stopped += (f"; of the leg-length workspace only: with {', '.join(ignored)} the robot's workspace is smaller, "
+                    "so only the outer bound holds for it")
     if isinstance(result, VolumeResult):
         vin, vout = result.volume()
         return (f"Workspace volume {result.status}: between {lower(max(vin, 0.0))} and {upper(vout)} "
@@ -49,7 +54,9 @@ def workspace_report(robot, result, path, certificate=None, budget=None) -> None
     sections.append(("Question and assumptions", (
         f"<p>The positions reachable {esc(where)} with the orientation {esc(', '.join(result.orientation))} "
         "(constant-orientation workspace, seed 004), within the leg-length limits of the robot file. "
-        + (f"Limits not used: {esc(', '.join(ignored))}." if ignored else "") + "</p>")))
+        + (f"Limits not used: {esc(', '.join(ignored))}: the answer describes a superset of the robot's "
+           "workspace, so its outer bounds hold for the robot but its inner bounds and exact area do not."
+           if ignored else "") + "</p>")))
     c = result.counts()
     used = {"boxes inside (proved)": c["inner_boxes"], "boxes outside (proved)": c["outside_boxes"],
             "boundary boxes (undecided)": c["boundary_boxes"], **{k: v for k, v in result.stats.items()}}
