@@ -103,7 +103,7 @@ def test_an_around_report_asks_its_own_question_and_shows_the_free_box_inward(cl
     box = json.loads(run.out)["box"]
     page = (tmp_path / "r.html").read_text()
     question = page.split("Question and assumptions")[1].split("</p>")[0]
-    assert "How large a box around the pose given" in question and "decimal box given" not in question
+    assert "How large a box around the pose x=-20, y=25, phi=0.1" in question and "decimal box given" not in question
     assert "x ∈ [" not in question
     shown = page.split("x ∈ [")[1].split("]")[0].split(", ")
     assert box["x"][0] <= float(shown[0]) <= float(shown[1]) <= box["x"][1]
