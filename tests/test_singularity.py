@@ -354,3 +354,23 @@ def test_a_projected_cell_grid_shows_the_least_favourable_status_of_its_cells(tm
     splot.plot_cells(robot, results, tmp_path / "c.png")
     squares = drawn[0].flat[0].collections[0]
     assert len(squares.get_paths()) == 1 and to_hex(squares.get_facecolor()[0]) == splot.COLOURS["singular"]
+
+
+def test_the_cell_plot_never_leaves_a_singular_cell_out(tmp_path):
+    """12 slices of phi and 6 panels: slices were picked (0, 2, 4, 7, 9, 11) and a singular cell in
+    slice 1 was not drawn at all.  Consecutive slices now share a panel, each square its least
+    favourable cell."""
+    pytest.importorskip("matplotlib")
+    from pathlib import Path
+    from types import SimpleNamespace
+    from PIL import Image
+    from certkin.plots.singularity import COLOURS, plot_cells
+    from certkin import load_robot
+    robot = load_robot(str(Path(__file__).resolve().parent.parent / "examples" / "robots" / "seed003-planar-example-2.toml"))
+    cells = [SimpleNamespace(lo=np.array([x, y, 0.1 * k]), hi=np.array([x + 1.0, y + 1.0, 0.1 * (k + 1)]),
+                             status="singular" if (x, y, k) == (0.0, 0.0, 1) else "singularity-free", sign=1)
+             for x in (0.0, 1.0) for y in (0.0, 1.0) for k in range(12)]
+    plot_cells(robot, cells, tmp_path / "c.png")
+    rgb = np.asarray(Image.open(tmp_path / "c.png").convert("RGB")).astype(int)
+    red = np.all(np.abs(rgb - [int(COLOURS["singular"][i:i + 2], 16) for i in (1, 3, 5)]) < 10, axis=2)
+    assert red.sum() > 1000        # a square of a panel (the legend's patch is about 200 pixels)

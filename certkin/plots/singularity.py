@@ -2,10 +2,11 @@
 
 Cells are drawn with their certified status: singularity-free cells in
 blue (det > 0) or green (det < 0), singular cells in red, undecided ones in
-grey.  A 3-D cell grid is shown as 2-D slices along its last variable; a grid
-of more dimensions is projected onto them, each drawn square showing the least
-favourable status of the cells it stands for (singular, then undecided, then
-free), never a free square over a singular cell.
+grey.  A 3-D cell grid is shown as 2-D slices along its last variable (more
+slices than panels: consecutive slices share a panel); a grid of more dimensions
+is projected onto them, each drawn square showing the least favourable status of
+the cells it stands for (singular, then undecided, then free), never a free
+square over a singular cell.
 """
 from __future__ import annotations
 
@@ -43,18 +44,18 @@ def plot_cells(robot, results, path, max_slices: int = 6):
     rest = free[2:]
     if rest:
         k = rest[0]
-        slabs = sorted(set(zip(lo[:, k], hi[:, k])))
-        if len(slabs) > max_slices:
-            pick = np.linspace(0, len(slabs) - 1, max_slices).round().astype(int)
-            slabs = [slabs[i] for i in pick]
+        slices = sorted(set(zip(lo[:, k], hi[:, k])))
+        all_slabs = len(slices)     # more than max_slices: consecutive slices drawn together, none left out
+        slabs = [(slices[g[0]][0], slices[g[-1]][1]) for g in np.array_split(np.arange(len(slices)), max_slices)
+                 if len(g)] if len(slices) > max_slices else slices
     else:
-        k, slabs = None, [None]
+        k, slabs, all_slabs = None, [None], 1
     cols = min(3, len(slabs))
     rows = int(np.ceil(len(slabs) / cols))
     fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 4 * rows), squeeze=False)
     rank = np.array([WORST.index(_key(r)) for r in results])
     for a, slab in zip(axes.flat, slabs):
-        mine = np.ones(len(results), bool) if slab is None else (lo[:, k] == slab[0]) & (hi[:, k] == slab[1])
+        mine = np.ones(len(results), bool) if slab is None else (lo[:, k] >= slab[0]) & (hi[:, k] <= slab[1])
         square = np.stack([lo[mine, ax_x], lo[mine, ax_y], hi[mine, ax_x], hi[mine, ax_y]], 1)
         squares, which = np.unique(square, axis=0, return_inverse=True)     # the cells drawn on one square
         worst = np.zeros(len(squares), np.int64)
@@ -73,7 +74,14 @@ def plot_cells(robot, results, path, max_slices: int = 6):
     legend = [Patch(color=COLOURS[c], label=t) for c, t in
               [("free+", "free, det > 0"), ("free-", "free, det < 0"), ("singular", "singular"), ("undecided", "undecided")]]
     fig.legend(handles=legend, loc="lower center", ncol=4, fontsize=8)
-    fig.suptitle(f"{robot.name}: certified cell classification", fontsize=10)
+    notes = []
+    if len(rest) > 1:
+        notes.append(f"projected over {', '.join(names[i] for i in rest[1:])}: each square shows its least "
+                     "favourable cell")
+    if len(slabs) < all_slabs:
+        notes.append(f"{all_slabs} slices of {names[k]} in {len(slabs)} panels: each square its least favourable cell")
+    fig.suptitle(f"{robot.name}: certified cell classification" + (f"\n({'; '.join(notes)})" if notes else ""),
+                 fontsize=10)
     fig.tight_layout(rect=(0, 0.05, 1, 0.96))
     fig.savefig(path, dpi=110)
     plt.close(fig)
