@@ -38,7 +38,7 @@ class Report:
         if not self.ok:
             return self.step
         c = self.checked
-        return f"{c.get('claims', 0)} claims, {c.get('leaves', 0)} leaves re-verified" + "".join(
+        return f"{(n := c.get('claims', 0))} claim{'s' * (n != 1)}, {c.get('leaves', 0)} leaves re-verified" + "".join(
             f", {c[k]} {what}" for k, what in (("solutions", "solutions proved unique"), ("witnesses", "witness pairs"),
                                                ("undecided", "undecided (nothing claimed)")) if c.get(k))
 

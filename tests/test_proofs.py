@@ -117,7 +117,7 @@ def test_planar_certificate_accepted(planar):
     report = planar.check()
     assert report.ok, report.step
     assert report.checked["leaves"] == 2 and report.checked["claims"] == 1
-    assert str(report) == "OK: 1 claims, 2 leaves re-verified"
+    assert str(report) == "OK: 1 claim, 2 leaves re-verified"
     assert report.proved == [f"singularity-free: det(A) {'> 0' if planar.claim()['sign'] > 0 else '< 0'} on the whole box (2 leaves)"]
 
 
@@ -342,7 +342,7 @@ def test_cli_exit_codes(planar, tmp_path):
     good = planar.write(tmp_path / "good.cert")
     assert proofs.check(good).ok
     r = _run(good)
-    assert r.returncode == 0 and r.stdout.endswith("\nOK: 1 claims, 2 leaves re-verified\n")
+    assert r.returncode == 0 and r.stdout.endswith("\nOK: 1 claim, 2 leaves re-verified\n")
     assert r.stdout.startswith("robot: toy (planar-3rpr), geometry SHA-256 ") and "proved: singularity-free: det(A) " in r.stdout
 
     planar.claim()["sign"] = -1

@@ -129,3 +129,14 @@ def test_workspace_report_of_a_robot_with_unused_limits_says_only_the_outer_boun
     assert doc["ignored_limits"] == ["leg_radius"]
     page = report.read_text()
     assert "only the outer bound holds" in page and "superset of the robot's workspace" in page
+
+
+def test_the_recheck_command_works_from_the_report_directory(tmp_path, capsys, monkeypatch):
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    _run(capsys, "fk", PLANAR, "--lengths", LENGTHS, "--report", str(tmp_path / "a" / "r.html"),
+         "--certificate", str(tmp_path / "b" / "r.cert"))
+    page = (tmp_path / "a" / "r.html").read_text()
+    assert "<code>certkin check ../b/r.cert</code>" in page
+    monkeypatch.chdir(tmp_path / "a")
+    assert main(["check", "../b/r.cert"]) == 0

@@ -87,7 +87,7 @@ def test_a_report_in_the_browser(name, browser, tmp_path, capsys):
     doc = json.loads(capsys.readouterr().out)
     assert proofs.check_file(cert).ok
     sha = hashlib.sha256(cert.read_bytes()).hexdigest()
-    text = check_page(browser, report, [sha, f"certkin check {cert}", "certkin 0.1"], name)
+    text = check_page(browser, report, [sha, f"certkin check {cert.name}", "certkin 0.1"], name)   # (from its directory)
     verdict = browser.evaluate("document.getElementById('verdict').innerText")
     status = doc.get("status") or ("complete" if doc.get("complete") else None) or \
         ("singular" if doc["counts"]["singular"] else "singularity-free")

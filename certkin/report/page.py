@@ -13,6 +13,7 @@ from __future__ import annotations
 import base64
 from datetime import datetime, timezone
 import html
+import os
 import shlex
 import tempfile
 from pathlib import Path
@@ -131,15 +132,20 @@ def _amount(name: str, value):
     return value
 
 
-def certificate_section(path) -> str:
-    """The certificate's name, size, SHA-256 and re-check command, or that none was written."""
+def certificate_section(path, report=None) -> str:
+    """The certificate's name, size, SHA-256 and re-check command (its path from the report's directory,
+    ``report`` being the report's own path), or that none was written."""
     if not path or not Path(path).exists():
         return ("<p>No certificate was written for this report: the command writes one when given "
                 "<code>--certificate FILE</code> and its answer proves something (a plan that found no path "
                 "proves nothing).</p>")
     facts = file_facts(path)
+    where = ""
+    if report is not None:
+        path = os.path.relpath(os.path.abspath(path), os.path.dirname(os.path.abspath(report)))
+        where = " from the directory of this report"
     return table(("file", "size (bytes)", "SHA-256"), [(facts["file"], facts["bytes"], facts["sha256"])]) + \
-        f"<p>Re-check it with the independent checker: <code>certkin check {esc(shlex.quote(str(path)))}</code> " \
+        f"<p>Re-check it with the independent checker{where}: <code>certkin check {esc(shlex.quote(str(path)))}</code> " \
         f"(or <code>python -m proofs {esc(shlex.quote(str(path)))}</code>); exit code 0 only when every step " \
         "re-verifies.</p>"
 
@@ -149,7 +155,7 @@ def write_report(path, title: str, verdict: str, sections, certificate=None, cer
     given ``certificates_html``: a campaign's), the footer."""
     stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     body = "".join(f"<h2>{esc(h)}</h2>{content}" for h, content in sections)
-    body += f"<h2>Certificate</h2>{certificates_html or certificate_section(certificate)}"
+    body += f"<h2>Certificate</h2>{certificates_html or certificate_section(certificate, path)}"
     write_text(path, f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>{esc(title)}</title><style>{STYLE}</style></head>
 <body><h1>{esc(title)}</h1><p class="verdict" id="verdict">{esc(verdict)}</p>{body}
