@@ -197,13 +197,28 @@ def replaced_file(path) -> Path:
             mode = os.stat(target).st_mode
         except OSError:                     # a dangling link (or a loop): replaced
             return target
-        if stat.S_ISREG(mode):
+        if stat.S_ISREG(mode) and not _stream_link(target):
             return target
+        mode = 0 if stat.S_ISREG(mode) else mode  # (a link to a process's stream: /dev/stdout > a file)
     if not stat.S_ISREG(mode):
-        kind = "a directory" if stat.S_ISDIR(mode) else "a device, a pipe or a socket"
+        kind = "a directory" if stat.S_ISDIR(mode) else "a device, a pipe or a socket" if mode else \
+            "a link to a stream of a process, through /dev or /proc"
         raise NotRegularFile(errno.EINVAL, f"not a regular file ({kind}): certkin writes a new file and renames "
                                            "it onto the name")
     return target
+
+
+def _stream_link(path, hops: int = 40) -> bool:
+    """Whether a link, or a link it leads to, lies in or points into /dev or /proc: /dev/stdout leads to
+    /proc/self/fd/1, a regular file when the output is redirected to one, and is still not ours to replace."""
+    path = os.path.abspath(path)
+    for _ in range(hops):
+        if path.startswith(("/dev/", "/proc/")) and not path.startswith("/dev/shm/"):
+            return True
+        if not os.path.islink(path):
+            return False
+        path = os.path.normpath(os.path.join(os.path.dirname(path), os.readlink(path)))
+    return True
 
 
 def _temporary(path):

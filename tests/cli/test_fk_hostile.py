@@ -147,6 +147,20 @@ def test_outputs_onto_a_pipe_are_refused_and_a_link_to_a_file_is_replaced(cli, t
     assert stat.S_ISFIFO(os.lstat(pipe).st_mode)
 
 
+def test_a_link_to_the_process_output_is_refused_when_the_output_is_a_file(tmp_path):
+    """``--certificate /dev/stdout`` with the output redirected to a file: /dev/stdout leads to
+    /proc/self/fd/1, a regular file then, and the system's link was replaced by the certificate."""
+    import subprocess
+    import sys
+    link = tmp_path / "stdout.cert"
+    link.symlink_to("/proc/self/fd/1")
+    with open(tmp_path / "out.txt", "w") as out:
+        run = subprocess.run([sys.executable, "-m", "certkin", *F, "--certificate", str(link)], stdout=out,
+                             stderr=subprocess.PIPE, text=True)
+    assert run.returncode == 2 and "not a regular file" in run.stderr and "Traceback" not in run.stderr
+    assert link.is_symlink() and os.readlink(link) == "/proc/self/fd/1"
+
+
 def test_angle_ranges_of_a_domain_are_read_modulo_two_pi_and_the_rest_is_counted(cli):
     """phi = 100:101 holds the modes whose phi is within -0.531 and 0.469 (modulo 2 pi): 3 of the 6;
     the text counts the others, which the certificate lists."""
