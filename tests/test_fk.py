@@ -1055,3 +1055,22 @@ def test_tracking_reads_the_pose_in_the_robots_own_angles():
         assert all(float(s["pose"][k].lo) <= float(target["pose"][k].hi) and float(target["pose"][k].lo)
                    <= float(s["pose"][k].hi) for k in ("phi1", "phi2", "sigma"))
         assert proofs.check(r.certificate()).ok
+
+
+def test_the_memory_ceiling_bounds_a_spatial_fk_search_and_its_answer(tmp_path):
+    """A Gough search's batch of 8 192 boxes holds about 12 KB a box while it is decided (100 MB),
+    which the ceiling did not count: ``--max-memory 100MiB`` peaked 205 MiB beyond the start-up, and
+    50MiB 128 MiB.  The batch is now shortened to what the ceiling leaves, and the search gets
+    ``SEARCH_SHARE`` of it (the answer built from its leaves comes after).  In a fresh process (the
+    kernels loaded and a first search made before the peak is measured from), the peak beyond that
+    stays within the ceiling (and 10 %)."""
+    from peak import beyond_start_up
+    robot = str(Path(__file__).resolve().parent.parent / "examples" / "robots" / "dietmaier-6-6-40.toml")
+    lengths = "1,0.645275,1.086284,1.503439,1.281933,0.771071"
+    warm = (f"from certkin.cli import main; from certkin import forward_kinematics, keep_freed_memory; "
+            f"keep_freed_memory(); forward_kinematics({robot!r}, {lengths!r}, max_boxes=2000)")
+    rc, extra, done = beyond_start_up(
+        f"result = main(['fk', {robot!r}, '--lengths', {lengths!r}, '--max-memory', '100MiB', '--json'])", warm)
+    doc = json.loads(done.stdout)
+    assert rc == 0 and not doc["complete"] and doc["unresolved"]
+    assert extra <= 1.1 * 100 * 2 ** 20, extra / 2 ** 20     # (118 MiB before, 43 MiB now)

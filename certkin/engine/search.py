@@ -33,7 +33,9 @@ out, so memory stays bounded by about ``batch * 2^d * depth`` boxes.
 Results are deterministic: the order of work depends only on the input (when the last seconds
 of a time budget would not cover a whole batch, the batch is shortened; a search stopped by its
 time budget depends on the machine's speed anyway).  The record of the search (tree and evidence)
-stays below ``budget.max_memory``: a search that would exceed it stops, its open boxes undecided.
+and the problem's working memory for a batch (``problem.bytes_per_box``, if it has one, times the
+batch's boxes: the batch is shortened to fit) stay below ``budget.max_memory``: a search that would
+exceed it stops, its open boxes undecided.
 """
 from __future__ import annotations
 
@@ -48,6 +50,7 @@ from .tree import BUDGET, CONTRACTED, EXCLUDED, INTERRUPTED, NOT_NEEDED, OPEN, P
     Evidence, Store, Tree
 
 SPLIT_RATIO = 0.4921875  # off-centre bisection ratio (exact in binary)
+MIN_BATCH = 16           # boxes of the smallest batch a budget leaves
 
 
 @dataclass
@@ -127,16 +130,18 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     t0 = time.perf_counter()
     per_box = 0.0                           # seconds per box of the last batch
     exhausted = False
+    work = getattr(problem, "bytes_per_box", 0)      # the problem's working memory per box of a batch
     while frontier:
         left = budget.max_seconds - (time.perf_counter() - t0)
-        if processed >= budget.max_boxes or left <= 0 or _memory(store, evidence) > budget.max_memory:
+        room = budget.max_memory - _memory(store, evidence)
+        if processed >= budget.max_boxes or left <= 0 or room < MIN_BATCH * work or room <= 0:
             exhausted = True
             break
         if interrupt.requested():
             exhausted = True
             interrupt.cut()
             break
-        ids = _pop(frontier, _batch_size(batch, per_box, left, budget.max_boxes - processed))
+        ids = _pop(frontier, _batch_size(batch, per_box, left, budget.max_boxes - processed, room // work if work else None))
         done = finished[store.root[ids]]
         if done.any():
             store.kind[ids[done]] = UNDECIDED
@@ -239,11 +244,14 @@ def _memory(store, evidence) -> int:
     return int(1.5 * store.nbytes()) + evidence.nbytes
 
 
-def _batch_size(batch, per_box, seconds_left, boxes_left):
+def _batch_size(batch, per_box, seconds_left, boxes_left, memory_boxes=None):
     """The next batch: ``batch`` boxes, fewer when the budget's last seconds or boxes would not
-    cover them (so a time budget is overrun by about one small batch, not one large one)."""
+    cover them (so a time budget is overrun by about one small batch, not one large one), or when the
+    memory left beside the record (``memory_boxes`` boxes of the problem's working memory) would not."""
     if per_box > 0 and batch * per_box > seconds_left:
-        batch = int(max(16, min(batch, seconds_left / per_box)))
+        batch = int(max(MIN_BATCH, min(batch, seconds_left / per_box)))
+    if memory_boxes is not None:
+        batch = min(batch, max(MIN_BATCH, memory_boxes))
     return int(max(1, min(batch, boxes_left)))
 
 

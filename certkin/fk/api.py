@@ -15,6 +15,7 @@ box lies inside the domain or outside it: every posture is then in a solution bo
 """
 from __future__ import annotations
 
+from dataclasses import replace
 import itertools
 import time
 
@@ -86,7 +87,8 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
     limit = None if record == "whole" else budgets.FK_RECORD_NODES if record_limit is None else record_limit
-    res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], budget, progress,
+    searched = replace(budget, max_memory=max(1, int(SEARCH_SHARE * budget.max_memory)))
+    res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], searched, progress,
                            limit, record_sink(system.n, FKProblem.reasons) if record and limit is not None else None) if len(idx) else None
     out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter)
     again = {}
@@ -395,6 +397,8 @@ def _cluster_note(result) -> str:
             f"of postures: {why}{share}" + (f"; {twin_note}" if twin_note else ""))
 
 
+SEARCH_SHARE = 0.65           # of max_memory, for the search's record and working memory: the answer built
+                              # from its leaves took up to 17 % of the budget more (2 000 unresolved regions)
 BUDGET_MESSAGE = "the budget (boxes, seconds or memory) ran out before every region was decided"
 MAX_GROUPS = 2000             # groups of cluster leaves joined pairwise at most (``_touching``)
 CLUSTER_GAP = 2.0 ** -20     # cluster leaves closer than this (relative to the domain) or than their own width join
