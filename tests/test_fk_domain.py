@@ -172,10 +172,20 @@ FACE = {"name": "posture (0, 0, 0) at lengths 5, 10, 13", "kind": "planar-3rpr",
 
 
 @pytest.mark.parametrize("domain", ["x=-5:0", "y=-3:0"])
-def test_a_cluster_on_a_face_of_the_domain_says_so(domain):
+def test_a_posture_on_a_face_of_the_domain_says_so(domain, monkeypatch):
     """The posture x = y = phi = 0 (exact: |a_i - b_i| = 5, 10, 13, a regular posture) on the upper face of
-    the domain: the search ends there in a cluster, which holds it, and the note names the face."""
+    the domain: it is proved unique in a box across the face, reported unresolved (the answer incomplete),
+    and the note says to move the bound.  With ε-inflation kept to slivers (2^-40) the search ends there in
+    a cluster, which holds it, and the note names the face."""
+    import certkin.fk.search as fk_search
     from certkin import robot_from_dict
+    r = forward_kinematics(robot_from_dict(FACE), "5,10,13", domain=domain)
+    assert not r.complete and len(r.unresolved) == 1 and not r.clusters
+    box = r.unresolved[0]["pose"]
+    assert all(float(box[n].lo) <= 0 <= float(box[n].hi) for n in ("x", "y", "phi"))
+    assert "1 posture lies across the boundary of the domain" in r.message
+    assert proofs.check(r.certificate()).ok
+    monkeypatch.setattr(fk_search, "INFLATE_BELOW", 2.0 ** -40)
     r = forward_kinematics(robot_from_dict(FACE), "5,10,13", domain=domain)
     assert r.complete and len(r.clusters) == 1
     box = r.clusters[0]["box"]

@@ -191,15 +191,22 @@ def test_spherical_robot_with_vertical_legs_at_home_gives_a_cluster_its_checker_
     assert report.ok, report.step
 
 
-def test_a_cluster_that_is_a_mode_again_with_its_quaternion_negated_is_named_so():
+def test_a_cluster_that_is_a_mode_again_with_its_quaternion_negated_is_named_so(monkeypatch):
     """A rotation about x by nearly pi (q0 about 2^-10) is a posture of this spherical robot; its other
-    quaternion −q lies on the domain's face q0 = −2^-10, where the search ends in a cluster.  The answer
-    listed 4 modes and a cluster "holding any number of postures", though the cluster is mode 2 again
-    (a reviewer's solver finds 4 real postures; the cluster's platform points are mode 2's).  With the
-    cluster's box negated inside mode 2's uniqueness box, it is now named as that mode's twin (``twin_of``);
-    the certificate, which still lists the cluster, checks."""
+    quaternion −q lies on the domain's face q0 = −2^-10.  With ε-inflation started from the last
+    Krawczyk contraction, −q is proved there too and recognised as a mode's twin: 4 modes, no cluster
+    (a reviewer's solver finds 4 real postures).  With inflation kept to slivers (2^-40, as when it
+    started from the box before the contraction) the search ends in a cluster on the face: the answer
+    listed it as "holding any number of postures", though it is mode 2 again (its platform points are
+    mode 2's).  With the cluster's box negated inside mode 2's uniqueness box, it is named as that mode's
+    twin (``twin_of``); the certificate, which still lists the cluster, checks."""
+    import certkin.fk.search as fk_search
     robot = robot_from_dict({"name": "r6", "kind": "spherical-3dof", "base": [[4, 1, 2], [0, 0, -1], [-2, 0, 4]],
                              "platform": [[2, 0, 0], [2, -2, 0], [-2, 0, 0]]})
+    result = forward_kinematics(robot, "3,2.998697634594940,4")
+    assert result.complete and len(result.solutions) == 4 and not result.clusters
+    assert Doc(result.certificate()).check().ok
+    monkeypatch.setattr(fk_search, "INFLATE_BELOW", 2.0 ** -40)
     result = forward_kinematics(robot, "3,2.998697634594940,4")
     assert result.complete and len(result.solutions) == 4 and len(result.clusters) == 1
     k = result.clusters[0]["twin_of"]

@@ -325,9 +325,11 @@ class FKProblem:
         b.stages.append(((lo2, hi2), {"C": (kmask, C[keep].astype(np.float32))},
                          self._stage_reasons(len(lo), k[kept[keep]])))
         self._again(system, b, k[shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN], lo2, hi2)
-        width = np.max((rhi - rlo) / self.scale, axis=1)
+        flo, fhi = b.stages[-1][0][0][rest], b.stages[-1][0][1][rest]   # after the last Krawczyk round
+        width = np.max((fhi - flo) / self.scale, axis=1)
         # small boxes still open, contracted or not (a box HC4 made a sliver around a root is proved
-        # only by inflation: K of a sliver rarely fits inside it)
+        # only by inflation: K of a sliver rarely fits inside it), inflated from their last contraction
+        # (from the box before it, a root next to a singular one was left a cluster at the resolution)
         small = ~done & (width < INFLATE_BELOW) & (b.status[rest] == OPEN)
         within = np.zeros(len(rest), dtype=bool)
         if self.uncertain:   # a box about as narrow as the root's spread over the lengths: inflate now
@@ -337,7 +339,7 @@ class FKProblem:
             small |= ~done & ~keep & within
         if small.any():      # small open boxes: ε-inflation around a Newton iterate
             sm = rest[small]
-            proved, slo, shi, Cs = self._inflate(rlo[small], rhi[small], roots[sm])
+            proved, slo, shi, Cs = self._inflate(flo[small], fhi[small], roots[sm])
             b.status[sm[proved]], b.reason[sm[proved]] = PROVED, 2
             given_up = (within & ~keep)[small] & ~proved   # no box holding the root's spread is proved unique:
             b.status[sm[given_up]], b.reason[sm[given_up]] = UNDECIDED, self.CLUSTER   # a cluster
