@@ -13,6 +13,7 @@ import signal
 import subprocess
 import sys
 import time
+import zipfile
 
 import pytest
 
@@ -836,3 +837,91 @@ def test_workers_that_cannot_start_stop_the_batch_with_a_clear_error(tmp_path):
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout.startswith("refused: workers: 3 worker processes in a row died as they started"), done.stdout
     assert done.stderr.count("FileNotFoundError") <= 4
+
+
+def test_two_batches_on_one_dask_worker_keep_their_own_directories(tmp_path):
+    """Each chunk ran ``os.chdir`` into its batch's directory, for the whole worker process: two batches
+    from two directories on one worker with two threads read each other's robot files and wrote into each
+    other's output directories.  Paths are now joined to the batch's directory per task."""
+    distributed = pytest.importorskip("dask.distributed", reason="the dask extra is not installed")
+    import shutil
+    import threading
+    a, b = tmp_path / "a", tmp_path / "b"
+    for d in (a, b):
+        d.mkdir()
+    shutil.copy(PLANAR, a / "robot.toml")
+    other = Path(PLANAR).read_text().replace("34.47", "34.57", 1)
+    assert other != Path(PLANAR).read_text()
+    (b / "robot.toml").write_text(other)
+    jobs = [{"id": f"j{k}", "command": "fk", "robot": "robot.toml", "lengths": f"28.9{k % 10},13.66,40.53"}
+            for k in range(24)]
+    script = ("import json, sys; from certkin.cli import main; "
+              "sys.exit(main(['batch', 'jobs.jsonl', '--out', 'out', '--scheduler', sys.argv[1], '--json']))")
+    for d in (a, b):
+        (d / "jobs.jsonl").write_text("".join(json.dumps(j) + "\n" for j in jobs))
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
+        runs = {}
+
+        def run(d):
+            runs[d] = subprocess.run([sys.executable, "-c", script, cluster.scheduler_address], cwd=d,
+                                     capture_output=True, text=True, timeout=300)
+        threads = [threading.Thread(target=run, args=(d,)) for d in (a, b)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+    geometry = {}
+    for d in (a, b):
+        assert runs[d].returncode == 0, runs[d].stderr[-2000:]
+        assert json.loads(runs[d].stdout)["counts"] == {"fk complete": len(jobs)}
+        for j in jobs:
+            assert proofs.check_file(d / "out" / f"{j['id']}.cert", robot=str(d / "robot.toml")).ok
+        geometry[d] = {json.loads(zipfile.ZipFile(d / "out" / f"{j['id']}.cert").read("header.json"))["geometry_sha256"]
+                       for j in jobs}
+    assert len(geometry[a]) == len(geometry[b]) == 1 and geometry[a] != geometry[b]
+
+
+def test_scheduler_and_workers_together_are_refused(tmp_path, jobs_file, capsys):
+    assert main(["batch", str(jobs_file), "--out", str(tmp_path / "o"), "--scheduler", "tcp://127.0.0.1:1",
+                 "--workers", "2"]) == 2
+    err = capsys.readouterr().err
+    assert "--workers" in err and "not with --scheduler" in err and not (tmp_path / "o").exists()
+
+
+@pytest.mark.slow
+def test_a_scheduler_that_goes_away_leaves_the_rest_pending_not_failed_nor_hanging(tmp_path, jobs_file):
+    """The scheduler killed mid-run: the batch waited for ever (``as_completed`` of a closed client), and
+    Ctrl-C then gave a traceback; chunks cancelled with the connection were recorded as failed jobs.
+    Now, once the client gives up reconnecting (30 s), the batch ends: the jobs answered are kept, the
+    others pending, the summary written, exit 130 (as for an interrupt)."""
+    pytest.importorskip("dask.distributed", reason="the dask extra is not installed")
+    import socket
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    bin_dir = Path(sys.executable).parent
+    scheduler = subprocess.Popen([str(bin_dir / "dask"), "scheduler", "--port", str(port), "--no-dashboard"],
+                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    worker = None
+    try:
+        time.sleep(3)
+        worker = subprocess.Popen([str(bin_dir / "dask"), "worker", f"tcp://127.0.0.1:{port}", "--nthreads", "1",
+                                   "--no-dashboard"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(4)
+        lines = [json.loads(line) for line in jobs_file.read_text().splitlines()]
+        many = tmp_path / "many.jsonl"
+        many.write_text("".join(json.dumps({**j, "id": f"{j['id']}-{k}"}) + "\n" for k in range(30) for j in lines))
+        batch = subprocess.Popen([sys.executable, "-m", "certkin", "batch", str(many), "--out", str(tmp_path / "o"),
+                                  "--scheduler", f"tcp://127.0.0.1:{port}"], stdout=subprocess.PIPE,
+                                 stderr=subprocess.PIPE, text=True)
+        time.sleep(6)
+        scheduler.kill()
+        out, err = batch.communicate(timeout=120)
+    finally:
+        for p in (scheduler, worker):
+            if p is not None:
+                p.kill()
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert batch.returncode == 130 and "Traceback" not in err and "scheduler went away" in err
+    assert summary["interrupted"] and not summary["failed"]
+    assert any(k.endswith("pending") for k in summary["counts"])

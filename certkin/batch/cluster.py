@@ -19,11 +19,15 @@ shared file system).
 from __future__ import annotations
 
 from collections import deque
+from concurrent.futures import CancelledError
 import os
+import sys
 import threading
+import time
 
 from ..allocator import keep_freed_memory
 from ..errors import InputError
+from .jobs import BATCH_DIRECTORY
 from .local import IN_FLIGHT, Died, TaskQueue, run_chunk, times
 
 
@@ -64,8 +68,10 @@ def connect(address: str):
 
 def run_dask(tasks: list, work, client, report) -> bool:
     """Run ``work(*tasks[i])`` for every i on the Dask cluster of ``client`` (``connect``), closed at
-    the end; ``report(i, value)`` as each chunk ends.  Returns True when Ctrl-C stopped the run."""
+    the end; ``report(i, value)`` as each chunk ends.  Returns True when Ctrl-C stopped the run, or its
+    scheduler went away (the client gives up reconnecting after 30 s): the jobs not reported stay pending."""
     from dask.distributed import as_completed
+    from distributed.client import ClosedClientError
     from distributed.scheduler import KilledWorker
 
     with client:
@@ -86,11 +92,20 @@ def run_dask(tasks: list, work, client, report) -> bool:
                 submit(queue.chunk(slots), False)
         try:
             hand_out()
-            for future in finished:
+            while running:
+                future = _next(finished, client)
+                if future is None:
+                    raise ClosedClientError("the scheduler went away")
                 chunk, alone = running.pop(future)
                 try:
                     values, seconds = future.result()
                     queue.jobs, queue.seconds = queue.jobs + len(chunk), queue.seconds + seconds
+                except CancelledError:      # lost with the scheduler's connection (certkin cancels none)
+                    if not _alive(client):
+                        raise ClosedClientError("the scheduler went away") from None
+                    queue.again(chunk)      # (the client reconnected: run again, uncharged)
+                    hand_out()
+                    continue
                 except KilledWorker:
                     if not alone:           # which job of the task killed its workers is not known
                         suspects.extend(chunk)
@@ -99,26 +114,55 @@ def run_dask(tasks: list, work, client, report) -> bool:
                     tries = client.run_on_scheduler(_allowed_failures) + 1
                     values = [Died(tries, f"its worker process died {times(tries)} while running it (killed, or "
                                           "out of memory)")]
-                except Exception as exc:    # a bug in the work function
+                except Exception as exc:    # a bug in the work function, or a task lost with its scheduler
+                    if not _alive(client):
+                        raise ClosedClientError("the scheduler went away") from None
                     values = [Died(1, f"{type(exc).__name__}: {exc}")] * len(chunk)
                 for i, value in zip(chunk, values):
                     if alone and isinstance(value, dict) and not value.get("resumed"):
                         value["attempts"] = 2   # run again after a worker died
                     report(i, value)
                 hand_out()
+        except ClosedClientError:           # the scheduler went away: what was not answered stays pending
+            sys.stderr.write("certkin: the Dask scheduler went away during the run: the jobs not answered are "
+                             "pending (run the batch again to resume them)\n")
+            return True
         except KeyboardInterrupt:
-            client.cancel(list(running))
+            if _alive(client):
+                client.cancel(list(running))
             return True
     return False
 
 
+POLL = 0.02     # seconds between two looks at a cluster with no task finished
+
+
+def _next(finished, client):
+    """The next finished future of ``finished`` (``as_completed``), or None once the client is closed
+    (its scheduler went away: ``as_completed`` would wait for ever)."""
+    while not finished.has_ready():
+        if not _alive(client):
+            return None
+        time.sleep(POLL)
+    return next(finished)
+
+
+def _alive(client) -> bool:
+    return client.status in ("running", "connecting", "newly-created")
+
+
 def _run_chunk_in(directory: str, work, tasks: list):
-    """``local.run_chunk`` in the batch's working directory (jobs may name their robot files and the
-    output directory relative to it, and a Dask worker was started elsewhere), with freed memory kept in
-    the worker process as in the local pool's workers (``certkin.allocator``: a few µs, once is enough)."""
-    os.chdir(directory)
+    """``local.run_chunk`` as from the batch's working directory (jobs may name their robot files and the
+    output directory relative to it, and a Dask worker was started elsewhere): the tasks' (job, output
+    directory) with the directory joined to it, and ``jobs.located`` for the robot files, for this task
+    only (a worker's threads may serve several batches: no ``os.chdir``), with freed memory kept in the
+    worker process as in the local pool's workers (``certkin.allocator``: a few µs, once is enough)."""
     keep_freed_memory()
-    return run_chunk(work, tasks)
+    token = BATCH_DIRECTORY.set(directory)
+    try:
+        return run_chunk(work, [(job, os.path.join(directory, out)) for job, out in tasks])
+    finally:
+        BATCH_DIRECTORY.reset(token)
 
 
 def _allowed_failures(dask_scheduler) -> int:

@@ -9,6 +9,7 @@ reports it and carries on.
 """
 from __future__ import annotations
 
+from contextvars import ContextVar
 from decimal import Decimal
 import json
 import os
@@ -23,6 +24,17 @@ MAX_JOBS = 200_000          # jobs of one file at most: a batch holds each job a
                             # (200 000 jobs: about 0.5 GB in the batch process; split larger campaigns)
 MAX_LINE = 1 << 20          # characters of a job line at most (an inline robot table is a few hundred)
 MAX_DEPTH = 32              # nesting of a job's lists and tables at most (an inline robot table: 4)
+
+
+BATCH_DIRECTORY: ContextVar[str | None] = ContextVar("certkin_batch_directory", default=None)
+
+
+def located(path: str) -> str:
+    """A path of a job (its robot file) as the batch process sees it: a relative one joined to the
+    batch's working directory (``BATCH_DIRECTORY``) when a task runs in a process started elsewhere (a
+    Dask worker; set per task, so the threads of one worker may serve different batches), else as given."""
+    base = BATCH_DIRECTORY.get()
+    return path if base is None or os.path.isabs(path) else os.path.join(base, path)
 
 
 def read_jobs(path) -> list[dict]:

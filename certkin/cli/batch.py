@@ -21,16 +21,16 @@ import sys
 import time
 
 from ..batch import PENDING, read_jobs, run_batch
-from ..batch.jobs import shown
+from ..batch.jobs import located, shown
 from ..batch.results import ERROR, SUMMARY, certificate_path, done, file_facts, provenance, row, \
     write_document, write_error
 from ..display import printable
-from ..errors import InputError
+from ..errors import InputError, RobotFileError
 from ..robots import load_robot, robot_from_dict
 from ..robots.files import robot_file_bytes
 from ..trajectory.constraints import Constraints
 from . import COMMANDS as CLI_COMMANDS
-from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, options, \
+from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, options, refuse, \
     report_writer, write_certificate, write_text_out
 
 COMMANDS = ("fk", "singular", "trajectory", "plan", "workspace")
@@ -132,19 +132,19 @@ def robot_of(job: dict):
     (keyed by that SHA-256, so a worker that outlives an edit of the file loads it again), or an
     inline robot table."""
     robot = job.get("robot")
-    if isinstance(robot, str) and _is_pipe(robot):
+    if isinstance(robot, str) and _is_pipe(located(robot)):
         raise InputError("robot", robot, "a named pipe: every worker would wait on it (a job's robot is a regular file)")
     if isinstance(robot, str):
-        key = ("file", robot, _content_sha256(robot))
+        key = ("file", located(robot), _content_sha256(located(robot)))
         if key[2] is None:                  # unreadable: load_robot gives the command line's message
-            return load_robot(robot), None
+            return _load_as_given(robot), None
     elif isinstance(robot, dict):
         key = ("table", json.dumps(robot, sort_keys=True, default=str))
     else:
         raise InputError("robot", "", "expected a robot file path or an inline robot table")
     if key not in _ROBOTS:
         try:
-            _ROBOTS[key] = load_robot(robot) if key[0] == "file" else robot_from_dict(robot, "robot")
+            _ROBOTS[key] = _load_as_given(robot) if key[0] == "file" else robot_from_dict(robot, "robot")
         except InputError as exc:
             _ROBOTS[key] = exc
     if isinstance(_ROBOTS[key], InputError):
@@ -152,10 +152,20 @@ def robot_of(job: dict):
     return _ROBOTS[key], (key[2] if key[0] == "file" else None)
 
 
+def _load_as_given(path: str):
+    """``load_robot`` of a job's robot file, its errors naming the path as the job gives it."""
+    try:
+        return load_robot(located(path))
+    except InputError as exc:
+        if exc.source != located(path) or type(exc) not in (InputError, RobotFileError):
+            raise
+        raise type(exc)(path, exc.field, exc.problem) from None
+
+
 def robot_fingerprint(job: dict) -> str | None:
     """The fingerprint ``robot_of`` gives the job's robot now (without loading it)."""
     robot = job.get("robot")
-    return _content_sha256(robot) if isinstance(robot, str) else None
+    return _content_sha256(located(robot)) if isinstance(robot, str) else None
 
 
 def _is_pipe(path: str) -> bool:
@@ -255,7 +265,7 @@ def _message(exc: Exception) -> str:
 def add_arguments(b):
     b.add_argument("jobs", metavar="JOBS.jsonl", help="one job a line (see docs/index.md)")
     b.add_argument("--out", required=True, metavar="DIR", help="directory of the results (DIR/<id>.json, .cert)")
-    b.add_argument("--workers", type=count(MAX_WORKERS), default=os.cpu_count() or 1,
+    b.add_argument("--workers", type=count(MAX_WORKERS), default=None,
                    help=f"local worker processes (default {os.cpu_count() or 1}, the number of cores; at most "
                         f"{MAX_WORKERS}, {PER_CORE} per core: more would share the same cores and multiply the memory)")
     b.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="run on this Dask cluster (the dask extra)")
@@ -278,6 +288,7 @@ def _check(args, jobs) -> None:
         else:
             check_output_path(args.report, "--report", REPORT_SUFFIXES)
     if args.scheduler is not None:
+        refuse(args, "--workers", "not with --scheduler (the Dask cluster's workers run the jobs)", "workers")
         if not args.scheduler.strip():
             raise InputError("--scheduler", "", "empty address (expected tcp://HOST:PORT)")
         if importlib.util.find_spec("dask") is None or importlib.util.find_spec("distributed") is None:
@@ -306,7 +317,8 @@ def run(args):
             bar.append(tqdm(total=len(jobs), desc="jobs", unit="job", file=sys.stderr, leave=False))
         bar[0].update(1)
     with options({"out": "--out", "scheduler": "--scheduler"}):
-        summary = run_batch(jobs, args.out, run_job, args.workers, args.scheduler, tick if args.progress else None,
+        workers = args.workers or os.cpu_count() or 1
+        summary = run_batch(jobs, args.out, run_job, workers, args.scheduler, tick if args.progress else None,
                             preload(jobs))
     for b in bar:
         b.close()

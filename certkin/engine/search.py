@@ -93,12 +93,10 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
            initial_splits: int = 0, record_limit: int | None = None, record_sink=None) -> SearchResult:
     """Branch and bound from the boxes ``[lo, hi]`` (arrays (M, d), one per root).
 
-    ``progress(processed_boxes, frontier_size)`` is called after each batch.
-    ``min_batch``: when fewer boxes than this are open after a batch, each
-    is halved several times at once (up to ``max_rounds`` times, default d).
-    ``initial_splits``: each root box wide enough is first halved this many
-    times without being decided (a root box of a search that needs
-    bisection anyway costs one batch less).
+    ``progress(processed_boxes, frontier_size)`` is called after each batch.  ``min_batch``: when fewer
+    boxes than this are open after a batch, each is halved several times at once (up to ``max_rounds``
+    times, default d).  ``initial_splits``: each root box wide enough is first halved this many times
+    without being decided (a root box of a search that needs bisection anyway costs one batch less).
     ``record_limit``: once the tree holds more nodes than this, it stops being a full record:
     excluded leaves and inner nodes are forgotten (``Store.compact``), only open, proved and
     undecided nodes are kept, and ``Tree.complete_record`` is false (the answer is the same; a
