@@ -33,6 +33,7 @@ from certkin.errors import InputError
 ROOT = Path(__file__).resolve().parent.parent
 PLANAR = str(ROOT / "examples" / "robots" / "seed003-planar-example-2.toml")
 MEL = str(ROOT / "examples" / "robots" / "seed000-mel-tsukuba.toml")
+MICRO = str(ROOT / "examples" / "robots" / "seed004-micro-manipulator.toml")
 
 
 def exit_code(argv) -> int:
@@ -487,6 +488,42 @@ def test_a_document_edited_to_state_what_its_certificate_does_not_prove_is_run_a
     assert json.loads((out / "a.json").read_text())["lengths"] == ["29", "13", "41"]
     assert all(proofs.check_file(out / f"{j['id']}.cert").ok for j in jobs)
 
+
+
+def test_every_field_of_an_answer_is_bound_to_its_certificate(tmp_path):
+    """Resume compared the fields a claim holds: a posture box, a violation's t-interval, the witnesses of a
+    singular box, a plan's margins or a section's perimeter could be edited and the job was still taken as
+    done.  The certificate now holds the SHA-256 of the document it was written with (``document_sha256``,
+    without the job, the sources and the timing fields): any edit runs the job again, and it answers as at
+    first; timing fields may change."""
+    robot = tmp_path / "robot.toml"
+    robot.write_text(Path(PLANAR).read_text())
+    out = tmp_path / "out"
+    jobs = [{"id": "f", "command": "fk", "robot": str(robot), "lengths": "28.99,13.66,40.53"},
+            {"id": "s", "command": "singular", "robot": str(robot), "box": "x=-50:0,y=-50:0,phi=0:0.3925"},
+            {"id": "j", "command": "trajectory", "robot": MEL, "from": "-69,-50,500,85deg,10deg,0",
+             "to": "84,92,500,85deg,10deg,0"},
+            {"id": "p", "command": "plan", "robot": MEL, "from": "-90,140,520,0,0,0", "to": "55,140,520,0,0,0"},
+            {"id": "w", "command": "workspace", "robot": MICRO, "orientation": "0,0,0", "z": "20005"}]
+    first = run_batch(jobs, out, run_job)
+    docs = {j["id"]: json.loads((out / f"{j['id']}.json").read_text()) for j in jobs}
+    assert docs["s"]["witnesses"] and docs["j"]["violations"] and docs["p"]["segments"][0]["margins"]
+
+    def edit(jid, change):
+        doc = json.loads((out / f"{jid}.json").read_text())
+        change(doc)
+        (out / f"{jid}.json").write_text(json.dumps(doc))
+    edit("f", lambda d: d["solutions"][0]["pose"]["x"].__setitem__(0, 0.0))
+    edit("s", lambda d: d.pop("witnesses"))
+    edit("j", lambda d: d["violations"][0].update(t=[0, 0.01]))
+    edit("p", lambda d: d["segments"][0].update(margins=[]))
+    edit("w", lambda d: d.update(stats={**d["stats"], "seconds": 123.0}))      # a timing field: still done
+    again = run_batch(jobs, out, run_job)
+    assert [r["id"] for r in again["results"] if r.get("resumed")] == ["w"]
+    assert {r["id"]: r["verdict"] for r in again["results"]} == {r["id"]: r["verdict"] for r in first["results"]}
+    for j in jobs[:4]:
+        assert untimed(json.loads((out / f"{j['id']}.json").read_text())) == untimed(docs[j["id"]])
+        assert proofs.check_file(out / f"{j['id']}.cert").ok
 
 
 def test_cells_around_plan_and_workspace_answers_are_resumed_only_for_their_own_job(tmp_path):

@@ -117,6 +117,15 @@ def write_document(out, job: dict, document: dict, sources: dict | None = None) 
     write_json(document_path(out, job["id"]), {**head, **document})
 
 
+def answer_sha256(document: dict) -> str:
+    """The SHA-256 of a job's answer: its document without the job, its ``sources`` and its timing fields,
+    as canonical JSON.  The batch writes it in the certificate's header (``document_sha256``), and ``done``
+    takes a document as the job's answer only while it is still that: margins, areas, postures and every
+    other field, not only those a claim holds."""
+    body = untimed({k: v for k, v in document.items() if k not in ("job", "sources")})
+    return hashlib.sha256(json.dumps(body, sort_keys=True).encode()).hexdigest()
+
+
 def provenance(robot_sha256: str | None, certificate: dict | None) -> dict:
     """What a document's answer was computed from and written with (its ``"sources"``): the SHA-256 of
     the robot file (None for an inline robot, which the job holds) and of the certificate written
@@ -153,8 +162,8 @@ def done(out, job: dict, verdict, robot_sha256, robot=None, instances=None) -> d
     """The summary row of a job already answered in ``out``, else None: its document answers this very
     job, from the robot file as it is now (``robot_sha256()``: its SHA-256, as ``provenance``), with
     the certificate that is beside it now (the same SHA-256: not another job's), that certificate
-    re-checks, is about the job's robot (``robot()``: its ``to_dict()``; the same geometry SHA-256) and
-    ``agrees`` with the document and the job (``instances()``: a path's constraint instances for the
+    re-checks, is about the job's robot (``robot()``: its ``to_dict()``; the same geometry SHA-256), holds
+    the document's ``answer_sha256`` (no field edited since) and ``agrees`` with the document and the job (``instances()``: a path's constraint instances for the
     job's ``constraints``, which every claim of a path must list).  ``verdict(command,
     document)`` names the answer."""
     path, cert = document_path(out, job["id"]), certificate_path(out, job["id"])
@@ -176,7 +185,8 @@ def done(out, job: dict, verdict, robot_sha256, robot=None, instances=None) -> d
     import proofs           # the checker, imported by the runs that resume only
     try:
         certificate = proofs.load(cert)
-        if not proofs.check(certificate).ok or not agrees(document, certificate.header, job, instances) or \
+        if certificate.header.get("document_sha256") != answer_sha256(document) or \
+                not proofs.check(certificate).ok or not agrees(document, certificate.header, job, instances) or \
                 robot is not None and certificate.header.get("geometry_sha256") != proofs.geometry_sha256(robot()):
             return None
         document.pop("job")

@@ -22,7 +22,7 @@ import time
 
 from ..batch import PENDING, read_jobs, run_batch
 from ..batch.jobs import located, shown
-from ..batch.results import ERROR, SUMMARY, certificate_path, done, file_facts, provenance, row, \
+from ..batch.results import ERROR, SUMMARY, answer_sha256, certificate_path, done, file_facts, provenance, row, \
     write_document, write_error
 from ..display import printable
 from ..errors import InputError, RobotFileError
@@ -237,7 +237,9 @@ def answer_job(job: dict, out: str):
         try:
             facts = None
             if answer.certificate is not None:
-                facts = file_facts(path, write_certificate(path, answer.certificate()))
+                certificate = answer.certificate()
+                certificate.header_fields["document_sha256"] = answer_sha256(answer.document)
+                facts = file_facts(path, write_certificate(path, certificate))
             else:
                 path.unlink(missing_ok=True)
             write_document(out, job, answer.document, provenance(fingerprint, facts))
