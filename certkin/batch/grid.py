@@ -21,10 +21,12 @@ from decimal import Context, Decimal, InvalidOperation, ROUND_HALF_EVEN
 from fractions import Fraction
 import itertools
 import math
+import re
 
 import numpy as np
 
 from ..errors import InputError
+from ..robots.poses import exact_value
 from .jobs import MAX_JOBS
 
 DIGITS = 15
@@ -85,10 +87,7 @@ def _range(parts, option, name):
         raise InputError(option, name, f"lower end {parts[0]} exceeds upper end {parts[1]}")
     count = None
     if len(parts) == 3:
-        try:
-            count = int(parts[2])
-        except ValueError:
-            count = 0
+        count = int(parts[2]) if re.fullmatch(r"[0-9]+", parts[2]) else 0     # (int() takes ' 3', '+2', '1_0', '٣')
         if count < 1 or count > MAX_JOBS:
             raise InputError(option, name, f"expected a positive count of values, at most {MAX_JOBS}, got {parts[2]!r}")
     elif len(parts) == 1:
@@ -99,12 +98,17 @@ def _range(parts, option, name):
     return lo, hi, count, unit
 
 
-def _values(lo, hi, n, unit, ends):
-    """n values from lo to hi, ends included (their texts ``ends`` kept exactly); n = 1: the midpoint."""
+def _values(lo, hi, n, unit, ends, option="", name=""):
+    """n values from lo to hi, ends included (their texts ``ends`` kept exactly); n = 1: the midpoint.
+    Values that ``DIGITS`` digits cannot tell apart (a range too narrow for n of them) are refused:
+    they would be the same job twice."""
     if n == 1:
         return [ends[0] if lo == hi else decimal((lo + hi) / 2) + unit]
     out = [decimal(lo + (hi - lo) * k / (n - 1)) + unit for k in range(n)]
     out[0], out[-1] = ends
+    if len({exact_value(v) for v in out}) < n:
+        raise InputError(option, name, f"{n} values from {ends[0]} to {ends[1]} repeat when written with {DIGITS} "
+                                       "significant digits: take fewer values or a wider range")
     return out
 
 
@@ -133,9 +137,9 @@ def fk_jobs(robot_ref, robot, spec: str, prefix: str = "fk") -> list[dict]:
             raise InputError("--lengths", name, "a leg length has no unit 'deg'")
         if n is None:
             raise InputError("--lengths", name, "expected lo:hi:n (n values) or one value")
-        axes.append((lo, hi, n, parts))
+        axes.append((lo, hi, n, parts, name))
     _check_count(math.prod(a[2] for a in axes), "--lengths")
-    axes = [_values(lo, hi, n, "", _end_texts(parts)) for lo, hi, n, parts in axes]
+    axes = [_values(lo, hi, n, "", _end_texts(parts), "--lengths", name) for lo, hi, n, parts, name in axes]
     points = list(itertools.product(*[axes[names.index(n)] for n in names]))
     return [{"id": i, "command": "fk", "robot": robot_ref, "lengths": ",".join(p)}
             for i, p in zip(_ids(prefix, len(points)), points)]
@@ -157,7 +161,7 @@ def cell_jobs(robot_ref, robot, spec: str, cells: int, prefix: str = "cell") -> 
         if lo == hi:
             axes.append([f"{parts[0]}:{parts[-1]}"])
             continue
-        cuts = _values(lo, hi, cells + 1, unit, (parts[0], parts[-1]))
+        cuts = _values(lo, hi, cells + 1, unit, (parts[0], parts[-1]), "--box", name)
         axes.append([f"{a}:{b}" for a, b in zip(cuts, cuts[1:])])
     points = list(itertools.product(*axes))
     return [{"id": i, "command": "singular", "robot": robot_ref,
@@ -192,8 +196,8 @@ def trajectory_jobs(robot_ref, robot, start: str, goal: str, count: int | None =
                 raise InputError(option, "", "every range has a count (a grid of poses): " + option +
                                  " belongs to random pairs (ranges without a count)")
         _check_count(math.prod(r[2] for o in ends for r, _ in ends[o]), "--from")
-        grids = {o: list(itertools.product(*[_values(*r, _end_texts(p))
-                                             for r, p in ends[o]])) for o in ends}
+        grids = {o: list(itertools.product(*[_values(*r, _end_texts(p), o, n)
+                                             for (r, p), n in zip(ends[o], names)])) for o in ends}
         pairs = list(itertools.product(grids["--from"], grids["--to"]))
     return [{"id": i, "command": "trajectory", "robot": robot_ref, "from": ",".join(a), "to": ",".join(b)}
             for i, (a, b) in zip(_ids(prefix, len(pairs)), pairs)]

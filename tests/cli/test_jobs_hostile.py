@@ -24,6 +24,12 @@ HOSTILE = [
     (G + ["--command", "fk", "--lengths", "L1=nan:2:3,L2=1,L3=1"], ["--lengths", "L1"]),
     (G + ["--command", "fk", "--lengths", "L1=1:1e300:3,L2=1,L3=1"], ["--lengths", "L1", "out of range"]),
     (G + ["--command", "fk", "--lengths", "L1=1:2:1000,L2=1:2:1000,L3=1:2:1000"], ["--lengths", "jobs"]),
+    (G + ["--command", "fk", "--lengths", "L1=28:30:\u0663,L2=1,L3=1"], ["--lengths", "L1"]),   # once: Arabic-Indic 3
+    (G + ["--command", "fk", "--lengths", "L1=28:30:1_0,L2=1,L3=1"], ["--lengths", "L1"]),
+    (G + ["--command", "fk", "--lengths", "L1=28:30:+2,L2=1,L3=1"], ["--lengths", "L1"]),
+    (G + ["--command", "fk", "--lengths", "L1=28:28.0000000000000001:3,L2=1,L3=1"], ["--lengths", "L1", "repeat"]),
+    (G + ["--command", "singular", "--box", "x=28:28.0000000000000001,y=0:1,phi=0", "--cells", "3"],
+     ["--box", "x", "repeat"]),                                        # once: 3 cells x=28:28
     (CELLS + ["--cells", "0"], ["--cells"]),
     (CELLS + ["--cells", "-1"], ["--cells"]),
     (CELLS + ["--cells", "1e300"], ["--cells", "'1e300'"]),
