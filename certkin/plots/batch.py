@@ -10,6 +10,12 @@ def _null_formatter():
     from matplotlib.ticker import NullFormatter
     return NullFormatter()
 
+
+def _whole_numbers():
+    from matplotlib.ticker import MaxNLocator
+    return MaxNLocator(integer=True)
+
+
 COLOURS = {"complete": "#55a868", "singularity-free": "#55a868", "feasible": "#55a868", "found": "#55a868",
            "non-empty": "#55a868", "tracked": "#55a868", "singular": "#c44e52", "infeasible": "#c44e52",
            "empty": "#8172b2", "undecided": "#bbbbbb", "incomplete": "#bbbbbb", "error": "#dd8452",
@@ -28,6 +34,7 @@ def plot_campaign(summary: dict, path):
         bar.set_label(key)
     a.set_yticks(range(len(keys)), keys, fontsize=7)
     a.invert_yaxis()
+    a.xaxis.set_major_locator(_whole_numbers())         # (counts of jobs: no 0.5 ticks)
     a.set_xlabel("jobs", fontsize=8)
     a.set_title("jobs by command and verdict", fontsize=9)
     a.legend(fontsize=6, loc="lower right")
@@ -38,6 +45,7 @@ def plot_campaign(summary: dict, path):
     b.set_xscale("log")
     b.xaxis.set_minor_formatter(_null_formatter())
     b.set_xlabel("time per job (s, wall clock in its worker)", fontsize=8)
+    b.yaxis.set_major_locator(_whole_numbers())
     b.set_ylabel("jobs", fontsize=8)
     b.set_title("job times", fontsize=9)
     b.legend(fontsize=7)
