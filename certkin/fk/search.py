@@ -339,7 +339,7 @@ class FKProblem:
             small |= ~done & ~keep & within
         if small.any():      # small open boxes: ε-inflation around a Newton iterate
             sm = rest[small]
-            proved, slo, shi, Cs = self._inflate(flo[small], fhi[small], roots[sm])
+            proved, slo, shi, Cs = self._inflate(flo[small], fhi[small], roots[sm], (rlo[small], rhi[small]))
             b.status[sm[proved]], b.reason[sm[proved]] = PROVED, 2
             given_up = (within & ~keep)[small] & ~proved   # no box holding the root's spread is proved unique:
             b.status[sm[given_up]], b.reason[sm[given_up]] = UNDECIDED, self.CLUSTER   # a cluster
@@ -437,10 +437,12 @@ class FKProblem:
             out[k] = unique_in(K, lo[k], hi[k])
         return out
 
-    def _inflate(self, lo, hi, roots):
+    def _inflate(self, lo, hi, roots, within=None):
         """Try X* = Newton iterate ± r (⊇ X); returns (proved mask, X* lo, X* hi, C).  With uncertain
         leg lengths r covers the root's spread |C| rad f (3 times, else 2 times): X* then holds the
-        root for every length vector, and the root box of any other leaf of the same root."""
+        root for every length vector, and the root box of any other leaf of the same root.  An iterate
+        outside ``within`` (the box before X's contraction: a root of X lies in it) is not trusted: X*
+        would reach a root of another box."""
         system = self._system(len(lo))
         L = self._L(roots)
         x = 0.5 * (lo + hi)
@@ -451,6 +453,8 @@ class FKProblem:
                 f = system.equations(Interval.from_bounds(x, x.copy()), L)
                 x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
             lost = ~np.all(np.isfinite(x), axis=1) | np.any(np.abs(x - 0.5 * (lo + hi)) > 1e3 * (hi - lo + self.scale), axis=1)
+            if within is not None:
+                lost |= np.any((x < within[0]) | (x > within[1]), axis=1)
             x[lost] = 0.5 * (lo[lost] + hi[lost])
             f = system.equations(Interval.from_bounds(x, x.copy()), L)
         spread = np.einsum("nij,nj->ni", np.abs(C), 0.5 * (f.hi - f.lo))
