@@ -346,8 +346,9 @@ def test_wide_length_ranges_are_not_said_to_exhaust_a_budget():
     note says what happened (the swept regions could not be told apart), not that a budget ran out."""
     robot = load_robot(EXAMPLES / "seed003-planar-example-2.toml")
     r = forward_kinematics(robot, "28.9:29.1,13.66,40.53", max_seconds=20)
-    assert len(r.clusters) > 1 and not r.complete
+    assert len(r.clusters) > 1 and r.boxes < 20_000     # (complete since inflation starts from contracted boxes)
     assert "budget" not in r.message and "length ranges" in r.message and "self-motion" not in r.message
+    assert proofs.check(r.certificate()).ok
 
 
 def test_a_complete_answer_with_a_cluster_says_what_the_cluster_is_and_how_large():
