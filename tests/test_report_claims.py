@@ -140,3 +140,11 @@ def test_the_recheck_command_works_from_the_report_directory(tmp_path, capsys, m
     assert "<code>certkin check ../b/r.cert</code>" in page
     monkeypatch.chdir(tmp_path / "a")
     assert main(["check", "../b/r.cert"]) == 0
+
+
+def test_plan_takes_a_constraints_object_as_verify_trajectories_does():
+    from certkin import plan
+    from certkin.trajectory.constraints import Constraints
+    robot = load_robot(MEL)
+    r = plan(robot, "-90,140,520,0,0,0", "-90,140,520,0,0,0", constraints=Constraints.of(robot, "leg-length"))
+    assert r.to_json()["constraints"] == ["leg-length"]

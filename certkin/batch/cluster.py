@@ -111,6 +111,8 @@ def run_dask(tasks: list, work, client, report) -> bool:
                         suspects.extend(chunk)
                         hand_out()
                         continue
+                    if not _alive(client):
+                        raise ClosedClientError("the scheduler went away") from None
                     tries = client.run_on_scheduler(_allowed_failures) + 1
                     values = [Died(tries, f"its worker process died {times(tries)} while running it (killed, or "
                                           "out of memory)")]

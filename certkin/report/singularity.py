@@ -67,7 +67,8 @@ def singularity_report(robot, results, path, certificate=None, budget=None) -> N
         if r.undecided:
             rows += [(f"undecided box {k + 1}", _box_text(robot, a, b, False)) for k, (a, b) in enumerate(r.undecided[:SHOWN])]
             if len(r.undecided) > SHOWN:
-                rows.append(("", f"... {len(r.undecided) - SHOWN} more undecided boxes (all of them in --json)"))
+                rows.append(("", f"... {len(r.undecided) - SHOWN} more undecided boxes (the first 100 in --json, "
+                                 "all of them in the certificate)"))
         sections.append(("Answer", table(("", ""), rows)))
     else:
         sections.append(("Cell classification", figure(lambda p: plot_cells(robot, results, p),

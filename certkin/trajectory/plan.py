@@ -135,7 +135,7 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
     s_iv, s_txt = parse_pose(start, robot, "start")
     g_iv, g_txt = parse_pose(goal, robot, "goal")
     verified = [0]
-    constraints = Constraints.of(robot, constraints)
+    constraints = constraints if isinstance(constraints, Constraints) else Constraints.of(robot, constraints)
 
     def verify(paths):
         out = verify_trajectories(robot, paths, constraints, budget.within(clock.left()), indices=False, rtol=None,
