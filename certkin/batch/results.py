@@ -292,7 +292,7 @@ def summarise(rows: list, wall_seconds: float, interrupted: bool, workers: str, 
             "job_cpu_seconds": round(sum(r["cpu_seconds"] for r in rows if not r.get("resumed")), 3),
             "batch_cpu_seconds": None if cpu_seconds is None else round(cpu_seconds, 3),
             "slowest": [{"id": r["id"], "seconds": r["seconds"]}
-                        for r in sorted(rows, key=lambda r: -r["seconds"])[:SLOWEST]],
+                        for r in sorted(rows, key=lambda r: -r["seconds"])[:SLOWEST] if r["seconds"] > 0],
             "results": rows}
 
 
