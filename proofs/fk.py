@@ -240,7 +240,7 @@ def _regions(system, cl, where):
     inside, outside = _inside(blo, bhi, *cl.domain), _disjoint(blo, bhi, *cl.domain)
     if cl.complete and not np.all(inside | outside):
         raise Rejected(f"{where}: complete, but regions[{np.nonzero(~(inside | outside))[0][0]}] straddles the domain")
-    cl.solutions, sols = int(inside.sum()), cl.raw.get("solutions")
+    cl.inside, cl.solutions, sols = inside, int(inside.sum()), cl.raw.get("solutions")
     if not isinstance(sols, list) or [s.get("region") if isinstance(s, dict) else None for s in sols] \
             != np.nonzero(inside)[0].tolist():
         raise Rejected(f"{where}.solutions: must list, in order, the regions whose box lies in the domain")
@@ -357,10 +357,10 @@ def _leaf(system, forest, code, ids, lo, hi, L, claims, at):
             fail(~_unique(system, rlo, rhi, forest.rows("tree.C", ids, 1).astype(float), L), "K(R) ⊂ int R not proved")
             return
         j, twin = forest.rows("tree.index", ids), forest.rows("tree.index", ids, 1)
-        count = np.array([len(c.regions[1]) for c in claims])
-        fail((j < 0) | (j >= count) | ((twin != 0) & (twin != 1)), "names no region of its claim")
-        box = np.array([c.regions[1][i] for c, i in zip(claims, j)])
-        blo, bhi = box[..., 0], box[..., 1]
+        fail((j < 0) | (j >= np.array([len(c.regions[1]) for c in claims])) | (twin != 0) & (twin != 1), "names no region of its claim")
+        fail((twin == 1) & np.array([c.complete and not c.inside[i] for c, i in zip(claims, j)]),
+             "the twin of a region outside the domain, in a complete claim: that posture would be counted nowhere")
+        blo, bhi = np.moveaxis(np.array([c.regions[1][i] for c, i in zip(claims, j)]), -1, 0)
         nlo, nhi = _negated(system, blo, bhi)
         blo, bhi = np.where(twin[:, None] == 1, nlo, blo), np.where(twin[:, None] == 1, nhi, bhi)
         fail(~_inside(blo, bhi, slo, shi), "its region's root box is not inside X*: the leaf's root is not that one")

@@ -189,3 +189,35 @@ def test_a_certificate_behind_other_bytes_is_unreadable(files, tmp_path):
     joined.write_bytes(b"#!" + files["free"].read_bytes())
     with pytest.raises(ValueError):
         proofs.check(joined)
+
+
+def test_fk_region_moved_to_its_twin_outside_the_domain_is_rejected():
+    """A forger negates a region's quaternion (q and -q are one rotation; the equations are even in q),
+    which puts R outside the domain (q0 < 0), and marks that region's leaves as holding its twin.  Every
+    Krawczyk test still passes, but the posture would be counted nowhere: "3 postures, complete" for a
+    robot with 4.  The checker must refuse a twin leaf of a region outside the domain in a complete claim."""
+    robot = load_robot(ROOT / "examples" / "robots" / "seed003-spherical-example-2.toml")
+    result = forward_kinematics(robot, robot.leg_lengths_float([0.5235987755982988, 1.0471975511965976, 0.5235987755982988]))
+    doc = Doc(result.certificate())
+    assert result.complete and doc.check().ok and doc.check().checked["solutions"] == 4
+    leaves = doc.nodes(3, 6)
+    k = int(doc.arrays["tree.index"][doc.row("tree.index", int(leaves[0]))])
+    n = doc.arrays["fk.region.box"].shape[1]
+    sign = np.array([1.0] * (n - 4) + [-1.0] * 4)
+    for name in ("fk.region.box", "fk.region.star"):
+        if name in doc.arrays:
+            box = doc.arrays[name][k]
+            doc.arrays[name][k] = np.where(sign[:, None] > 0, box, -box[:, ::-1])
+    for name in ("fk.region.box_C", "fk.region.star_C"):
+        if name in doc.arrays:
+            doc.arrays[name][k] = (sign[:, None] * doc.arrays[name][k]).astype(doc.arrays[name].dtype)
+    for leaf in leaves:
+        j, t = doc.row("tree.index", int(leaf)), doc.row("tree.index", int(leaf), 1)
+        if doc.arrays["tree.index"][j] == k:
+            doc.arrays["tree.index"][t] = 1 - doc.arrays["tree.index"][t]
+    claim = doc.claim()
+    claim["solutions"] = [s for s in claim["solutions"] if s["region"] != k]
+    if "figures" in claim:
+        claim["figures"]["solutions"] -= 1
+    assert doc.check().step.endswith("the twin of a region outside the domain, in a complete claim: "
+                                     "that posture would be counted nowhere"), doc.check().step
