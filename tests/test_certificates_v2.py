@@ -408,6 +408,19 @@ def test_a_preconditioner_is_fragile_when_ill_conditioned():
     assert 1e3 <= KAPPA <= 1e6
 
 
+def test_a_preconditioner_that_is_no_inverse_is_fragile():
+    """A singular midpoint's pseudo-inverse has a small norm but is no inverse: the checker's own
+    inverse of a midpoint a few ulps away may be another matrix entirely, so the C is kept."""
+    from certkin.fk.step import KAPPA, fragile
+    from intervals import Interval
+    M = np.array([[[1.0, 1.0], [1.0, 1.0]], [[2.0, 0.0], [0.0, 4.0]]])
+    C = np.linalg.pinv(M)
+    kappa = np.abs(C).sum(axis=2).max(axis=1) * np.abs(M).sum(axis=2).max(axis=1)
+    assert np.all(kappa <= KAPPA)                      # the norm rule alone would rebuild both
+    assert fragile(C, Interval.from_bounds(M, M)).tolist() == [True, False]
+    assert fragile(C.astype(np.float32).astype(float), Interval.from_bounds(M, M)).tolist() == [True, False]
+
+
 def test_a_widened_solution_box_is_rejected(fk_file, tmp_path):
     """A solution's box (the one people read) widened to the whole domain, where it holds all six
     postures, was accepted: it only had to enclose its region.  It may now be wider than the region

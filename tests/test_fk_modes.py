@@ -169,6 +169,19 @@ def test_a_continuum_of_modes_ends_undecided_with_a_message():
     assert "continuum" in result.message
     assert "continuum" in result.to_json()["message"]
     assert all(abs(float(s["pose"]["phi"].lo)) > 1e-3 for s in result.solutions)   # only isolated modes proved
+    checked(result)     # its steps next to the continuum (singular midpoints) re-checked too
+
+
+def test_a_certificate_next_to_a_continuum_checks():
+    """The self-motion of a congruent robot on the circle x² + y² = 25 (phi = 0): every Jacobian
+    midpoint there is singular to rounding (cond 10¹⁵), and a contraction whose preconditioner was a
+    pseudo-inverse (no inverse at all) was rejected by the checker, whose own inverse of the same
+    midpoint is another matrix (``step.fragile`` now keeps such a C in the certificate)."""
+    robot = planar([(0, 0), (10, 0), (0, 10)], [(0, 0), (10, 0), (0, 10)])
+    result = forward_kinematics(robot, "5,5,5", budget=Budget(max_boxes=20_000))
+    assert not result.complete and "continuum" in result.message
+    assert all(abs(float(s["pose"]["phi"].lo)) > 1e-3 for s in result.solutions)   # only isolated modes proved
+    checked(result)
 
 
 @pytest.mark.parametrize("platform, h", [([[1, 0, 0], [-0.5, 1.5, 0], [-0.5, -1.5, 0]], "4"),

@@ -32,6 +32,7 @@ WIDEN = 2.0 ** -20       # contracted boxes are widened by this fraction of the 
 ROOM = 2.0 ** -40        # and by this fraction of their bounds' magnitude (``room``)
 
 KAPPA = 1e5              # a preconditioner with ||C|| ||mid M|| above this is stored in the certificate
+RESIDUAL = 2.0 ** -6     # and one with a diagonal entry of C mid M this far from 1 (no inverse: ``fragile``)
 
 ROOT_FACTORS = (1.25, 2.0)   # root boxes: x* ± this times the estimated reach of the Krawczyk image
 SMALL_BATCH = 512        # batches of at most this many boxes use the stacked evaluation (fk.stacked)
@@ -131,12 +132,20 @@ def fragile(C, M: Interval):
     condition number times 2⁻²⁴: a verdict our C reached may fail with the checker's.  Such a C is
     written in the certificate instead (``certificates.fk``); the others are rebuilt.  Measured
     (docs/certificates.md, "Rebuilt preconditioners"): float32 values differ from 10⁵ on, verdicts
-    failed from 10⁷ on."""
+    failed from 10⁷ on.  A C that is not an inverse of mid M at all is written too (the pseudo-inverse
+    or identity ``linalg.mid_inverse`` gives where the midpoint is singular, or where a plain inverse
+    failed elsewhere in the batch): its norm says nothing of the conditioning, and the checker's own
+    inverse may be another matrix entirely (seen on a self-motion, cond 10¹⁵: our truncated
+    pseudo-inverse contracted, the checker's inverse did not).  The test is on the diagonal of
+    C mid M, 1 for an inverse: a pseudo-inverse gives I - V Vᵀ (V: an orthonormal basis of the null
+    space), whose diagonal is at most 1 - 1/n somewhere; off by more than ``RESIDUAL``, C is kept."""
     if not len(C):
         return np.zeros(0, dtype=bool)
     with np.errstate(all="ignore"):
-        kappa = np.abs(C).sum(axis=2).max(axis=1) * (0.5 * np.abs(M.lo + M.hi).sum(axis=2).max(axis=1))
-    return ~(kappa <= KAPPA)
+        m = 0.5 * M.lo + 0.5 * M.hi
+        kappa = np.abs(C).sum(axis=2).max(axis=1) * np.abs(m).sum(axis=2).max(axis=1)
+        residual = np.abs(np.einsum("nij,nji->ni", C, m) - 1.0).max(axis=1)
+    return ~(kappa <= KAPPA) | ~(residual <= RESIDUAL)
 
 
 def unique_in(K: Interval, lo, hi):
