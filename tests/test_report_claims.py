@@ -148,3 +148,18 @@ def test_plan_takes_a_constraints_object_as_verify_trajectories_does():
     robot = load_robot(MEL)
     r = plan(robot, "-90,140,520,0,0,0", "-90,140,520,0,0,0", constraints=Constraints.of(robot, "leg-length"))
     assert r.to_json()["constraints"] == ["leg-length"]
+
+
+def test_a_free_box_is_asked_about_in_the_decimals_given_never_a_wider_box(tmp_path, capsys):
+    """The question of a singularity-free verdict names the box given, exactly; cells all proved free
+    are shown on their hull rounded inward (never outward: the verdict says free "on the whole box")."""
+    box = "x=-20.00000000001:-10.00000000001,y=20:30,phi=0.1234567890123:0.3234567890123"
+    one, cells = tmp_path / "one.html", tmp_path / "cells.html"
+    _run(capsys, "singular", PLANAR, "--box", box, "--report", str(one))
+    _run(capsys, "singular", PLANAR, "--box", box, "--cells", "2", "--report", str(cells))
+    page = one.read_text()
+    assert "Singularity-free" in page
+    assert "x ∈ [-20.00000000001, -10.00000000001], y ∈ [20, 30], phi ∈ [0.1234567890123, 0.3234567890123]?" in page
+    page = cells.read_text()
+    assert "8 singularity-free" in page
+    assert "x ∈ [-20, -10.00000001], y ∈ [20, 30], phi ∈ [0.1234567891, 0.323456789], cut into 8 cells" in page

@@ -47,10 +47,15 @@ def singularity_report(robot, results, path, certificate=None, budget=None) -> N
                     f"{', '.join(f'{v:g}' for v in a['scale'])}, s found by bisection) can be proved free of "
                     "singularities, det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) never 0 on it? The box found "
                     "is in the answer below")
-    else:
+    elif len(results) == 1 and results[0].texts is not None:     # the decimals given, exactly
+        box = ", ".join(f"{n} = {a}" if a == b else f"{n} ∈ [{a}, {b}]" for n, (a, b) in results[0].box.items())
+        question = (f"Does det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) vanish on the box {box}? "
+                    "The box as searched (floats) encloses these decimals")
+    else:                       # a claim about every cell (all free) is shown on a box inside the cells' hull
+        free = all(r.status == "singularity-free" for r in results)
         question = (f"Does det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) vanish on the box "
-                    f"{_box_text(robot, lo, hi, False)}{cells}? The box as searched encloses the decimal box given "
-                    "(outward)")
+                    f"{_box_text(robot, lo, hi, free)}{cells}? (The cells' floats, rounded "
+                    f"{'inward' if free else 'outward'} to the digits shown)")
     sections.append(("Question and assumptions", (
         f"<p>{esc(question)}; limits of the robot file are not used (the question is about det(A) only).</p>")))
     tree = results[0].tree
