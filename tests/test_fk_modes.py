@@ -269,6 +269,20 @@ def test_uncertain_lengths_each_mode_box_holds_the_postures_of_every_corner(base
     checked(result)
 
 
+def test_the_readme_tolerance_example_proves_all_six_modes():
+    """README: ``--lengths 28.99:29.01,13.66,40.53`` (±0.01 on leg 1): six modes, each proved unique for
+    every length in the ranges, no cluster; the exact postures at both ends of the range (sympy
+    elimination) lie each in exactly one box, every box holding one of each end."""
+    base, plat, _ = SIX_MODES[1]
+    result = forward_kinematics(planar(base, plat), "28.99:29.01,13.66,40.53")
+    assert result.complete and len(result.solutions) == 6 and not result.clusters
+    for end in ("28.99", "29.01"):
+        exact = exact_planar(base, plat, [end, "13.66", "40.53"])
+        hits = sorted(k for e in exact for k, s in enumerate(result.solutions) if _contains(_points(s), e))
+        assert len(exact) == 6 and hits == list(range(6))
+    checked(result)
+
+
 def unknowns(plat, points):
     """(x, y, c, s) of a posture given by its world platform points: R (b2 − b1) = P2 − P1."""
     b = [np.array([float(v) for v in p]) for p in plat]

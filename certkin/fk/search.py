@@ -442,7 +442,8 @@ class FKProblem:
         leg lengths r covers the root's spread |C| rad f (3 times, else 2 times): X* then holds the
         root for every length vector, and the root box of any other leaf of the same root.  An iterate
         outside ``within`` (the box before X's contraction: a root of X lies in it) is not trusted: X*
-        would reach a root of another box."""
+        would reach a root of another box.  Not so with uncertain lengths: the iterate (the root for
+        the middle lengths) may then lie outside X's box, within the root's spread."""
         system = self._system(len(lo))
         L = self._L(roots)
         x = 0.5 * (lo + hi)
@@ -453,7 +454,7 @@ class FKProblem:
                 f = system.equations(Interval.from_bounds(x, x.copy()), L)
                 x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
             lost = ~np.all(np.isfinite(x), axis=1) | np.any(np.abs(x - 0.5 * (lo + hi)) > 1e3 * (hi - lo + self.scale), axis=1)
-            if within is not None:
+            if within is not None and not self.uncertain:
                 lost |= np.any((x < within[0]) | (x > within[1]), axis=1)
             x[lost] = 0.5 * (lo[lost] + hi[lost])
             f = system.equations(Interval.from_bounds(x, x.copy()), L)
