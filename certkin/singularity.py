@@ -381,7 +381,8 @@ def _exact(text):
 
 def _cell_texts(robot, lo, hi):
     """The exact decimal values of a cell's float bounds (``Decimal(float)`` is exact)."""
-    return {n: [str(Decimal(float(a))), str(Decimal(float(b)))] for n, a, b in zip(robot.pose_names, lo, hi)}
+    return {n: [writing.float_text(a), writing.float_text(b)] for n, a, b in zip(robot.pose_names, np.asarray(lo, float).tolist(),
+                                                                    np.asarray(hi, float).tolist())}
 
 
 @quiet

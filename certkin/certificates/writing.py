@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 from dataclasses import dataclass
+from decimal import Decimal
 import errno
 from fractions import Fraction
 from functools import lru_cache
@@ -314,6 +315,12 @@ def outward_boxes(lo, hi) -> list:
     """Boxes (lo, hi: arrays (k, d)) as [[[lo', hi'], ...], ...]: each bound the next float outward, so that
     its JSON text (the shortest decimal that rounds to it) lies outside the box too: for people."""
     return np.stack([np.nextafter(lo, -np.inf), np.nextafter(hi, np.inf)], -1).tolist()
+
+
+@lru_cache(maxsize=1 << 16)
+def float_text(v: float) -> str:
+    """The exact decimal value of a float (cells of a grid share their faces: each is converted once)."""
+    return str(Decimal(v))
 
 
 def box_json(lo, hi) -> list:
