@@ -60,8 +60,10 @@ def describe(robot, r):
         lines.append(f"  {'VIOLATED' if v['certain'] else 'may fail'}: {v['constraint']} "
                      f"{'-'.join(map(str, v['legs']))}{' ' + v['detail'] if 'detail' in v else ''}"
                      f"{' (proved)' if v['certain'] else ''}, failing instants within {where}")
-    for u in j["undecided"][:SHOWN]:
-        lines.append(f"  undecided for s in {display.outward(*u['s'], 12)}")
+    for u in j["undecided"][:SHOWN]:        # one segment: s = t
+        lines.append(f"  undecided for {'s' if polyline else 't'} in {display.outward(*u['s'], 12)}")
     if len(j["undecided"]) > SHOWN:
         lines.append(f"  ... {len(j['undecided']) - SHOWN} more undecided ranges (all of them in --json)")
+    if polyline and (j["violations"] or j["undecided"]):
+        lines.append(f"  (s = k + t: instant t ∈ [0, 1] of segment k, k = 0 to {r.path.segments - 1})")
     return "\n".join(lines)

@@ -86,3 +86,12 @@ def test_a_polylines_violations_are_placed_by_s_and_name_their_detail(cli):
     late = [v for v in doc["violations"] if v["segment"] == 2]
     assert late and all(v["s"][0] >= 2 for v in late)
     assert " t in [" not in run.out and "failing instants within s in [2.5" in run.out
+    assert "(s = k + t: instant t ∈ [0, 1] of segment k, k = 0 to 2)" in run.out
+
+
+def test_a_single_segments_undecided_instants_are_placed_by_t_as_its_violations(cli):
+    """One segment: violations and undecided ranges both name t (undecided ones said "s", unexplained)."""
+    run = cli("trajectory", MEL, "--from", "-69,-50,500,0,10deg,0", "--to", "84,92,500,10000,10deg,0",
+              "--max-boxes", "50")
+    answered(run)
+    assert "undecided for t in [" in run.out and " s in [" not in run.out and "s = k + t" not in run.out
