@@ -156,8 +156,7 @@ def test_a_report_names_the_cluster(tmp_path):
     assert "cluster 1" in page and "No posture." not in page
     cut = forward_kinematics(robot, planar_lengths(robot, (5.0, 5.0, 0.0), 17), max_boxes=10)
     assert not cut.complete
-    assert fk_verdict(cut).endswith("left unresolved (the budget (boxes, seconds or memory) ran out before every "
-                                    "region was decided).")
+    assert fk_verdict(cut).endswith("left unresolved (the box budget ran out before every region was decided).")
 
 
 def test_a_continuum_of_modes_ends_undecided_with_a_message():

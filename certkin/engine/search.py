@@ -127,17 +127,14 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     processed = 0
     t0 = time.perf_counter()
     per_box = 0.0                           # seconds per box of the last batch
-    exhausted = False
+    exhausted, stopped = False, None
     work = getattr(problem, "bytes_per_box", 0)      # the problem's working memory per box of a batch
     while frontier:
         left = budget.max_seconds - (time.perf_counter() - t0)
         room = budget.max_memory - _memory(store, evidence)
-        if processed >= budget.max_boxes or left <= 0 or room < MIN_BATCH * work or room <= 0:
+        stopped = _stopped(budget, processed, left, room, work)
+        if stopped:
             exhausted = True
-            break
-        if interrupt.requested():
-            exhausted = True
-            interrupt.cut()
             break
         ids = _pop(frontier, _batch_size(batch, per_box, left, budget.max_boxes - processed, room // work if work else None))
         done = finished[store.root[ids]]
@@ -187,7 +184,23 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     ev, rows = evidence.finish(store.n)
     tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows, complete_record=not compacted or bool(record_sink))
     tree.segment_roots, tree.record_sink = (segment, record_sink) if compacted and record_sink else (None, None)
+    tree.stopped_by = stopped
     return SearchResult(tree, processed, time.perf_counter() - t0, exhausted)
+
+
+def _stopped(budget: Budget, processed: int, left: float, room: int, work: int) -> str | None:
+    """What ends a search before its next batch: "boxes", "seconds" or "memory" (its budget ran out),
+    "interrupt" (Ctrl-C: the interrupt is then cut, ``interrupt.cut``), or None."""
+    if processed >= budget.max_boxes:
+        return "boxes"
+    if left <= 0:
+        return "seconds"
+    if room < MIN_BATCH * work or room <= 0:
+        return "memory"
+    if interrupt.requested():
+        interrupt.cut()
+        return "interrupt"
+    return None
 
 
 def _contractions(store, evidence, dec, ids, blo, bhi):

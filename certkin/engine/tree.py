@@ -182,6 +182,7 @@ class Tree:
         self.reasons = tuple(reasons)
         self.evidence = evidence
         self.evidence_rows = evidence_rows
+        self.stopped_by = None                   # what stopped the search early (``search._stopped``), if anything
 
     @classmethod
     def view(cls, store: Store, reasons, evidence: Evidence) -> "Tree":

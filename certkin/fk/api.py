@@ -183,7 +183,7 @@ def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
         r.cluster_leaves = und_sorted[mine][at_limit[mine]]
         pending = [(tree.lo[j], tree.hi[j]) for j in und_sorted[mine][~at_limit[mine]]]
         if np.any(tree.reason[und_sorted[mine]] == BUDGET):
-            r.message = BUDGET_MESSAGE
+            r.message = budget_message(tree.stopped_by)
         _merge(r, system, proved[sel], (slo[sel], shi[sel], star_C[sel]), rlo[sel], rhi[sel], rC[sel], lo[i], hi[i],
                pending)
         pendings.append(pending)
@@ -338,7 +338,7 @@ def _finish(result, system, pending, angle_filter, computed=None):
                                       "platform_points": [[pts[j, i, c] for c in range(pts.shape[2])]
                                                           for i in range(pts.shape[1])]})
         result.complete = False
-        if len(result.clusters) > 1 and result.message in ("", BUDGET_MESSAGE):
+        if len(result.clusters) > 1 and (not result.message or result.message.endswith(BUDGET_MESSAGE)):
             ranges = any(":" in t for t in result.lengths)
             why = ("over the length ranges the postures sweep regions that could not be told apart (narrower "
                    "ranges resolve more)" if ranges else
@@ -399,7 +399,8 @@ def _cluster_note(result) -> str:
 
 SEARCH_SHARE = 0.65           # of max_memory, for the search's record and working memory: the answer built
                               # from its leaves took up to 17 % of the budget more (2 000 unresolved regions)
-BUDGET_MESSAGE = "the budget (boxes, seconds or memory) ran out before every region was decided"
+BUDGET_MESSAGE = "ran out before every region was decided"
+BUDGETS = {"boxes": "the box budget", "seconds": "the time budget", "memory": "the memory budget"}
 MAX_GROUPS = 2000             # groups of cluster leaves joined pairwise at most (``_touching``)
 CLUSTER_GAP = 2.0 ** -20     # cluster leaves closer than this (relative to the domain) or than their own width join
 CONTINUUM = 1000.0           # a cluster this many times longer than its leaves,
@@ -560,3 +561,8 @@ def _clusters(lo, hi, limit: int = 2000):
         parent[find(i)] = find(j)
     roots = np.array([find(i) for i in range(n)])
     return [(lo[roots == r].min(axis=0), hi[roots == r].max(axis=0)) for r in np.unique(roots)]
+
+
+def budget_message(stopped_by) -> str:
+    """The note of a search a budget stopped, naming that budget (the command line names its option)."""
+    return f"{BUDGETS.get(stopped_by, 'the budget (boxes, seconds or memory)')} {BUDGET_MESSAGE}"

@@ -100,7 +100,7 @@ def test_a_long_spatial_search_stays_under_the_memory_ceiling(tmp_path):
     modes = [ln for ln in lines if ln[2:].split(":")[0].strip().isdigit()]
     assert 0 < len(regions) <= 20 and run.left == ["f.cert"]           # at most 20 regions, then one line
     more = [ln for ln in lines if "more unresolved regions" in ln]
-    assert lines[-1] == "  note: the budget (boxes, seconds or memory) ran out before every region was decided"
+    assert lines[-1] == "  note: the time budget ran out before every region was decided"
     assert len(lines) == 1 + len(modes) + len(regions) + len(more) + 1
 
 
@@ -109,8 +109,10 @@ def test_an_answer_cut_by_its_budget_says_so(cli):
     answer carries no such note, and one region or one mode is counted in the singular."""
     run = cli(*F, "--max-boxes", "10")
     answered(run, "0 assembly modes; INCOMPLETE, 1 unresolved region [10 boxes",
-             "note: the budget (boxes, seconds or memory) ran out")
-    assert certkin.forward_kinematics(R2, L, max_boxes=10).to_json()["message"].startswith("the budget")
+             "note: the box budget ran out before every region was decided")
+    assert certkin.forward_kinematics(R2, L, max_boxes=10).to_json()["message"].startswith("the box budget ran out")
+    assert certkin.forward_kinematics(R2, L, max_seconds=1e-9).to_json()["message"].startswith("the time budget ran out")
+    assert certkin.forward_kinematics(R2, L, max_memory=1).to_json()["message"].startswith("the memory budget ran out")
     full = certkin.forward_kinematics(R2, L)
     assert full.complete and "message" not in full.to_json()
     assert "note:" not in cli(*F).out
