@@ -207,6 +207,15 @@ def test_bad_files(tmp_path):
         load_robot(tmp_path / "missing.toml")
 
 
+@pytest.mark.parametrize("nested", ["[" * 100000 + "]" * 100000, "{a = " * 100000 + "}" * 100000])
+def test_arrays_or_tables_nested_too_deeply_are_refused_naming_the_file(tmp_path, nested):
+    """tomllib recurses once per level: a file of 100 000 nested arrays raised RecursionError."""
+    p = tmp_path / "deep.toml"
+    p.write_text(f'kind = "planar-3rpr"\nbase = {nested}\nplatform = [[0, 0], [4, 0], [2, 2]]\n')
+    with pytest.raises(RobotFileError, match=r"deep\.toml: not a robot file \(arrays or tables nested too deeply\)"):
+        load_robot(p)
+
+
 def test_every_bundled_robot_loads_and_round_trips():
     files = sorted(EXAMPLES.glob("*.toml"))
     assert len(files) >= 10

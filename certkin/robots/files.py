@@ -63,6 +63,8 @@ def load_robot(path) -> Robot:
         raise RobotFileError(source, "", "is a directory, not a robot file") from None
     except tomllib.TOMLDecodeError as exc:
         raise RobotFileError(source, "", f"not valid TOML ({exc})") from None
+    except RecursionError:              # tomllib recurses once per level of nested arrays or tables
+        raise RobotFileError(source, "", "not a robot file (arrays or tables nested too deeply)") from None
     except UnicodeDecodeError:
         raise RobotFileError(source, "", "not a text file") from None
     except OSError as exc:

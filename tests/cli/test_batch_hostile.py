@@ -128,6 +128,18 @@ def test_bad_job_lines_are_error_jobs(cli, jobs, tmp_path):
     assert (tmp_path / "out" / "a.cert").exists()
 
 
+def test_a_robot_file_nested_too_deeply_is_an_error_job(cli, jobs, tmp_path):
+    """A job whose robot file nests 100 000 arrays gets the command line's error (it was "internal error:
+    RecursionError"); the batch carries on."""
+    deep = tmp_path.parent / (tmp_path.name + "-deep.toml")
+    deep.write_text('kind = "planar-3rpr"\nbase = ' + "[" * 100000 + "]" * 100000 + "\n")
+    run = cli("batch", jobs(json.dumps({**JOB, "robot": str(deep)}), json.dumps({**JOB, "id": "b"})),
+              "--out", "{tmp}/out", "--workers", "1", "--json")
+    answered(run)
+    errors = {e["id"]: e["error"] for e in json.loads(run.out)["errors"]}
+    assert list(errors) == ["a"] and errors["a"] == f"{deep}: not a robot file (arrays or tables nested too deeply)"
+
+
 def test_text_of_a_jobs_file_cannot_forge_lines_of_the_table(cli, jobs):
     """A robot path with a newline and a terminal escape, echoed in a job's error, is printed escaped."""
     forged = json.dumps({"id": "a", "command": "fk", "robot": "no\nsuch\x1b[2K  fk complete 99",

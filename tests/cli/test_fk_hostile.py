@@ -195,3 +195,9 @@ def test_an_output_that_names_the_robot_file_is_refused(cli, tmp_path):
 def test_numbers_are_plain_ascii_decimals(cli, lengths):
     """Python's Decimal reads '5_5' as 55 and full-width digits as digits: a typo answered another question."""
     refused(cli("fk", R2, "--lengths", lengths), "--lengths", "not a plain decimal number")
+
+
+def test_a_robot_file_nested_too_deeply_is_refused(cli, tmp_path):
+    """A robot file of 100 000 nested arrays: one line naming the file (it was a RecursionError traceback)."""
+    (tmp_path / "deep.toml").write_text('kind = "planar-3rpr"\nbase = ' + "[" * 100000 + "]" * 100000 + "\n")
+    refused(cli("fk", "deep.toml", "--lengths", L), "deep.toml", "nested too deeply")
