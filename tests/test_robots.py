@@ -207,6 +207,28 @@ def test_bad_files(tmp_path):
         load_robot(tmp_path / "missing.toml")
 
 
+def test_decimals_of_more_than_1000_digits_are_refused_naming_the_field(tmp_path):
+    """A 4400-digit decimal raised "ValueError: Exceeds the limit (4300 digits)" (``Fraction`` of its text), a
+    4400-digit integer the same in tomllib; 1000 digits are taken (a certificate's checker reads them)."""
+    many = "12." + "0" * 4400
+    data = {"kind": "planar-3rpr", "base": [["0", "0"], ["10", "0"], ["3", "10"]],
+            "platform": [["0", "0"], [Decimal(many), "0"], ["2", "2"]]}
+    with pytest.raises(RobotFileError, match=r"^r\.toml: platform\[1\]\[0\]: a decimal of more than 1000 digits"):
+        robot_from_dict(data, "r.toml")
+    with pytest.raises(RobotFileError, match=r"^r\.toml: home\[2\]: a decimal of more than 1000 digits"):
+        robot_from_dict({**data, "platform": [["0", "0"], ["4", "0"], ["2", "2"]], "home": [0, 0, many + "deg"]},
+                        "r.toml")
+    p = tmp_path / "r.toml"
+    p.write_text(f'kind = "planar-3rpr"\nbase = [[0, 0], [10, 0], [3, 10]]\nplatform = [[0, 0], [{many}, 0], [2, 2]]\n')
+    with pytest.raises(RobotFileError, match=r"r\.toml: platform\[1\]\[0\]: a decimal of more than 1000 digits"):
+        load_robot(p)
+    p.write_text(f'kind = "planar-3rpr"\nbase = [[0, 0], [1{"0" * 4400}, 0], [3, 10]]\n')
+    with pytest.raises(RobotFileError, match=r"r\.toml: not a robot file \(an integer of more than 4300 digits\)"):
+        load_robot(p)
+    p.write_text(f'kind = "planar-3rpr"\nbase = [[0, 0], [10, 0], [3, 10]]\nplatform = [[0, 0], [4.{"0" * 998}, 0], [2, 2]]\n')
+    assert load_robot(p).platform[1][0] == "4." + "0" * 998
+
+
 @pytest.mark.parametrize("nested", ["[" * 100000 + "]" * 100000, "{a = " * 100000 + "}" * 100000])
 def test_arrays_or_tables_nested_too_deeply_are_refused_naming_the_file(tmp_path, nested):
     """tomllib recurses once per level: a file of 100 000 nested arrays raised RecursionError."""

@@ -14,6 +14,7 @@ from decimal import Decimal
 import json
 import os
 import re
+import sys
 
 from ..errors import InputError
 
@@ -95,6 +96,9 @@ def _job(path, n: int, line: str, seen: set, shared: dict) -> dict:
         return {"id": f"line-{n}", ERROR: f"{where}: {exc.args[0]!r} given twice (one value per key)"}
     except RecursionError:
         return {"id": f"line-{n}", ERROR: f"{where}: not a job (JSON nested too deeply)"}
+    except ValueError:                  # int() of an integer of more than sys.get_int_max_str_digits() digits
+        return {"id": f"line-{n}", ERROR: f"{where}: not a job (an integer of more than "
+                                          f"{sys.get_int_max_str_digits()} digits)"}
     if not isinstance(job, dict):
         return {"id": f"line-{n}", ERROR: f"{where}: expected a JSON object (a job)"}
     if _depth(job) > MAX_DEPTH:         # (it could not be handed to a worker: pickling recurses)

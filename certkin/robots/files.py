@@ -12,6 +12,7 @@ from fractions import Fraction
 from pathlib import Path
 import itertools
 import os
+import sys
 import tomllib
 
 import numpy as np
@@ -57,6 +58,8 @@ def load_robot(path) -> Robot:
         if len(raw) > MAX_FILE_BYTES:
             raise RobotFileError(source, "", f"larger than {MAX_FILE_BYTES // 2 ** 20} MiB: not a robot file")
         data = tomllib.loads(raw.decode("utf-8"), parse_float=Decimal)
+    except RobotFileError:
+        raise
     except FileNotFoundError:
         raise RobotFileError(source, "", "no such file") from None
     except IsADirectoryError:
@@ -67,6 +70,9 @@ def load_robot(path) -> Robot:
         raise RobotFileError(source, "", "not a robot file (arrays or tables nested too deeply)") from None
     except UnicodeDecodeError:
         raise RobotFileError(source, "", "not a text file") from None
+    except ValueError:                  # int() of an integer of more than sys.get_int_max_str_digits() digits
+        raise RobotFileError(source, "", f"not a robot file (an integer of more than {sys.get_int_max_str_digits()} "
+                                         "digits)") from None
     except OSError as exc:
         raise RobotFileError(source, "", f"cannot read ({exc.strerror or exc})") from None
     return robot_from_dict(data, source)

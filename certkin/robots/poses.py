@@ -29,6 +29,8 @@ RADIANS_PER_DEGREE = PI / Interval(180)   # an enclosure of π/180 (outward divi
 MAX_MAGNITUDE = 1e12                       # |value| above this is far outside any robot: refused
 MAX_ANGLE = 1e6                            # |angle| in radians above this is refused: the checker's sine and
                                            # cosine reduce arguments below 2^22 pi/2 only (proofs/arith.py)
+MAX_DIGITS = 1000                          # digits of a decimal at most: a certificate's checker reads texts of
+                                           # 1100 characters (proofs/numbers.py), Python's int() 4300 digits
 
 
 # ----------------------------------------------------------------- numbers
@@ -46,7 +48,8 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
     strings with a ``deg`` suffix (``"85deg"``, converted with a rigorous π).
     Returns the enclosure and the exact text.  Raises ``RobotFileError``, also for a magnitude
     above ``MAX_MAGNITUDE`` (1e12: millimetres that large describe no robot, and their squares
-    and products would lose every digit or overflow), or an angle above ``MAX_ANGLE`` radians.
+    and products would lose every digit or overflow), an angle above ``MAX_ANGLE`` radians, or a
+    decimal of more than ``MAX_DIGITS`` digits (its certificate could not be checked).
     """
     iv, text = _parse_number(value, source, field, angle)
     if not angle and not (abs(float(iv.lo)) <= MAX_MAGNITUDE and abs(float(iv.hi)) <= MAX_MAGNITUDE):
@@ -67,6 +70,9 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
     if isinstance(text, str) and (not text.isascii() or "_" in text):   # Decimal reads '5_5' as 55, '５' as 5
         raise RobotFileError(source, field, f"not a plain decimal number: {_shown(value)} (digits 0-9, '.', 'e', "
                                             "a sign; no '_' or other scripts' digits)")
+    if isinstance(text, (str, Decimal)) and too_many_digits(text):
+        raise RobotFileError(source, field, f"a decimal of more than {MAX_DIGITS} digits (no robot needs that many, "
+                                            "and a certificate's checker reads no more)")
     if isinstance(text, str) and text.lower().endswith("deg"):
         if not angle:
             raise RobotFileError(source, field, f"'deg' is only allowed for angles, got {value!r}")
@@ -97,6 +103,12 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
     if not (math.isfinite(lo) and math.isfinite(hi)):       # a finite decimal beyond the float range
         raise RobotFileError(source, field, f"{_shown(value)} is out of range ({limit})")
     return Interval.from_bounds(np.array(lo), np.array(hi)), exact_text(text)
+
+
+def too_many_digits(text) -> bool:
+    """Whether a decimal (its text, or a ``Decimal``) has more than ``MAX_DIGITS`` digits, exponent included."""
+    text = str(text)
+    return len(text) > MAX_DIGITS and sum(c.isdigit() for c in text) > MAX_DIGITS
 
 
 def _below_any_float(text) -> bool:
@@ -354,7 +366,7 @@ def length_enclosures(robot, lengths):
         for v in items:
             if isinstance(v, float):
                 t = repr(float(v))
-            elif isinstance(v, str) and v.isascii() and "_" not in v:
+            elif isinstance(v, str) and v.isascii() and "_" not in v and len(v) <= MAX_DIGITS:
                 t = v.strip()
             else:
                 break

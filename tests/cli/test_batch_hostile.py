@@ -140,6 +140,22 @@ def test_a_robot_file_nested_too_deeply_is_an_error_job(cli, jobs, tmp_path):
     assert list(errors) == ["a"] and errors["a"] == f"{deep}: not a robot file (arrays or tables nested too deeply)"
 
 
+def test_numbers_of_thousands_of_digits_are_error_jobs(cli, jobs):
+    """A 4400-digit decimal in an inline robot was "internal error: ValueError: Exceeds the limit (4300 digits)";
+    a 4400-digit integer in a job line stopped the whole batch with a traceback."""
+    robot = {"kind": "planar-3rpr", "base": [[0, 0], [10, 0], [3, 10]], "platform": [[0, 0], [4, 0], [2, 2]]}
+    inline = json.dumps({**JOB, "robot": robot}).replace("[4, 0]", "[12." + "0" * 4400 + ", 0]")
+    integer = json.dumps({**JOB, "id": "b", "lengths": [1, 2, 3]}).replace("[1, 2", "[1" + "0" * 4400 + ", 2")
+    run = cli("batch", jobs(inline, integer, json.dumps({**JOB, "id": "c"})), "--out", "{tmp}/out", "--workers", "1",
+              "--json")
+    answered(run)
+    errors = {e["id"]: e["error"] for e in json.loads(run.out)["errors"]}
+    assert set(errors) == {"a", "line-2"}, errors
+    assert errors["a"] == ("robot: platform[1][0]: a decimal of more than 1000 digits (no robot needs that many, and "
+                           "a certificate's checker reads no more)")
+    assert errors["line-2"].endswith("jobs.jsonl: line 2: not a job (an integer of more than 4300 digits)")
+
+
 def test_text_of_a_jobs_file_cannot_forge_lines_of_the_table(cli, jobs):
     """A robot path with a newline and a terminal escape, echoed in a job's error, is printed escaped."""
     forged = json.dumps({"id": "a", "command": "fk", "robot": "no\nsuch\x1b[2K  fk complete 99",

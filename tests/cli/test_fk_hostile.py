@@ -19,6 +19,8 @@ HOSTILE = [
     (["fk", R2, "--lengths", "28.99,13.66,1e999999999"], ["--lengths", "leg 3", "out of range"]),  # once: hung
     (["fk", R2, "--lengths", "28.99,13.66,1e9999"], ["--lengths", "out of range"]),    # once: "not a finite number"
     (["fk", R2, "--lengths", "29+-1e-999999999,13.66,40.53"], ["--lengths", "below 1e-400"]),
+    (["fk", R2, "--lengths", "28.99" + "0" * 4400 + ",13.66,40.53"], ["--lengths", "leg 1", "more than 1000 digits"]),
+    (["fk", R2, "--lengths", "28:28.99" + "0" * 4400 + ",13.66,40.53"], ["--lengths", "more than 1000 digits"]),
     (F + ["--max-boxes", "0"], ["--max-boxes"]),
     (F + ["--max-boxes", "-1"], ["--max-boxes"]),
     (F + ["--max-seconds", "0"], ["--max-seconds"]),
