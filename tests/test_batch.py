@@ -768,6 +768,31 @@ def test_a_line_that_is_not_utf8_is_an_error_job_naming_it(tmp_path):
     assert jobs[1]["error"].endswith("line 2: not UTF-8 text (byte 12)") and "error" not in jobs[0]
 
 
+def test_nan_and_infinity_in_a_job_line_are_error_jobs_and_no_file_holds_them(tmp_path, capsys):
+    """Python's json reads NaN, Infinity and -Infinity: ``"max_seconds": NaN`` was taken (and refused by the
+    option), and the job echoed with a bare NaN into DIR/<id>.json, which is not JSON.  Each such line is an
+    error job now, wherever the constant is; every file written is strict JSON."""
+    good = {"id": "good", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"}
+    lines = [dumps({**good, "id": "a"})[:-1] + ', "max_seconds": NaN}',
+             dumps({**good, "id": "b"})[:-1] + ', "max_seconds": Infinity}',
+             dumps({**good, "id": "c", "lengths": [1, 2, 3]}).replace("[1, 2, 3]", "[28.99, -Infinity, 40.53]"),
+             dumps(good)]
+    (tmp_path / "jobs.jsonl").write_text("\n".join(lines) + "\n")
+    jobs = read_jobs(tmp_path / "jobs.jsonl")
+    assert [j["id"] for j in jobs] == ["line-1", "line-2", "line-3", "good"]
+    for job, constant in zip(jobs, ("NaN", "Infinity", "-Infinity")):
+        assert job["error"].endswith(f"line {job['id'][5:]}: not valid JSON ({constant} is not a JSON number)"), job
+    out = tmp_path / "out"
+    assert main(["batch", str(tmp_path / "jobs.jsonl"), "--out", str(out), "--workers", "1", "--json"]) == 0
+
+    def strict(name):
+        raise ValueError(f"{name} in a file written")
+    summary = json.loads(capsys.readouterr().out, parse_constant=strict)
+    assert summary["counts"] == {"? error": 3, "fk complete": 1}
+    for path in out.glob("*.json"):
+        json.loads(path.read_text(), parse_constant=strict)
+
+
 def test_a_second_batch_on_the_same_directory_is_refused_while_the_first_writes(tmp_path, capsys):
     """While a batch holds DIR's lock, another on DIR exits 2 naming --out and writes nothing; once the
     lock is released, the same command runs."""

@@ -3,9 +3,9 @@
 ``{"id": "j1", "command": "fk", "robot": "robot.toml" or an inline robot table, <options of that
 command by their long names>}``.  Numbers keep their exact decimal text (``parse_float=Decimal``),
 so ``0.1`` in a job is the decimal 0.1, as on the command line.  A line that cannot be a job (not
-JSON, no usable id, an id used twice, even in another letter case, or a reserved one: ``summary``,
-``line-N``) still becomes a job, with an ``error`` and an id of its own (``line-N``), so the batch
-reports it and carries on.
+JSON, ``NaN`` and ``Infinity`` included; no usable id, an id used twice, even in another letter
+case, or a reserved one: ``summary``, ``line-N``) still becomes a job, with an ``error`` and an id
+of its own (``line-N``), so the batch reports it and carries on.
 """
 from __future__ import annotations
 
@@ -89,9 +89,11 @@ def _lines(fh):
 def _job(path, n: int, line: str, seen: set, shared: dict) -> dict:
     where = f"{path}: line {n}"
     try:
-        job = json.loads(line, parse_float=Decimal, object_pairs_hook=_without_repeats)
+        job = json.loads(line, parse_float=Decimal, object_pairs_hook=_without_repeats, parse_constant=_no_constant)
     except json.JSONDecodeError as exc:
         return {"id": f"line-{n}", ERROR: f"{where}: not valid JSON ({exc.msg})"}
+    except NotJSONNumber as exc:
+        return {"id": f"line-{n}", ERROR: f"{where}: not valid JSON ({exc.args[0]} is not a JSON number)"}
     except RepeatedKey as exc:
         return {"id": f"line-{n}", ERROR: f"{where}: {exc.args[0]!r} given twice (one value per key)"}
     except RecursionError:
@@ -119,6 +121,15 @@ def _job(path, n: int, line: str, seen: set, shared: dict) -> dict:
         if isinstance(job.get(key), str):
             job[key] = shared.setdefault(job[key], job[key])
     return job
+
+
+class NotJSONNumber(ValueError):
+    """``NaN``, ``Infinity`` or ``-Infinity`` in a job line: Python's ``json`` reads them, JSON has no such
+    number (a job echoed with one in ``DIR/<id>.json`` would not be JSON either)."""
+
+
+def _no_constant(name: str):
+    raise NotJSONNumber(name)
 
 
 class RepeatedKey(ValueError):
@@ -157,7 +168,7 @@ def shown(value, limit: int = 60) -> str:
 def dumps(job: dict) -> str:
     """A job as one JSON line; exact decimals (``Decimal``) are written as strings of their exact text,
     which every option reads the same way."""
-    return json.dumps(job, default=_exact, separators=(", ", ": "))
+    return json.dumps(job, default=_exact, separators=(", ", ": "), allow_nan=False)
 
 
 def canonical(job: dict) -> str:

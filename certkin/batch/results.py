@@ -105,8 +105,9 @@ def remove_leftovers(out, ids) -> int:
 
 
 def write_json(path, document: dict) -> None:
-    """A JSON document, written atomically."""
-    write_text(path, json.dumps(document))
+    """A JSON document, written atomically (a NaN or an infinity in it raises ``ValueError``: no bare ``NaN``,
+    which is no JSON, is written)."""
+    write_text(path, json.dumps(document, allow_nan=False))
 
 
 def write_document(out, job: dict, document: dict, sources: dict | None = None) -> None:

@@ -117,7 +117,7 @@ class Document:
         """Write the archive atomically (a temporary file renamed into place).  (size, SHA-256) of the
         file written when it was assembled in memory (a small body), else None."""
         header = self._entries()
-        text = json.dumps(header, separators=(",", ":"), ensure_ascii=False)
+        text = json.dumps(header, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
         if (size := len(text.encode())) > MAX_HEADER:      # (a claim per cell: more than about 100 000 cells)
             raise InputError("certificate", str(path), f"its header would hold {size / 2 ** 20:.0f} MiB "
                              f"of claims, more than the {MAX_HEADER >> 20} MiB a checker reads (proofs/container.py): "

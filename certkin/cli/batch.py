@@ -326,7 +326,7 @@ def run(args):
         b.close()
     if args.report:
         report_writer("batch_report")(summary, args.out, args.report)
-    write_text_out(sys.stdout, (json.dumps(summary) if args.json else table(summary, args.out)) + "\n")
+    write_text_out(sys.stdout, (json.dumps(summary, allow_nan=False) if args.json else table(summary, args.out)) + "\n")
     return 130 if summary["interrupted"] else 0
 
 

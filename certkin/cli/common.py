@@ -362,7 +362,8 @@ def show(args, answer: Answer, out=None) -> int:
     """Write the outputs of an answer, then print its JSON document (``--json``) or its description
     (on ``out``, default stdout)."""
     write_outputs(args, answer)
-    write_text_out(out or sys.stdout, (json.dumps(answer.document) if args.json else answer.describe()) + "\n")
+    text = json.dumps(answer.document, allow_nan=False) if args.json else answer.describe()
+    write_text_out(out or sys.stdout, text + "\n")
     return 0
 
 
