@@ -229,6 +229,31 @@ def test_decimals_of_more_than_1000_digits_are_refused_naming_the_field(tmp_path
     assert load_robot(p).platform[1][0] == "4." + "0" * 998
 
 
+def test_values_in_messages_are_plain_and_short():
+    """``base[0]: expected 2 coordinates, got [Decimal('3.78'), ...]`` showed Python's repr; a 100 000-character
+    value was echoed whole.  Values are shown plain, long ones by their start and end."""
+    from certkin.errors import clip, shown
+    data = {"kind": "planar-3rpr", "base": [[Decimal("3.78"), Decimal("4.34"), 1], ["10", "0"], ["3", "10"]],
+            "platform": [["0", "0"], ["4", "0"], ["2", "2"]]}
+    with pytest.raises(RobotFileError) as err:
+        robot_from_dict(data, "r.toml")
+    assert str(err.value) == "r.toml: base[0]: expected 2 coordinates, got [3.78, 4.34, 1]"
+    data["base"][0] = ["3.78", "4.34"]
+    with pytest.raises(RobotFileError) as err:
+        robot_from_dict({**data, "limits": {"leg_length": [[Decimal("1.5"), 2, 3]] * 3}}, "r.toml")
+    assert str(err.value) == "r.toml: limits.leg_length[0]: expected [min, max], got [1.5, 2, 3]"
+    with pytest.raises(RobotFileError) as err:
+        robot_from_dict({**data, "home": ["a" * 50000 + "b" * 50000, 0, 0]}, "r.toml")
+    assert str(err.value) == ("r.toml: home[0]: not a plain decimal number: '" + "a" * 28 + "..." + "b" * 27 + "' "
+                              "(digits 0-9, '.', 'e', a sign)")
+    nested = []
+    for _ in range(100000):
+        nested = [nested]
+    assert shown(nested) == "[" * 29 + "..." + "]" * 28
+    assert shown({"x": [None, True, Fraction(1, 3)]}) == "{'x': [nothing, true, 1/3]}"
+    assert clip("x" * 60) == "x" * 60 and len(clip("x" * 61)) == 60
+
+
 @pytest.mark.parametrize("nested", ["[" * 100000 + "]" * 100000, "{a = " * 100000 + "}" * 100000])
 def test_arrays_or_tables_nested_too_deeply_are_refused_naming_the_file(tmp_path, nested):
     """tomllib recurses once per level: a file of 100 000 nested arrays raised RecursionError."""

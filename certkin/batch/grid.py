@@ -25,7 +25,7 @@ import re
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, clip, shown
 from ..robots.poses import exact_value
 from .jobs import MAX_JOBS
 
@@ -41,11 +41,11 @@ def _number(text: str, option: str, name: str) -> tuple[Fraction, str]:
     try:
         d = Decimal(core)
     except InvalidOperation:
-        raise InputError(option, name, f"not a decimal number: {text!r}") from None
+        raise InputError(option, name, f"not a plain decimal number: {shown(text)}") from None
     if not d.is_finite():
-        raise InputError(option, name, f"not a finite number: {text!r}")
+        raise InputError(option, name, f"not a finite number: {shown(text)}")
     if abs(d) > MAX_MAGNITUDE:
-        raise InputError(option, name, f"{t} is out of range (at most 1e+12 in magnitude)")
+        raise InputError(option, name, f"{clip(t)} is out of range (at most 1e+12 in magnitude)")
     return Fraction(d), unit
 
 
@@ -70,7 +70,7 @@ def _spec(spec: str, names, option: str) -> dict:
             raise InputError(option, name, "given twice")
         items[name] = [s.strip() for s in rng.split(":")]
         if len(items[name]) > 3 or not all(items[name]):
-            raise InputError(option, name, f"expected value, lo:hi or lo:hi:n, got {rng!r}")
+            raise InputError(option, name, f"expected value, lo:hi or lo:hi:n, got {shown(rng)}")
     missing = [n for n in names if n not in items]
     if missing:
         raise InputError(option, missing[0], "missing (give a value or a range for each)")
@@ -84,12 +84,12 @@ def _range(parts, option, name):
     if unit != unit_hi:
         raise InputError(option, name, "both ends need the same unit")
     if lo > hi:
-        raise InputError(option, name, f"lower end {parts[0]} exceeds upper end {parts[1]}")
+        raise InputError(option, name, f"lower end {clip(parts[0])} exceeds upper end {clip(parts[1])}")
     count = None
     if len(parts) == 3:
         count = int(parts[2]) if re.fullmatch(r"[0-9]+", parts[2]) else 0     # (int() takes ' 3', '+2', '1_0', '٣')
         if count < 1 or count > MAX_JOBS:
-            raise InputError(option, name, f"expected a positive count of values, at most {MAX_JOBS}, got {parts[2]!r}")
+            raise InputError(option, name, f"expected a positive count of values, at most {MAX_JOBS}, got {shown(parts[2])}")
     elif len(parts) == 1:
         count = 1
     if count is not None and count > 1 and lo == hi:

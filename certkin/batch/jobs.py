@@ -16,7 +16,7 @@ import os
 import re
 import sys
 
-from ..errors import InputError
+from ..errors import InputError, clip
 
 ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,127}")     # a file name on every system: no separator
 RESERVED = re.compile(r"summary|line-[0-9]+", re.IGNORECASE)   # summary.json; the ids of unreadable lines
@@ -95,7 +95,7 @@ def _job(path, n: int, line: str, seen: set, shared: dict) -> dict:
     except NotJSONNumber as exc:
         return {"id": f"line-{n}", ERROR: f"{where}: not valid JSON ({exc.args[0]} is not a JSON number)"}
     except RepeatedKey as exc:
-        return {"id": f"line-{n}", ERROR: f"{where}: {exc.args[0]!r} given twice (one value per key)"}
+        return {"id": f"line-{n}", ERROR: f"{where}: {clip(repr(exc.args[0]))} given twice (one value per key)"}
     except RecursionError:
         return {"id": f"line-{n}", ERROR: f"{where}: not a job (JSON nested too deeply)"}
     except ValueError:                  # int() of an integer of more than sys.get_int_max_str_digits() digits
@@ -157,12 +157,13 @@ def _depth(value) -> int:
 
 
 def shown(value, limit: int = 60) -> str:
-    """A value of a job as JSON writes it (``null``, ``true``, ``["fk"]``), cut to ``limit`` characters."""
+    """A value of a job as JSON writes it (``null``, ``true``, ``["fk"]``), cut to ``limit`` characters (its
+    start and end: ``errors.clip``)."""
     try:
         text = json.dumps(value, default=_exact)
     except (TypeError, ValueError):
         text = repr(value)
-    return text if len(text) <= limit else text[:limit - 3] + "..."
+    return clip(text, limit)
 
 
 def dumps(job: dict) -> str:

@@ -25,7 +25,7 @@ from ..batch.jobs import located, shown
 from ..batch.results import ERROR, SUMMARY, answer_sha256, certificate_path, done, file_facts, provenance, row, \
     write_document, write_error
 from ..display import printable
-from ..errors import InputError, RobotFileError
+from ..errors import InputError, RobotFileError, clip
 from ..robots import load_robot, robot_from_dict
 from ..robots.files import robot_file_bytes
 from ..trajectory.constraints import Constraints
@@ -76,7 +76,7 @@ def parse_job(job: dict):
             continue                     # (``job_argv`` explains these)
         action = actions.get("--" + key.replace("_", "-"))
         if action is None:
-            raise InputError(repr(key), "", f"not an option of certkin {command} (see certkin {command} --help)")
+            raise InputError(clip(repr(key)), "", f"not an option of certkin {command} (see certkin {command} --help)")
         if value is True and action.nargs != 0:
             raise InputError(key, "", "expected a value, got true")
     return module, parser.parse_args(job_argv(job))
@@ -103,7 +103,7 @@ def job_argv(job: dict) -> list[str]:
         if key in OUTPUTS:
             raise InputError(key, "", "not an option of a job: " + OUTPUT_NOTES.get(key, OUTPUT_NOTES[None]))
         if not OPTION_NAME.fullmatch(str(key)):
-            raise InputError(repr(key), "", "not an option name (letters, digits, '_' or '-')")
+            raise InputError(clip(repr(key)), "", "not an option name (letters, digits, '_' or '-')")
         option = "--" + key.replace("_", "-")
         if value is True:
             argv.append(option)

@@ -23,7 +23,7 @@ from typing import Callable
 from ..certificates.writing import atomic_path, replaced_file
 from ..engine import Budget, interrupt
 from ..engine.budgets import MAX_MEMORY, positive_integer, positive_number
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..plots.figure import pyplot
 
 
@@ -111,7 +111,7 @@ def _typed(check):
 def _integer(text):
     """An integer written in decimal with ASCII digits (``200000``, ``2e5``, ``200_000``)."""
     if not text.isascii():
-        raise InputError("", "", f"expected a positive integer, got {text!r}")
+        raise InputError("", "", f"expected a positive integer, got {shown(text)}")
     try:
         return int(text)
     except ValueError:
@@ -119,9 +119,9 @@ def _integer(text):
     try:
         x = float(text)
     except ValueError:
-        raise InputError("", "", f"expected a positive integer, got {text!r}") from None
+        raise InputError("", "", f"expected a positive integer, got {shown(text)}") from None
     if not x.is_integer():
-        raise InputError("", "", f"expected a positive integer, got {text!r}")
+        raise InputError("", "", f"expected a positive integer, got {shown(text)}")
     return int(x)
 
 
@@ -136,7 +136,7 @@ def count(most=None, least=1):
         except InputError:
             bound = f" from {least} to {most}" if most is not None else f" from {least}" if least != 1 else ""
             kind = "a positive integer" if least == 1 else "an integer"
-            raise InputError("", "", f"expected {kind}{bound}, got {text!r}") from None
+            raise InputError("", "", f"expected {kind}{bound}, got {shown(text)}") from None
     check.__name__ = "count"
     return _typed(check)
 
@@ -150,16 +150,22 @@ UNITS = {"": 1, "b": 1, "k": 2 ** 10, "kb": 10 ** 3, "kib": 2 ** 10, "m": 2 ** 2
 
 
 def _memory(text):
-    """A size in bytes: ``2GiB``, ``512M``, ``1.5G``, ``3000000000``."""
+    """A size in bytes: ``2GiB``, ``512M``, ``1.5G``, ``3000000000``, from 1 MiB to 1 PiB (and at most this
+    machine's memory).  Every other value gets the one message that says so."""
+    refused = InputError("", "", f"expected a size from 1MiB to 1PiB, a number of bytes or with a unit "
+                                 f"(2GiB, 512MiB, 1.5G), got {shown(text)}")
     m = re.fullmatch(r"\s*([0-9.eE+]+)\s*([A-Za-z]*)\s*", text)
     if not m or m.group(2).lower() not in UNITS:
-        raise InputError("", "", f"expected a size such as 2GiB or 512MiB, got {text!r}")
-    size = positive_number(m.group(1), "") * UNITS[m.group(2).lower()]
-    if size < 2 ** 20 or size > 2 ** 50:
-        raise InputError("", "", f"expected a size from 1MiB to 1PiB, got {text!r}")
+        raise refused
+    try:
+        size = positive_number(m.group(1), "") * UNITS[m.group(2).lower()]
+    except InputError:
+        raise refused from None
+    if not 2 ** 20 <= size <= 2 ** 50:
+        raise refused
     physical = physical_memory()
     if physical is not None and size > physical:
-        raise InputError("", "", f"{text!r} is more than this machine's memory ({physical / 2 ** 30:.1f} GiB)")
+        raise InputError("", "", f"{shown(text)} is more than this machine's memory ({physical / 2 ** 30:.1f} GiB)")
     return int(size)
 
 

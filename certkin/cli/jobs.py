@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from ..batch.grid import cell_jobs, fk_jobs, trajectory_jobs
 from ..batch.jobs import ID, MAX_JOBS, RESERVED, dumps
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..robots import load_robot
 from .batch import parse_job
 from .common import count
@@ -76,7 +76,7 @@ def run(args):
             raise InputError(option, "", f"not an option of --command {args.command}")
     if args.prefix is not None and not ID.fullmatch(args.prefix + "-" + "0" * len(str(MAX_JOBS))):
         raise InputError("--prefix", "", f"expected letters, digits, '.', '_' or '-' (a file name; at most "
-                                         f"{MAX_PREFIX} characters), got {args.prefix!r}")
+                                         f"{MAX_PREFIX} characters), got {shown(args.prefix)}")
     if args.prefix is not None and RESERVED.fullmatch(args.prefix + "-0"):
         raise InputError("--prefix", args.prefix, "its ids would be line-N, reserved for the lines of a jobs file "
                                                   "that are not jobs")

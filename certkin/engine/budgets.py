@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 import math
 import time
 
-from ..errors import InputError
+from ..errors import InputError, shown
 
 GiB = 2 ** 30
 MAX_MEMORY = 2 * GiB                        # default memory ceiling (bytes)
@@ -37,7 +37,7 @@ class Budget:
             if isinstance(getattr(self, name), (str, bytes)):     # (the command line converts its texts first)
                 unit = " of bytes (512 MiB: 512 * 2**20; the command line's --max-memory reads units)" \
                     if name == "max_memory" else ""
-                raise InputError(name, "", f"expected a number{unit}, got the text {getattr(self, name)!r}")
+                raise InputError(name, "", f"expected a number{unit}, got the text {shown(getattr(self, name))}")
         for name, check in (("max_boxes", positive_integer), ("max_memory", positive_integer),
                             ("min_width", positive_number)):
             object.__setattr__(self, name, check(getattr(self, name), name))
@@ -54,7 +54,7 @@ def positive_integer(value, parameter: str, most: int | None = None) -> int:
     if isinstance(value, float) and value.is_integer():
         value = int(value)
     if isinstance(value, bool) or not isinstance(value, int) and not hasattr(value, "__index__"):
-        raise InputError(parameter, "", f"expected a positive integer, got {value!r}")
+        raise InputError(parameter, "", f"expected a positive integer, got {shown(value)}")
     value = int(value)
     if value < 1 or (most is not None and value > most):
         bound = f" from 1 to {most}" if most is not None else ""
@@ -65,13 +65,13 @@ def positive_integer(value, parameter: str, most: int | None = None) -> int:
 def positive_number(value, parameter: str, infinite: bool = False) -> float:
     """A number > 0 (finite unless ``infinite``); bools, nan and text are refused."""
     if isinstance(value, bool) or isinstance(value, str) and not value.isascii():    # (float() reads '１' as 1)
-        raise InputError(parameter, "", f"expected a positive number, got {value!r}")
+        raise InputError(parameter, "", f"expected a positive number, got {shown(value)}")
     try:
         x = float(value)
     except (TypeError, ValueError):
-        raise InputError(parameter, "", f"expected a positive number, got {value!r}") from None
+        raise InputError(parameter, "", f"expected a positive number, got {shown(value)}") from None
     if math.isnan(x) or x <= 0 or (math.isinf(x) and not infinite):
-        raise InputError(parameter, "", f"expected a positive{'' if infinite else ' finite'} number, got {value!r}")
+        raise InputError(parameter, "", f"expected a positive{'' if infinite else ' finite'} number, got {shown(value)}")
     return x
 
 

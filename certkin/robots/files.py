@@ -17,7 +17,7 @@ import tomllib
 
 import numpy as np
 
-from ..errors import InputError, RobotFileError
+from ..errors import InputError, RobotFileError, clip, shown
 from .base import Robot
 from .gough import GoughStewart
 from .planar import Planar3RPR
@@ -98,7 +98,7 @@ def robot_from_dict(data: dict, source: str = "<robot>") -> Robot:
     if kind is None:
         raise RobotFileError(source, "kind", f"missing field (one of {', '.join(KINDS)})")
     if not isinstance(kind, str) or kind not in KINDS:
-        raise RobotFileError(source, "kind", f"unknown kind {kind!r} (one of {', '.join(KINDS)})")
+        raise RobotFileError(source, "kind", f"unknown kind {shown(kind)} (one of {', '.join(KINDS)})")
     cls = KINDS[kind]
     name = data.get("name", Path(source).stem)
     if not isinstance(name, str):
@@ -107,7 +107,7 @@ def robot_from_dict(data: dict, source: str = "<robot>") -> Robot:
         raise RobotFileError(source, "name", "empty (leave it out to use the file's name)")
     if not name.isprintable() or len(name) > MAX_NAME:     # printed in every answer and certificate check
         raise RobotFileError(source, "name", f"expected one line of at most {MAX_NAME} printable characters (no "
-                                             f"newline, terminal escape or bidi control), got {name[:MAX_NAME]!r}")
+                                             f"newline, terminal escape or bidi control), got {shown(name)}")
     base = parse_points(data, "base", cls.n_legs, cls.dim, source)
     platform = parse_points(data, "platform", cls.n_legs, cls.dim, source)
     limits = _parse_limits(data.get("limits", {}), cls, source)
@@ -141,7 +141,7 @@ def parse_points(data, key: str, count: int, dim: int, source: str):
         if isinstance(p, (tuple, np.ndarray)):
             p = list(p)
         if not isinstance(p, list) or len(p) != dim:
-            raise RobotFileError(source, f"{key}[{i}]", f"expected {dim} coordinates, got {p!r}")
+            raise RobotFileError(source, f"{key}[{i}]", f"expected {dim} coordinates, got {shown(p)}")
         row = []
         for j, c in enumerate(p):
             iv, text = parse_number(c, source, f"{key}[{i}][{j}]")
@@ -157,13 +157,13 @@ def _pairs(value, count, source, field):
     for i, pair in enumerate(value):
         f = f"{field}[{i}]"
         if not isinstance(pair, list) or len(pair) != 2:
-            raise RobotFileError(source, f, f"expected [min, max], got {pair!r}")
+            raise RobotFileError(source, f, f"expected [min, max], got {shown(pair)}")
         lo, lo_t = parse_number(pair[0], source, f)
         hi, hi_t = parse_number(pair[1], source, f)
         if Fraction(lo_t) > Fraction(hi_t):
-            raise RobotFileError(source, f, f"min {lo_t} exceeds max {hi_t}")
+            raise RobotFileError(source, f, f"min {clip(lo_t)} exceeds max {clip(hi_t)}")
         if Fraction(lo_t) < 0:
-            raise RobotFileError(source, f, f"a leg length cannot be negative ({lo_t})")
+            raise RobotFileError(source, f, f"a leg length cannot be negative ({clip(lo_t)})")
         out.append([lo_t, hi_t])
     return out
 

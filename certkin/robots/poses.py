@@ -23,7 +23,7 @@ from intervals import Interval
 from intervals.elementary import pi as PI
 from intervals.rounding import enclose, enclose_plain
 
-from ..errors import InputError, RobotFileError
+from ..errors import InputError, RobotFileError, clip, shown
 
 RADIANS_PER_DEGREE = PI / Interval(180)   # an enclosure of π/180 (outward division)
 MAX_MAGNITUDE = 1e12                       # |value| above this is far outside any robot: refused
@@ -53,9 +53,9 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
     """
     iv, text = _parse_number(value, source, field, angle)
     if not angle and not (abs(float(iv.lo)) <= MAX_MAGNITUDE and abs(float(iv.hi)) <= MAX_MAGNITUDE):
-        raise RobotFileError(source, field, f"{text} is out of range (at most {MAX_MAGNITUDE:g} in magnitude)")
+        raise RobotFileError(source, field, f"{clip(text)} is out of range (at most {MAX_MAGNITUDE:g} in magnitude)")
     if angle and not (abs(float(iv.lo)) <= MAX_ANGLE and abs(float(iv.hi)) <= MAX_ANGLE):     # (the smaller limit)
-        raise RobotFileError(source, field, f"{text} is out of range for an angle (at most {MAX_ANGLE:g} rad in "
+        raise RobotFileError(source, field, f"{clip(text)} is out of range for an angle (at most {MAX_ANGLE:g} rad in "
                                             "magnitude, where a certificate can still be checked)")
     return iv, text
 
@@ -68,20 +68,20 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
         raise RobotFileError(source, field, f"expected a number, got {got}")
     text = value.strip() if isinstance(value, str) else value
     if isinstance(text, str) and (not text.isascii() or "_" in text):   # Decimal reads '5_5' as 55, '５' as 5
-        raise RobotFileError(source, field, f"not a plain decimal number: {_shown(value)} (digits 0-9, '.', 'e', "
+        raise RobotFileError(source, field, f"not a plain decimal number: {shown(value)} (digits 0-9, '.', 'e', "
                                             "a sign; no '_' or other scripts' digits)")
     if isinstance(text, (str, Decimal)) and too_many_digits(text):
         raise RobotFileError(source, field, f"a decimal of more than {MAX_DIGITS} digits (no robot needs that many, "
                                             "and a certificate's checker reads no more)")
     if isinstance(text, str) and text.lower().endswith("deg"):
         if not angle:
-            raise RobotFileError(source, field, f"'deg' is only allowed for angles, got {value!r}")
+            raise RobotFileError(source, field, f"'deg' is only allowed for angles, got {shown(value)}")
         try:
             lo, hi = enclose(text[:-3].strip())
         except (ValueError, TypeError):
-            raise RobotFileError(source, field, f"not a number of degrees: {value!r}") from None
+            raise RobotFileError(source, field, f"not a number of degrees: {shown(value)}") from None
         if not (math.isfinite(lo) and math.isfinite(hi)):
-            raise RobotFileError(source, field, f"not a number of degrees: {value!r}")
+            raise RobotFileError(source, field, f"not a number of degrees: {shown(value)}")
         if lo == hi == 0.0:                      # 0deg is 0 exactly (a product would round it outward)
             return Interval(0.0), text
         return Interval.from_bounds(np.array(lo), np.array(hi)) * RADIANS_PER_DEGREE, text
@@ -89,19 +89,19 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
         # tomllib with parse_float=Decimal never gives floats; Python callers may: the float stands for
         # its shortest repr, the decimal the caller wrote, enclosed outward (which holds the float too)
         if not math.isfinite(text):
-            raise RobotFileError(source, field, f"not a finite number: {text!r}")
+            raise RobotFileError(source, field, f"not a finite number: {shown(text)}")
         text = repr(text)
     limit = f"at most {MAX_ANGLE:g} rad in magnitude" if angle else f"at most {MAX_MAGNITUDE:g} in magnitude"
     if isinstance(text, int) and abs(text) > MAX_MAGNITUDE:     # (before any text of its 5000 digits)
         raise RobotFileError(source, field, f"out of range ({limit})")
     if _below_any_float(text):
-        raise RobotFileError(source, field, f"{_shown(value)} is below 1e-400 in magnitude: write 0")
+        raise RobotFileError(source, field, f"{_plain(value)} is below 1e-400 in magnitude: write 0")
     try:
         lo, hi = enclose(text)
     except (ValueError, TypeError):
-        raise RobotFileError(source, field, f"not a finite number: {_shown(value)}") from None
+        raise RobotFileError(source, field, _not_a_number(value, text)) from None
     if not (math.isfinite(lo) and math.isfinite(hi)):       # a finite decimal beyond the float range
-        raise RobotFileError(source, field, f"{_shown(value)} is out of range ({limit})")
+        raise RobotFileError(source, field, f"{_plain(value)} is out of range ({limit})")
     return Interval.from_bounds(np.array(lo), np.array(hi)), exact_text(text)
 
 
@@ -121,10 +121,22 @@ def _below_any_float(text) -> bool:
     return d is not None and d.is_finite() and d != 0 and d.adjusted() < -400
 
 
-def _shown(value) -> str:
-    """A user's value in a message: a text as it was written, a decimal as its text, never Python's repr."""
-    text = str(value).strip()
-    return repr(text) if isinstance(value, str) else text
+def _plain(value) -> str:
+    """A number in a message: a text as it was written, a decimal as its text (``shown``, unquoted)."""
+    return clip(str(value).strip()) if isinstance(value, str) else shown(value)
+
+
+def _not_a_number(value, text) -> str:
+    """Why ``enclose`` refused a value: not finite (``nan``, ``inf``), or not a plain decimal (``0x10``, ``1/3``)."""
+    try:
+        finite = Decimal(text.strip() if isinstance(text, str) else text).is_finite()
+    except (InvalidOperation, ValueError, TypeError):
+        finite = None
+    if finite is False:
+        return f"not a finite number: {shown(value)}"
+    if isinstance(value, (str, Decimal)):
+        return f"not a plain decimal number: {shown(value)} (digits 0-9, '.', 'e', a sign)"
+    return f"expected a number, got {shown(value)}"
 
 
 def _value(text, robot, name, parameter):
@@ -234,7 +246,7 @@ def parse_box(spec, robot, parameter="box") -> tuple[Interval, dict]:
             if len(bounds) == 1:
                 bounds = [bounds[0], bounds[0]]
             if len(bounds) != 2 or not all(b.strip() for b in bounds):
-                raise InputError(parameter, name, f"expected lo:hi, got {rng!r}")
+                raise InputError(parameter, name, f"expected lo:hi, got {shown(rng)}")
             items[name] = (bounds[0].strip(), bounds[1].strip())
     elif isinstance(spec, dict):
         items = {}
@@ -247,7 +259,7 @@ def parse_box(spec, robot, parameter="box") -> tuple[Interval, dict]:
         raise InputError(parameter, "", "expected 'name=lo:hi,...' or a mapping")
     for name in items:
         if name not in robot.pose_names:
-            raise InputError(parameter, name, f"{robot.kind} robots have no variable {name!r} "
+            raise InputError(parameter, name, f"{robot.kind} robots have no variable {shown(name)} "
                                               f"(their pose is {','.join(robot.pose_names)})")
     missing = [n for n in robot.pose_names if n not in items]
     if missing:
@@ -258,7 +270,7 @@ def parse_box(spec, robot, parameter="box") -> tuple[Interval, dict]:
         ia, ta = _value(a, robot, name, parameter)
         ib, tb = _value(b, robot, name, parameter)
         if float(ia.lo) > float(ib.hi) or exceeds(ta, tb):
-            raise InputError(parameter, name, f"lower bound {ta} exceeds upper bound {tb}")
+            raise InputError(parameter, name, f"lower bound {clip(str(ta))} exceeds upper bound {clip(str(tb))}")
         lo.append(float(ia.lo))
         hi.append(float(ib.hi))
         texts[name] = [str(ta), str(tb)]
@@ -328,31 +340,31 @@ def _length(value, parameter, field_name):
             try:
                 v, t = Decimal(centre.strip()), Decimal(tol.strip())
             except (InvalidOperation, ValueError):
-                raise InputError(parameter, field_name, f"not a length range: {value!r}") from None
+                raise InputError(parameter, field_name, f"not a length range: {shown(value)}") from None
             if not (v.is_finite() and t.is_finite()) or t < 0:
-                raise InputError(parameter, field_name, f"not a length range (tolerance >= 0): {value!r}")
+                raise InputError(parameter, field_name, f"not a length range (tolerance >= 0): {shown(value)}")
             if max(abs(v), t) > MAX_MAGNITUDE:
-                raise InputError(parameter, field_name, f"{value.strip()} is out of range (at most "
+                raise InputError(parameter, field_name, f"{clip(value.strip())} is out of range (at most "
                                                         f"{MAX_MAGNITUDE:g} in magnitude)")
             if any(d and d.adjusted() < -400 for d in (v, t)):
-                raise InputError(parameter, field_name, f"{value.strip()}: a term below 1e-400 (write 0 for an "
+                raise InputError(parameter, field_name, f"{clip(value.strip())}: a term below 1e-400 (write 0 for an "
                                                         "exact length or value)")
             with localcontext() as ctx:     # exact: every digit of both operands, and a carry
                 exponent = min(v.as_tuple().exponent, t.as_tuple().exponent)
                 ctx.prec = max(v.adjusted(), t.adjusted(), 0) - min(exponent, 0) + 3
                 parts = [format(v - t, "f"), format(v + t, "f")]
         if len(parts) != 2:
-            raise InputError(parameter, field_name, f"expected 'lo:hi' or 'value+-tolerance', got {value!r}")
+            raise InputError(parameter, field_name, f"expected 'lo:hi' or 'value+-tolerance', got {shown(value)}")
         (lo, lo_t), (hi, hi_t) = (_length(part, parameter, field_name) for part in parts)
         if Fraction(lo_t) > Fraction(hi_t):
-            raise InputError(parameter, field_name, f"range {lo_t}:{hi_t} has lo > hi")
+            raise InputError(parameter, field_name, f"range {clip(f'{lo_t}:{hi_t}')} has lo > hi")
         return Interval.from_bounds(lo.lo, hi.hi), f"{lo_t}:{hi_t}"
     try:
         iv, t = parse_number(value, parameter, field_name)
     except InputError as exc:
         raise InputError(parameter, exc.field, exc.problem) from None
     if float(iv.lo) < 0:
-        raise InputError(parameter, field_name, f"a leg length cannot be negative ({t})")
+        raise InputError(parameter, field_name, f"a leg length cannot be negative ({clip(str(t))})")
     return iv, t
 
 
@@ -471,12 +483,12 @@ def parse_height_range(value, parameter="z_range"):
     if isinstance(value, str):
         parts = value.split(":")
         if len(parts) != 2:
-            raise InputError(parameter, "z", f"expected lo:hi, got {value!r}")
+            raise InputError(parameter, "z", f"expected lo:hi, got {shown(value)}")
     else:
         parts = list(value)
         if len(parts) != 2:
             raise InputError(parameter, "z", "expected (lo, hi)")
     (a, ta), (b, tb) = parse_height(parts[0], parameter, "z"), parse_height(parts[1], parameter, "z")
     if not Fraction(ta) < Fraction(tb):
-        raise InputError(parameter, "z", f"lower bound {ta} must be below upper bound {tb}")
+        raise InputError(parameter, "z", f"lower bound {clip(ta)} must be below upper bound {clip(tb)}")
     return (a, ta), (b, tb)

@@ -24,7 +24,7 @@ from intervals.interval import mul
 from intervals.polynomial import Poly, degree_limit, padded
 from intervals.rounding import down_sum, sum_bounds, up_sum
 
-from ..errors import InputError
+from ..errors import InputError, shown
 from .crossings import midpoint
 from .evaluate import PathPoints, PolyPath
 from .families import FAMILIES
@@ -65,7 +65,7 @@ def constraint_names(kinds):
         raise InputError("constraints", "", "empty list (leave it out to check every constraint)")
     for k in names:
         if not isinstance(k, str) or not k:
-            raise InputError("constraints", "", f"expected constraint names, got {k!r}")
+            raise InputError("constraints", "", f"expected constraint names, got {shown(k)}")
         if names.count(k) > 1:
             raise InputError("constraints", k, "given twice")
     return names

@@ -31,7 +31,7 @@ from .. import display
 from ..certificates import trajectory_certificate
 from ..engine import Budget, budgets, interrupt
 from ..engine.budgets import Clock, make_budget
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..quiet import quiet
 from ..robots import as_robot
 from ..robots.poses import parse_pose
@@ -88,7 +88,7 @@ MAX_DIVISIONS = 1000
 def _count(value, name: str, least: int, most: int) -> int:
     """An integer option in [least, most] (bools and floats refused), else an InputError naming it."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not least <= value <= most:
-        raise InputError(name, "", f"expected an integer from {least} to {most}, got {value!r}")
+        raise InputError(name, "", f"expected an integer from {least} to {most}, got {shown(value)}")
     return int(value)
 
 

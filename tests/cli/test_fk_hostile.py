@@ -203,3 +203,21 @@ def test_a_robot_file_nested_too_deeply_is_refused(cli, tmp_path):
     """A robot file of 100 000 nested arrays: one line naming the file (it was a RecursionError traceback)."""
     (tmp_path / "deep.toml").write_text('kind = "planar-3rpr"\nbase = ' + "[" * 100000 + "]" * 100000 + "\n")
     refused(cli("fk", "deep.toml", "--lengths", L), "deep.toml", "nested too deeply")
+
+
+@pytest.mark.parametrize("size", ["0", "-1", "1e30", "512KiB", "2 GiBs", "inf"])
+def test_a_refused_memory_size_always_gets_the_same_message(cli, size):
+    """0 said "positive finite number", -1 "a size such as 2GiB", 1e30 "1MiB to 1PiB": one message now."""
+    run = cli(*F, "--max-memory", size)
+    refused(run, "--max-memory")
+    assert run.err.strip() == ("certkin: error: argument --max-memory: expected a size from 1MiB to 1PiB, a number "
+                               f"of bytes or with a unit (2GiB, 512MiB, 1.5G), got '{size}'")
+
+
+def test_a_long_value_is_echoed_by_its_start_and_end(cli):
+    """A 100 000-character value was echoed whole in the error line."""
+    run = cli(*F, "--max-boxes", "7" * 50000 + "x" + "8" * 50000)
+    refused(run, "--max-boxes", "'" + "7" * 28 + "..." + "8" * 27 + "'")
+    assert len(run.err) < 200
+    run = cli("fk", R2, "--lengths", L, "--domain", "q" * 100000)
+    refused(run, "--domain: " + "q" * 29 + "..." + "q" * 28 + ": expected name=lo:hi")

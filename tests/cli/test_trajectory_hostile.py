@@ -20,7 +20,10 @@ HOSTILE = [
     (T + ["--max-memory", "-1GiB"], ["--max-memory"]),
     (["trajectory", MEL, "--from", "-69,-50,1e300,85deg,10deg,0", "--to", B], ["--from", "z", "out of range"]),
     (["trajectory", MEL, "--from", "-69,-50,500,85deg,10deg", "--to", B], ["--from", "6"]),
-    (["trajectory", MEL, "--from", "-69,-50,nan,85deg,10deg,0", "--to", B], ["--from", "z"]),
+    (["trajectory", MEL, "--from", "-69,-50,nan,85deg,10deg,0", "--to", B], ["--from", "z", "not a finite number"]),
+    (["trajectory", MEL, "--from", "0x10,-50,500,85deg,10deg,0", "--to", B],     # once: "not a finite number"
+     ["--from", "x: not a plain decimal number: '0x10'"]),
+    (["trajectory", MEL, "--from", "1/3,-50,500,85deg,10deg,0", "--to", B], ["--from", "x: not a plain decimal number"]),
     (["trajectory", MEL, "--from", "-69,-50,500,85rad,10deg,0", "--to", B], ["--from", "psi"]),
     (["trajectory", MEL, "--from", A, "--to", "84,92,500,1e13,10deg,0"], ["--to", "psi"]),
     (["trajectory", MEL, "--from", A], ["--to"]),
