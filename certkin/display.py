@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from decimal import ROUND_CEILING, ROUND_FLOOR, Context, Decimal
 from fractions import Fraction
+import json
 import math
 import operator
 
@@ -198,3 +199,23 @@ def printable(text: str) -> str:
     """``text`` with every character that is not printable (a newline, a terminal escape, a bidi control)
     escaped, so that text from a file (a path, an id in a jobs file) prints as one honest line."""
     return "".join(c if c.isprintable() else ascii(c)[1:-1] for c in text)
+
+
+def json_text(document) -> str:
+    """A document as strict JSON: a non-finite number in it (an unbounded side, which the documents
+    already write as null, as a margin's) is written null, never as a bare NaN or Infinity, which no
+    JSON parser need accept."""
+    try:
+        return json.dumps(document, allow_nan=False)
+    except ValueError:
+        return json.dumps(_finite(document), allow_nan=False)
+
+
+def _finite(value):
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    return value

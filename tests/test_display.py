@@ -165,3 +165,15 @@ def test_a_report_shows_a_one_sided_margin_as_proved_not_as_missing():
     from certkin.report.page import enclosure
     assert enclosure((184.0023, None)) == "[184.0022999, inf]" and enclosure((None, None)) == "not computed"
     assert enclosure((None, 3.0)) == "[-inf, 3]"
+
+
+def test_documents_are_strict_json_with_unbounded_sides_as_null():
+    """``json_text``: a non-finite number in a document is written null (as a margin's unbounded side),
+    never a bare NaN or Infinity, which a strict parser refuses."""
+    import json
+    from certkin.display import json_text
+
+    text = json_text({"margin": [float("-inf"), 1.5], "nested": [{"v": float("nan")}], "name": "x"})
+    assert json.loads(text, parse_constant=lambda c: 1 / 0) == {"margin": [None, 1.5], "nested": [{"v": None}],
+                                                                "name": "x"}
+    assert json_text({"a": 1.0}) == '{"a": 1.0}'

@@ -23,6 +23,7 @@ from pathlib import Path
 
 from .. import __version__
 from ..certificates import temporary_of, write_text
+from ..display import json_text
 from ..errors import InputError
 from ..robots.poses import decimal_text, exact_value, exceeds
 from ..workspace.volume import DEFAULT_SLABS
@@ -105,9 +106,8 @@ def remove_leftovers(out, ids) -> int:
 
 
 def write_json(path, document: dict) -> None:
-    """A JSON document, written atomically (a NaN or an infinity in it raises ``ValueError``: no bare ``NaN``,
-    which is no JSON, is written)."""
-    write_text(path, json.dumps(document, allow_nan=False))
+    """A JSON document, written atomically, strict JSON (``display.json_text``: never a bare NaN)."""
+    write_text(path, json_text(document))
 
 
 def write_document(out, job: dict, document: dict, sources: dict | None = None) -> None:

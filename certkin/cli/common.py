@@ -23,6 +23,7 @@ from typing import Callable
 from ..certificates.writing import atomic_path, replaced_file
 from ..engine import Budget, interrupt
 from ..engine.budgets import MAX_MEMORY, positive_integer, positive_number
+from .. import display
 from ..errors import InputError, shown
 from ..plots.figure import pyplot
 
@@ -368,7 +369,7 @@ def show(args, answer: Answer, out=None) -> int:
     """Write the outputs of an answer, then print its JSON document (``--json``) or its description
     (on ``out``, default stdout)."""
     write_outputs(args, answer)
-    text = json.dumps(answer.document, allow_nan=False) if args.json else answer.describe()
+    text = display.json_text(answer.document) if args.json else answer.describe()
     write_text_out(out or sys.stdout, text + "\n")
     return 0
 
