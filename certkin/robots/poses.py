@@ -29,6 +29,7 @@ RADIANS_PER_DEGREE = PI / Interval(180)   # an enclosure of π/180 (outward divi
 MAX_MAGNITUDE = 1e12                       # |value| above this is far outside any robot: refused
 MAX_ANGLE = 1e6                            # |angle| in radians above this is refused: the checker's sine and
                                            # cosine reduce arguments below 2^22 pi/2 only (proofs/arith.py)
+MAX_EXPONENT = 400                         # a decimal's written exponent at most (the checker's ``MAX_EXPONENT``)
 MAX_DIGITS = 1000                          # digits of a decimal at most: a certificate's checker reads texts of
                                            # 1100 characters (proofs/numbers.py), Python's int() 4300 digits
 
@@ -96,6 +97,9 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
         raise RobotFileError(source, field, f"out of range ({limit})")
     if _below_any_float(text):
         raise RobotFileError(source, field, f"{_plain(value)} is below 1e-400 in magnitude: write 0")
+    if _written_exponent_beyond(text):
+        raise RobotFileError(source, field, f"{_plain(value)}: an exponent beyond ±{MAX_EXPONENT} (a certificate's "
+                                            "checker reads no more): move the decimal point")
     try:
         lo, hi = enclose(text)
     except (ValueError, TypeError):
@@ -109,6 +113,13 @@ def too_many_digits(text) -> bool:
     """Whether a decimal (its text, or a ``Decimal``) has more than ``MAX_DIGITS`` digits, exponent included."""
     text = str(text)
     return len(text) > MAX_DIGITS and sum(c.isdigit() for c in text) > MAX_DIGITS
+
+
+def _written_exponent_beyond(text) -> bool:
+    """Whether a decimal text is written with an exponent beyond ±``MAX_EXPONENT`` (``2899e-405``: a value
+    in range, but a text the checker refuses, ``proofs.numbers``)."""
+    mantissa, e, exponent = str(text).lower().partition("e") if isinstance(text, str) else ("", "", "")
+    return bool(e) and exponent.lstrip("+-").isdigit() and (len(exponent) > 6 or abs(int(exponent)) > MAX_EXPONENT)
 
 
 def _below_any_float(text) -> bool:

@@ -221,3 +221,18 @@ def test_a_long_value_is_echoed_by_its_start_and_end(cli):
     assert len(run.err) < 200
     run = cli("fk", R2, "--lengths", L, "--domain", "q" * 100000)
     refused(run, "--domain: " + "q" * 29 + "..." + "q" * 28 + ": expected name=lo:hi")
+
+
+def test_a_decimal_written_with_an_exponent_the_checker_refuses_is_refused(cli, tmp_path):
+    """2899000e-405 is about 2.9e-399, in range, but written with an exponent beyond ±400, which the
+    checker does not read: its certificate was rejected.  Refused (exit 2); 2.899e-399 is answered and
+    its certificate checks, as is a robot file's 378e-402 (TOML's number, written 3.78E-400)."""
+    refused(cli("fk", R2, "--lengths", "2899000e-405,13.66,40.53"), "--lengths", "exponent beyond ±400")
+    robot = tmp_path / "r.toml"
+    robot.write_text(open(R2).read().replace("[3.78, 4.34]", "[378e-402, 4.34]", 1))
+    assert "378e-402" in robot.read_text()
+    answered(cli("fk", str(robot), "--lengths", L, "--certificate", str(tmp_path / "r.cert")))
+    assert cli("check", str(tmp_path / "r.cert")).code == 0
+    run = cli("fk", R2, "--lengths", "2.899e-399,13.66,40.53", "--certificate", str(tmp_path / "c.cert"))
+    answered(run)
+    assert cli("check", str(tmp_path / "c.cert")).code == 0
