@@ -156,3 +156,23 @@ def test_ctrl_c_while_the_answer_is_written_leaves_it_whole(monkeypatch, tmp_pat
     out, err = capsys.readouterr()
     assert "answer above is theirs, unchanged" in err and "64 cells" in out
     assert proofs.check_file(cert).ok
+
+
+def test_ctrl_c_stops_a_trajectory_with_a_moving_orientation_at_once(capsys):
+    """A Ctrl-C during a long search with a moving orientation (batches of costly pieces) ended the
+    command seconds later: the leaves the search had left were then evaluated until the time budget
+    ran out, and that time was reported as the search's."""
+    import threading
+    timer = threading.Timer(2.5, os.kill, (os.getpid(), signal.SIGINT))
+    t0 = time.perf_counter()
+    timer.start()
+    try:
+        code = main(["trajectory", MEL, "--from", "-69,-50,500,0,10deg,0", "--to", "84,92,500,10000,10deg,0",
+                     "--max-seconds", "8", "--json"])
+    finally:
+        timer.cancel()
+    elapsed = time.perf_counter() - t0
+    doc = json.loads(capsys.readouterr().out)
+    assert code == 130 and doc["interrupted"] is True and doc["status"] == "undecided"
+    assert elapsed < 2.5 + 1.0                       # (it went on for 2 s more)
+    assert doc["stats"]["seconds"] <= elapsed

@@ -29,7 +29,7 @@ import numpy as np
 from intervals import Interval
 from intervals.rounding import down, sum_bounds, up
 
-from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, budgets, search
+from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, budgets, interrupt, search
 from ..engine.budgets import Clock, make_budget, positive_number
 from ..errors import InputError
 from ..quiet import quiet
@@ -46,7 +46,8 @@ SEARCH_SHARE = 0.4   # of max_memory, for the search's records: the leaves' stat
                      # as much again after it (a path singular everywhere: 2.05 times the records at the peak)
 INDEX_STEPS = 64     # sub-intervals per segment for the mean indices
 INDEX_SEGMENTS = 8   # segments evaluated at once for them
-PIECE_BATCH = 512    # boxes decided at once with a moving orientation (each holds its polynomials' products)
+PIECE_BATCH = 256    # boxes decided at once with a moving orientation (each holds its polynomials' products; about
+                     # 0.3 s a batch for the MEL robot: a Ctrl-C, checked between batches, stops the search that soon)
 PIECE_BYTES = 8 * 2 ** 10    # held per piece and constraint with a moving orientation, at most (the MEL robot,
                              # 22 constraints, 301 segments of 8 pieces: 0.45 GiB at the peak, 6.7 KiB each)
 PIECE_SECONDS = 130e-6       # to build the polynomials of a piece and constraint before the search starts (the
@@ -277,7 +278,7 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
         r.leaves = {"segment": local[order], "tlo": tlo[mine][order], "thi": thi[mine][order],
                     "state": state[mine][order], "mlo": mlo[mine][order], "mhi": mhi[mine][order]}
         conclude(r, problem.best[p_index])
-        if indices and not clock.out():
+        if indices and not clock.out() and not interrupt.cut_short():
             r.indices = _mean_indices(problem, cons, segs)
         r.stats = {"boxes": int(found.boxes), "leaves": int(mine.sum()), "seconds": round(clock.elapsed(), 6),
                    "budget_exhausted": bool(found.exhausted or clock.out())}
@@ -287,8 +288,8 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
 
 def _leaf_states(problem, tree, piece_segment, K, rtol, clock, chunk: int = 256):
     """Per leaf of the search: (ids, segment, t bounds, states, margin bounds).  Leaves never
-    evaluated (a budget ran out) are evaluated now while the time budget lasts, by chunks; the
-    rest stay ``unknown`` with unbounded margins (sound: nothing is claimed about them)."""
+    evaluated (a budget ran out) are evaluated now while the time budget lasts and no Ctrl-C came,
+    by chunks; the rest stay ``unknown`` with unbounded margins (sound: nothing is claimed about them)."""
     leaves = tree.leaves()
     segment = piece_segment[tree.root[leaves]]
     tlo, thi = tree.lo[leaves, 0], tree.hi[leaves, 0]
@@ -302,6 +303,9 @@ def _leaf_states(problem, tree, piece_segment, K, rtol, clock, chunk: int = 256)
     todo = np.nonzero(~known)[0]
     for k in range(0, len(todo), chunk):
         if clock.out():
+            break
+        if interrupt.requested():           # (leaves never evaluated: the search itself was cut short)
+            interrupt.cut()
             break
         part = todo[k:k + chunk]
         state[part], mlo[part], mhi[part] = problem.evaluate(tlo[part], thi[part], segment[part], upper=rtol is not None)
