@@ -40,7 +40,7 @@ from . import display
 from .certificates import singularity_certificate
 from .certificates.singularity import least_header
 from .certificates import writing
-from .engine import OPEN, PROVED, Budget, Decisions, budgets, search
+from .engine import OPEN, PROVED, Budget, Decisions, budgets, interrupt, search
 from .engine.budgets import Clock, make_budget, positive_integer
 from .errors import InputError
 from .quiet import quiet
@@ -188,6 +188,7 @@ class SingularityResult:
     seconds: float = 0.0
     scale_factor: float | None = None  # for largest_free_box
     around: dict | None = None         # for largest_free_box: {"pose": texts, "scale": half-widths of the unit box}
+    bisection: dict | None = None      # for largest_free_box: how the search for s went (see there)
     exact_values: dict = field(default_factory=dict)   # witness coordinates that are an exact text ({name: text})
 
     def witness(self, key: str, text: bool = False) -> list:
@@ -227,6 +228,8 @@ class SingularityResult:
             out["scale_factor"] = self.scale_factor
         if self.around is not None:
             out["around"] = self.around
+        if self.bisection is not None:
+            out["bisection"] = self.bisection
         out["stats"] = {"boxes": self.boxes, "seconds": round(self.seconds, 6)}
         return out
 
@@ -397,8 +400,13 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     values (``MAX_MAGNITUDE``) counts as not proved.  The returned result carries the certified box and its tree;
     ``result.scale_factor`` is s.  If the pose itself cannot be proved regular, the result is
     ``undecided`` with s = 0.  ``max_boxes`` bounds each box tried, ``max_seconds`` the whole
-    bisection (when it runs out, the largest box proved so far is returned); ``progress(k, s)`` is
+    bisection (when it runs out, or at a Ctrl-C, the largest box proved so far is returned); ``progress(k, s)`` is
     called after each box tried (k boxes tried so far, s the scale factor proved so far).
+    ``result.boxes`` and ``result.seconds`` are those of the whole bisection (every box tried);
+    ``result.bisection`` says how it went: ``tried`` (boxes tried), ``proved`` (s of the box returned),
+    ``not_proved`` (the least s whose box was found singular, or left undecided by its box budget or the
+    resolution; None if none: the largest s lies between the two) and ``stopped``: None when the bisection ran
+    to its end, else ``"time budget"`` or ``"interrupted"`` (it stopped there: more time may prove a larger box).
     """
     robot = as_robot(robot)
     budget = make_budget(budgets.LARGEST_FREE_BOX, budget, max_boxes=max_boxes, max_seconds=max_seconds,
@@ -407,58 +415,101 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     clock = Clock(budget.max_seconds)
     center, texts = parse_pose(pose, robot, "pose") if not isinstance(pose, Interval) else (pose, None)
     d = len(robot.pose_names)
-    if scale is None:
-        sc = np.ones(d)
-    else:
-        parts = scale.split(",") if isinstance(scale, str) else list(np.atleast_1d(scale))
-        try:
-            sc = np.array([float(p) for p in parts], dtype=np.float64)
-        except (TypeError, ValueError):
-            raise InputError("scale", "", f"expected {d} comma-separated positive numbers") from None
-        if len(sc) != d or not np.all(np.isfinite(sc)) or np.any(sc <= 0) or np.any(sc > MAX_SCALE):
-            raise InputError("scale", "", f"expected {d} comma-separated positive numbers up to {MAX_SCALE:g}")
-    tried, proved = 0, 0.0
+    sc = _unit_box(scale, d)
+    tried, proved, boxes = 0, 0.0, 0
     asked = {"pose": list(texts) if texts is not None else [float(v) for v in center.mid()], "scale": sc.tolist()}
 
     def attempt(s):
-        nonlocal tried, proved
+        nonlocal tried, proved, boxes
         w = Interval.from_bounds(np.full(d, s), np.full(d, s)) * Interval.from_bounds(sc, sc)
         lo, hi = ((center - w).lo, (center + w).hi) if s else (center.lo, center.hi)  # outward: ⊇ pose ± s·scale
         if not (np.all(np.abs(lo) <= MAX_MAGNITUDE) and np.all(np.abs(hi) <= MAX_MAGNITUDE)):
             return SingularityResult(robot, None, lo, hi, "undecided", scale_factor=s, around=asked)  # not tried
         iv = Interval.from_bounds(lo, hi)
-        r = classify_cells(robot, (iv, _cell_texts(robot, lo, hi)), 1, budget.within(clock.left()))[0]
+        r = _corner_witness(robot, lo, hi, center, -best.sign) if s else None
+        if r is None:
+            r = classify_cells(robot, (iv, _cell_texts(robot, lo, hi)), 1, budget.within(clock.left()))[0]
         r.scale_factor, r.around = s, asked
         tried += 1
+        boxes += r.boxes
         if r.status == "singularity-free":
             proved = max(proved, s)
         if progress:
             progress(tried, proved)
         return r
 
+    def stopped():
+        """Why the bisection stops here (or why the box just tried was cut short): None, or the budget."""
+        if interrupt.requested():
+            interrupt.cut()
+            return "interrupted"
+        return "time budget" if clock.out() else None
+
+    def answer(r, bad=None, why=None):
+        r.boxes, r.seconds = boxes, clock.elapsed()
+        r.bisection = {"tried": tried, "proved": proved, "not_proved": bad, "stopped": why}
+        return r
+
     best = attempt(0.0)
     if best.status != "singularity-free":
-        return best
+        why = stopped()
+        return answer(best, None if why else 0.0, why)
     good, bad = 0.0, None
     unit = 2.0 ** math.floor(math.log2(float(np.max(sc))))      # the scale's largest half-width, to a power of 2
     s, top = 2.0 ** -10 / unit, 2.0 ** 20 / unit
-    while s <= top and not clock.out():
+    while s <= top:
+        if why := stopped():
+            return answer(best, None, why)
         r = attempt(s)
         if r.status == "singularity-free":
             best, good = r, s
             s *= 2
+        elif r.status == "undecided" and (why := stopped()):      # cut short: s not shown out of reach
+            return answer(best, None, why)
         else:
             bad = s
             break
     if bad is None:
-        return best
+        return answer(best)
     for _ in range(steps):
-        if clock.out():
-            break
+        if why := stopped():
+            return answer(best, bad, why)
         mid = 0.5 * (good + bad)
         r = attempt(mid)
         if r.status == "singularity-free":
             best, good = r, mid
+        elif r.status == "undecided" and (why := stopped()):
+            return answer(best, bad, why)
         else:
             bad = mid
-    return best
+    return answer(best, bad)
+
+
+def _unit_box(scale, d: int) -> np.ndarray:
+    """The half-widths of the unit box of ``largest_free_box`` (default 1 in every variable)."""
+    if scale is None:
+        return np.ones(d)
+    parts = scale.split(",") if isinstance(scale, str) else list(np.atleast_1d(scale))
+    try:
+        sc = np.array([float(p) for p in parts], dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError("scale", "", f"expected {d} comma-separated positive numbers") from None
+    if len(sc) != d or not np.all(np.isfinite(sc)) or np.any(sc <= 0) or np.any(sc > MAX_SCALE):
+        raise InputError("scale", "", f"expected {d} comma-separated positive numbers up to {MAX_SCALE:g}")
+    return sc
+
+
+def _corner_witness(robot, lo, hi, center, sign):
+    """A box ``[lo, hi]`` around ``center`` (where det(A) has the proved sign ``-sign``) with a corner where
+    det(A) has the proved sign ``sign`` is singular (det vanishes on the segment between them): the result
+    saying so, with the two poses as witnesses, else None.  A few ms for 2^d corners, where the search
+    of a box near the singularity surface (depth first) may spend its whole budget without finding them."""
+    d = len(lo)
+    corners = np.where((np.arange(2 ** d)[:, None] >> np.arange(d)) & 1, hi, lo)
+    found = np.nonzero(_sign(robot.det_enclosure(Interval.from_bounds(corners, corners.copy()))) == sign)[0]
+    if not len(found):
+        return None
+    there, here = corners[found[0]].copy(), center.lo.copy()
+    return SingularityResult(robot, None, lo, hi, "singular",
+                             witnesses={"positive": there, "negative": here} if sign > 0 else
+                             {"positive": here, "negative": there})

@@ -1,5 +1,7 @@
 """Singularity-free regions: seed 003 examples, hard cases, soundness against sampling, tampering."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
@@ -159,6 +161,41 @@ def test_largest_free_box_is_certified_and_maximal_along_the_scale():
     h = (r.hi - r.lo) / 2
     d = robot.det_float(rng.uniform(c - 2 * h, c + 2 * h, size=(20000, 3)))
     assert (d > 0).any() and (d < 0).any()
+
+
+def test_largest_free_box_cut_by_its_time_budget_says_so_with_its_whole_time():
+    """The time budget stopped the bisection on s without a word, and the seconds (and boxes) stated
+    were those of the last box proved, not of the whole bisection (40.6 s of work reported as 1.83 s)."""
+    from certkin.cli.singular import describe
+    mel = str(Path(__file__).resolve().parent.parent / "examples" / "robots" / "seed000-mel-tsukuba.toml")
+    r = largest_free_box(mel, "-69,-50,500,85deg,10deg,0", max_seconds=1.5)
+    assert r.status == "singularity-free" and 0 < r.scale_factor < 0.125
+    g = r.bisection
+    assert g["stopped"] == "time budget" and g["proved"] == r.scale_factor and g["tried"] > 5
+    assert r.seconds >= 1.5
+    assert r.to_json()["bisection"] == g and r.to_json()["stats"]["seconds"] >= 1.5
+    assert "the time budget (--max-seconds) ran out while the box was grown" in describe(r.robot, r)
+    checked(r)
+
+
+def test_largest_free_box_does_not_search_a_box_with_a_corner_of_the_other_sign():
+    """A box whose corner has det(A) of the sign opposite to the pose's is singular: it is not searched
+    (near the singularity surface the search, depth first, spent the whole time budget on such a box)."""
+    import certkin.singularity as singularity
+    searched = []
+    real = singularity.classify_cells
+
+    def classify(*args, **kwargs):
+        out = real(*args, **kwargs)
+        searched.append(out[0].status)
+        return out
+    robot = robot_from_dict(EX2)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(singularity, "classify_cells", classify)
+        r = largest_free_box(robot, "10,10,22.5deg", scale="1,1,0.1", max_seconds=20)
+    assert r.status == "singularity-free" and r.bisection["stopped"] is None
+    assert r.bisection["tried"] > len(searched) and "singular" not in searched
+    checked(r)
 
 
 @pytest.mark.parametrize("unit", [2.0 ** 39, 2.0 ** -1000])

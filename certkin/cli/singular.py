@@ -99,4 +99,11 @@ def describe(robot, r):
         line += f" (det(A) > 0 at ({p}), < 0 at ({q}))"
     elif r.status == "undecided":
         line += f" ({len(r.undecided)} boxes left undecided)"
-    return line + f" [{r.boxes} boxes, {r.seconds:.3f} s]"
+    line += f" [{r.boxes} boxes, {r.seconds:.3f} s]"
+    g = r.bisection
+    if g and g["stopped"] and r.status == "singularity-free":       # --around, cut short
+        cause = "the time budget (--max-seconds) ran out" if g["stopped"] == "time budget" else "Ctrl-C came"
+        beyond = f"; the box for s = {g['not_proved']:.9g} is not proved" if g["not_proved"] is not None else ""
+        line += (f"\n  {cause} while the box was grown: s = {g['proved']:.9g} proved after {g['tried']} boxes tried"
+                 f"{beyond}; a larger box may be proved with more time")
+    return line

@@ -16,7 +16,12 @@ def singularity_verdict(results) -> str:
     if len(results) == 1:
         r = results[0]
         if r.status == "singularity-free":
-            return f"Singularity-free: det(A) {'>' if r.sign > 0 else '<'} 0 on the whole box."
+            g, cut = r.bisection, ""
+            if g and g["stopped"]:          # --around, cut short: the box is proved, its size is not the largest
+                cause = "the time budget ran out" if g["stopped"] == "time budget" else "Ctrl-C came"
+                cut = (f" The box was still being grown when {cause} (s = {g['proved']:.9g} proved after "
+                       f"{g['tried']} boxes tried): a larger box may be proved with more time.")
+            return f"Singularity-free: det(A) {'>' if r.sign > 0 else '<'} 0 on the whole box.{cut}"
         if r.status == "singular":
             return "Singular: det(A) changes sign in the box (two poses of certified opposite signs)."
         if r.around is not None and not r.scale_factor:
