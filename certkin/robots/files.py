@@ -12,11 +12,14 @@ from fractions import Fraction
 from pathlib import Path
 import itertools
 import os
+import select
+import stat
 import sys
 import tomllib
 
 import numpy as np
 
+from ..engine import interrupt
 from ..errors import InputError, RobotFileError, clip, shown
 from .base import Robot
 from .gough import GoughStewart
@@ -31,9 +34,23 @@ READ_CHUNK = 1 << 16
 MAX_NAME = 200                      # characters of a robot's name
 
 
+WAIT_SLICE = 0.1                    # seconds between two looks at Ctrl-C while a pipe's writer is silent
+
+
 def robot_file_bytes(path) -> bytes:
     """The first ``MAX_FILE_BYTES`` + 1 bytes of a file (more means refused: /dev/zero or a huge file
-    is never read whole), read a chunk at a time so that a small file costs a small buffer."""
+    is never read whole), read a chunk at a time so that a small file costs a small buffer.
+
+    A file that is not a regular one (a pipe: ``<(cat robot.toml)``, a named pipe, a device) is opened
+    without waiting for a writer: a named pipe that no program writes to is refused (``RobotFileError``:
+    its open would wait forever), and while a writer is silent a Ctrl-C ends the wait at once
+    (``KeyboardInterrupt``, also under ``engine.interrupt.interruptible``)."""
+    try:
+        regular = stat.S_ISREG(os.stat(path).st_mode)
+    except (OSError, ValueError):
+        regular = True                      # (open says why)
+    if not regular:
+        return _stream_bytes(path)
     chunks, left = [], MAX_FILE_BYTES + 1
     with open(path, "rb") as fh:
         while left > 0:
@@ -43,6 +60,38 @@ def robot_file_bytes(path) -> bytes:
             chunks.append(chunk)
             left -= len(chunk)
     return b"".join(chunks)
+
+
+def _stream_bytes(path) -> bytes:
+    """``robot_file_bytes`` of a pipe or a device: opened non-blocking, read as its writer writes."""
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        chunks, left = [], MAX_FILE_BYTES + 1
+        while left > 0:
+            try:
+                chunk = os.read(fd, min(left, READ_CHUNK))
+            except BlockingIOError:         # a writer, silent so far
+                _wait_readable(fd)
+                continue
+            if not chunk:
+                break
+            chunks.append(chunk)
+            left -= len(chunk)
+        if not chunks and stat.S_ISFIFO(os.fstat(fd).st_mode):
+            raise RobotFileError(str(path), "", "a named pipe with no writer (nothing to read): start the program "
+                                                "that writes the robot into it first, or give a file")
+        return b"".join(chunks)
+    finally:
+        os.close(fd)
+
+
+def _wait_readable(fd) -> None:
+    """Until ``fd`` has data or its writer closed; a Ctrl-C (even one ``interrupt`` only notes) ends it."""
+    poller = select.poll()
+    poller.register(fd, select.POLLIN | select.POLLHUP)
+    while not poller.poll(WAIT_SLICE * 1000):
+        if interrupt.requested():
+            raise KeyboardInterrupt
 
 
 def load_robot(path) -> Robot:

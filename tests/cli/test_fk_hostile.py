@@ -236,3 +236,48 @@ def test_a_decimal_written_with_an_exponent_the_checker_refuses_is_refused(cli, 
     run = cli("fk", R2, "--lengths", "2.899e-399,13.66,40.53", "--certificate", str(tmp_path / "c.cert"))
     answered(run)
     assert cli("check", str(tmp_path / "c.cert")).code == 0
+@pytest.fixture
+def no_hang():
+    """Fails a test whose command waits for a pipe's writer for more than 20 s (it once waited forever)."""
+    import signal
+
+    def hung(*_):
+        raise AssertionError("the command waits for the writer of a pipe")
+    previous = signal.signal(signal.SIGALRM, hung)
+    signal.alarm(20)
+    yield
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, previous)
+
+
+def test_a_robot_file_from_a_pipe_is_read_as_its_writer_writes_and_ctrl_c_ends_the_wait(cli, tmp_path, no_hang):
+    """A named pipe with no writer (``mkfifo f; certkin fk f``) waited forever and ignored the first
+    Ctrl-C: it is refused at once.  A pipe whose writer is slow (``<(sleep 1; cat robot.toml)``) is read
+    once it writes; while it is silent, a Ctrl-C ends the command at once (exit 130, no traceback)."""
+    import signal
+    import threading
+    os.mkfifo(tmp_path / "f")
+    refused(cli("fk", "{tmp}/f", "--lengths", L), "f: a named pipe with no writer")
+    text = open(R2, "rb").read()
+    r, w = os.pipe()                       # as a shell's <(...): /dev/fd/N, a writer that writes later
+
+    def write():
+        os.write(w, text)
+        os.close(w)
+    writer = threading.Timer(0.3, write)
+    writer.start()
+    try:
+        answered(cli("fk", f"/dev/fd/{r}", "--lengths", L), "6 assembly modes")
+    finally:
+        writer.join()
+        os.close(r)
+    r, w = os.pipe()                       # a writer that never writes
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        run = cli("fk", f"/dev/fd/{r}", "--lengths", L)
+    finally:
+        timer.cancel()
+        os.close(r)
+        os.close(w)
+    assert run.code == 130 and run.err == "certkin: interrupted\n" and run.out == "" and run.seconds < 1.5
