@@ -110,14 +110,28 @@ def _planar_float_system(g, x, L2):
 
 
 def _gauss_jordan(J, B):
-    """J⁻¹ B (row lists of Python floats) by ``intervals.native.gauss_jordan`` (partial pivoting on
-    [J | B]); None if J is singular or the result is not finite.  An estimate, never a proof."""
+    """J⁻¹ B (row lists of Python floats) by Gauss-Jordan elimination with partial pivoting on [J | B]
+    (the steps of ``intervals.native.gauss_jordan``, in Python: on a system this small it is as quick,
+    and a tracked step does not pay the half second of importing numba); None if J is singular or the
+    result is not finite.  An estimate, never a proof."""
     n = len(J)
-    A = np.array([list(row) + list(extra) for row, extra in zip(J, B)], dtype=np.float64)
-    if not linalg.native().gauss_jordan(A, n):
-        return None
-    out = A[:, n:]
-    return out.tolist() if np.isfinite(out).all() else None
+    A = [list(row) + list(extra) for row, extra in zip(J, B)]
+    for col in range(n):
+        piv, best = col, abs(A[col][col])
+        for r in range(col + 1, n):
+            if abs(A[r][col]) > best:
+                piv, best = r, abs(A[r][col])
+        if not (best > 0.0) or not math.isfinite(best):
+            return None
+        A[col], A[piv] = A[piv], A[col]
+        inv = 1.0 / A[col][col]
+        pivot_row = A[col] = [v * inv for v in A[col]]
+        for r in range(n):
+            f = A[r][col]
+            if r != col and f != 0.0:
+                A[r] = [v - f * p for v, p in zip(A[r], pivot_row)]
+    out = [row[n:] for row in A]
+    return out if all(math.isfinite(v) for row in out for v in row) else None
 
 
 def _solve(J, f):
