@@ -119,7 +119,12 @@ def _written_exponent_beyond(text) -> bool:
     """Whether a decimal text is written with an exponent beyond ±``MAX_EXPONENT`` (``2899e-405``: a value
     in range, but a text the checker refuses, ``proofs.numbers``)."""
     mantissa, e, exponent = str(text).lower().partition("e") if isinstance(text, str) else ("", "", "")
-    return bool(e) and exponent.lstrip("+-").isdigit() and (len(exponent) > 6 or abs(int(exponent)) > MAX_EXPONENT)
+    if not (e and exponent.lstrip("+-").isdigit() and (len(exponent) > 6 or abs(int(exponent)) > MAX_EXPONENT)):
+        return False
+    try:                              # a value itself beyond the range is named as such, later
+        return abs(Decimal(text).adjusted()) <= MAX_EXPONENT
+    except (InvalidOperation, ValueError):
+        return False
 
 
 def _below_any_float(text) -> bool:
