@@ -83,9 +83,13 @@ def test_first_compilation_is_announced(cli, monkeypatch):
 
 
 def test_max_seconds_is_respected(cli):
-    run = cli("fk", MEL, "--lengths", "520,530,540,550,560,570", "--min-width", "1e-14", "--max-seconds", "1")
+    """The budget bounds the search; the first run on a fresh checkout also compiles the kernels (about
+    15 s, more on a loaded machine), so that run comes first and the second is timed."""
+    argv = ("fk", MEL, "--lengths", "520,530,540,550,560,570", "--min-width", "1e-14", "--max-seconds", "1")
+    answered(cli(*argv))
+    run = cli(*argv)
     answered(run)
-    assert run.seconds < 1 + 15                           # the first compilation of the kernels comes on top
+    assert run.seconds < 1 + 8                            # the budget, the process's start and its answer
 
 
 def test_a_long_spatial_search_stays_under_the_memory_ceiling(tmp_path):
