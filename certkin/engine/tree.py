@@ -223,14 +223,6 @@ class Tree:
             self._by_root[kind] = ids, np.searchsorted(self.root[ids], np.arange(self.n_roots + 1))
         return self._by_root[kind]
 
-    def evidence_of(self, i: int, keys=None) -> dict:
-        """The evidence of a node as plain Python values (``keys``: a subset of the names)."""
-        out = {}
-        for name, index in self.evidence_rows.items():
-            if (keys is None or name in keys) and index[i] >= 0:
-                out[name] = self.evidence[name][index[i]].tolist()
-        return out
-
     def evidence_values(self, name: str, ids) -> np.ndarray:
         """Evidence ``name`` of the nodes ``ids`` (which must all have it)."""
         rows = self.evidence_rows[name][ids]

@@ -28,7 +28,6 @@ from numba import njit
 from intervals.native import INF, MAX, div_regular, down, down_sum, gauss_jordan, gs_update, midrad, mul, scale, sqr, up, up_sum, upper
 
 from .centred import rotation_entries
-from .rotation import TABLES
 
 
 _U = 2.0 ** -53

@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 from intervals import Interval
-from intervals.rounding import down, down_sum, up, up_sum
+from intervals.rounding import down, up, up_sum
 
 from .. import display
 from ..certificates import volume_certificate
