@@ -191,9 +191,9 @@ def det(M):
     return minor(tuple(range(n)))
 
 
-def det_interval(M):
-    """Enclosure of det over interval matrices (lists of Iv of shape (N,)): Laplace, ∩ elimination for n ≥ 4."""
-    D = det(M)
+def det_interval(M, D=None):
+    """Enclosure of det over interval matrices (lists of Iv (N,)): Laplace (or D given), ∩ elimination for n ≥ 4."""
+    D = det(M) if D is None else D
     if len(M) < 4:
         return D
     E, ok = _det_elimination(arith.stack([arith.stack(row) for row in M], axis=1))   # (N, row, column), as A

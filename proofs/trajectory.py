@@ -158,7 +158,7 @@ class Spans:
         self.geo, self.seg, self.lo, self.hi = geo, seg, lo, hi
         self.P, self.D = P[seg], D[seg]                      # Iv (N, d)
         self.mid = np.minimum(np.maximum(0.5 * lo + 0.5 * hi, lo), hi)
-        self.T = Iv(lo, hi)
+        self.T, self.thrice = Iv(lo, hi), np.tile(np.arange(len(lo)), 3)
         self._frames = {}
 
     def frame(self, which):
@@ -167,15 +167,17 @@ class Spans:
             if which == "T":
                 pose = [Dual(self.P[:, j] + self.T * self.D[:, j], Iv(self.D.lo[:, j, None], self.D.hi[:, j, None]))
                         for j in range(d)]
-            else:
-                t = Iv({"lo": self.lo, "mid": self.mid, "hi": self.hi}[which])
-                pose = [self.P[:, j] + t * self.D[:, j] for j in range(d)]
+            else:                                           # "points": the poses at lo, hi, mid, stacked
+                t, P, D = Iv(np.concatenate([self.lo, self.hi, self.mid])), self.P[self.thrice], self.D[self.thrice]
+                pose = [P[:, j] + t * D[:, j] for j in range(d)]
             self._frames[which] = Frame(self.geo, pose)
         return self._frames[which]
 
     def enclose(self, fn, natural=None):
         """Enclosures over T of the quantities ``fn(frame)``: monotone, or mean-value form ∩ natural."""
-        ys, lo, hi, mid = fn(self.frame("T")), fn(self.frame("lo")), fn(self.frame("hi")), fn(self.frame("mid"))
+        ys, points, N = fn(self.frame("T")), [lift(v).v for v in fn(self.frame("points"))], len(self.lo)
+        lo, hi, mid = ([Iv(*(np.broadcast_to(x, v.shape)[i * N:i * N + N] for x in (v.lo, v.hi))) if v.shape[:1] == (3 * N,)
+                        else v for v in points] for i in range(3))            # (a constant is its own part)
         out = []
         for k, y in enumerate(ys):
             y = lift(y)
@@ -221,9 +223,7 @@ class Frame:
         return v
 
     def leg_sq(self, i):
-        if i not in self._sq:
-            self._sq[i] = _norm2(self.legs[i])
-        return self._sq[i]
+        return self._sq[i] if i in self._sq else self._sq.setdefault(i, _norm2(self.legs[i]))
 
 
 class Instance:
@@ -265,10 +265,10 @@ class Instance:
         return sat[:, 0], viol[:, 0]
 
     def _singularity(self, sp, ch):
-        fr = sp.frame("T")
-        D = det_interval([[lift(e).v for e in row] for row in fr.geo.model.rows(fr.pose, fr.geo.base2, fr.geo.platform)])
         rows = lambda f: f.geo.model.rows(f.pose, f.geo.base2, f.geo.platform)  # noqa: E731
-        (D,) = sp.enclose(lambda f: [det(rows(f)) if f is fr else det_interval(rows(f))], natural=[D])
+        y = det(M := rows(fr := sp.frame("T")))     # in t over T; its value part: the natural enclosure, ∩ elimination
+        D = det_interval([[lift(e).v for e in row] for row in M], lift(y).v)
+        (D,) = sp.enclose(lambda f: [y if f is fr else det_interval(rows(f))], natural=[D])
         return D.pos(), D.neg()
 
 
