@@ -31,7 +31,6 @@ from decimal import Decimal
 from fractions import Fraction
 import math
 
-import mpmath
 import numpy as np
 
 from intervals import Interval
@@ -363,6 +362,7 @@ def _nearest(text: str) -> float:
     if not t.lower().endswith("deg"):
         return float(Fraction(Decimal(t)))
     q = Fraction(Decimal(t[:-3]))
+    import mpmath                              # (rarely needed: not imported with the package)
     with mpmath.workdps(40):
         return float(mpmath.mpf(q.numerator) / q.denominator * mpmath.pi / 180)
 

@@ -16,7 +16,6 @@ from decimal import Decimal, InvalidOperation, localcontext
 from fractions import Fraction
 import math
 
-import mpmath
 import numpy as np
 
 from intervals import Interval
@@ -187,6 +186,7 @@ def exceeds(a, b) -> bool:
         return qa > qb
     if qa == 0 or qb == 0:
         return qa > 0 if qb == 0 else qb < 0
+    import mpmath                              # (rarely needed: not imported with the package)
     with mpmath.workdps(40 + len(str(a)) + len(str(b))):
         value = lambda q, d: mpmath.mpf(q.numerator) / q.denominator * (mpmath.pi / 180 if d else 1)  # noqa: E731
         return bool(value(qa, da) > value(qb, db))
