@@ -32,8 +32,8 @@ def _label(robot, name) -> str:
 def plot_cells(robot, results, path, max_slices: int = 6):
     """Draw the cells of ``results`` (SingularityResult list) into ``path`` (PNG/SVG/PDF)."""
     plt = pyplot()
-    from matplotlib.collections import PatchCollection
-    from matplotlib.patches import Patch, Rectangle
+    from matplotlib.collections import PolyCollection
+    from matplotlib.patches import Patch
     names = robot.pose_names
     lo = np.array([r.lo for r in results])
     hi = np.array([r.hi for r in results])
@@ -60,9 +60,10 @@ def plot_cells(robot, results, path, max_slices: int = 6):
         squares, which = np.unique(square, axis=0, return_inverse=True)     # the cells drawn on one square
         worst = np.zeros(len(squares), np.int64)
         np.maximum.at(worst, which.ravel(), rank[mine])
-        a.add_collection(PatchCollection([Rectangle((x0, y0), x1 - x0, y1 - y0) for x0, y0, x1, y1 in squares],
-                                         facecolor=[COLOURS[WORST[w]] for w in worst], edgecolor="white",
-                                         linewidth=0.3))       # (one collection: add_patch per square took seconds)
+        corners = squares[:, [[0, 1], [2, 1], [2, 3], [0, 3]]]         # (squares, 4 corners, x y)
+        a.add_collection(PolyCollection(corners, closed=True, facecolor=[COLOURS[WORST[w]] for w in worst],
+                                        edgecolor="white", linewidth=0.3))   # (one collection of arrays: a patch
+        # per square took seconds for 125 000 cells)
         a.set_xlim(lo[:, ax_x].min(), hi[:, ax_x].max())
         a.set_ylim(lo[:, ax_y].min(), hi[:, ax_y].max())
         a.set_xlabel(_label(robot, names[ax_x]))
