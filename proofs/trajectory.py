@@ -175,9 +175,7 @@ class Spans:
 
     def enclose(self, fn, natural=None):
         """Enclosures over T of the quantities ``fn(frame)``: monotone, or mean-value form ∩ natural."""
-        ys, points, N = fn(self.frame("T")), [lift(v).v for v in fn(self.frame("points"))], len(self.lo)
-        lo, hi, mid = ([Iv(*(np.broadcast_to(x, v.shape)[i * N:i * N + N] for x in (v.lo, v.hi))) if v.shape[:1] == (3 * N,)
-                        else v for v in points] for i in range(3))            # (a constant is its own part)
+        ys, points, N = fn(self.frame("T")), fn(self.frame("points")), len(self.lo)
         out = []
         for k, y in enumerate(ys):
             y = lift(y)
@@ -185,12 +183,13 @@ class Spans:
             if y.g is None:
                 out.append(nat)
                 continue
-            g = y.g[..., 0]
+            g, v = y.g[..., 0], lift(points[k]).v     # v varies with t: one row per pose, 3N rows (lo, hi, mid)
+            a, b, mid = (Iv(*(np.broadcast_to(x, v.shape)[i * N:i * N + N] for x in (v.lo, v.hi))) for i in range(3))
             up, down = g.lo >= 0, g.hi <= 0
             h = self.T - self.mid
             extra = (1,) * (g.lo.ndim - 1)
-            form = lift(mid[k]).v + g * Iv(h.lo.reshape(h.lo.shape + extra), h.hi.reshape(h.hi.shape + extra))
-            a, b, m = lift(lo[k]).v, lift(hi[k]).v, nat.meet(form)
+            form = mid + g * Iv(h.lo.reshape(h.lo.shape + extra), h.hi.reshape(h.hi.shape + extra))
+            m = nat.meet(form)
             out.append(Iv(np.where(up, a.lo, np.where(down, b.lo, m.lo)), np.where(up, b.hi, np.where(down, a.hi, m.hi))))
         return out
 
