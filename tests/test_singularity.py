@@ -9,9 +9,11 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 import proofs
 from certfile import Doc
 from certkin.certificates import singularity_certificate
-from certkin import robot_from_dict
+from certkin import load_robot, robot_from_dict
 from certkin.engine import Budget
 from certkin.singularity import certify_singularity_free, classify_cells, largest_free_box
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "robots"
 
 EX2 = {"name": "ex2", "kind": "planar-3rpr",
        "base": [["3.78", "4.34"], ["34.47", "-3.78"], ["16.233", "34.76"]],
@@ -367,30 +369,88 @@ def test_a_witness_on_a_fixed_coordinate_shows_its_value_not_the_bound_of_its_en
     assert proofs.check(r.certificate()).ok
 
 
-def test_a_projected_cell_grid_shows_the_least_favourable_status_of_its_cells(tmp_path, monkeypatch):
-    """Cells of a 6-D grid drawn on (x, y) slices overlapped: the last drawn won, and a free square could
-    cover a singular cell.  Each square now shows the worst status of the cells drawn on it."""
-    from types import SimpleNamespace
+def _drawn_panels(monkeypatch):
+    """The axes of every figure ``plt.subplots`` makes from now on (the panels of a plot)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.colors import to_hex
-    from certkin.plots import singularity as splot
-    robot = SimpleNamespace(name="r", pose_names=["x", "y", "z", "psi"], angle_names=["psi"])
-    cell = lambda psi, status, sign=0: SimpleNamespace(lo=np.array([0.0, 0.0, 0.0, psi]),   # noqa: E731
-                                                       hi=np.array([1.0, 1.0, 1.0, psi + 1.0]), status=status, sign=sign)
-    results = [cell(0.0, "singular"), cell(1.0, "singularity-free", 1), cell(2.0, "undecided")]
-    drawn = []
-    real = plt.subplots
+    drawn, real = [], plt.subplots
 
     def subplots(*a, **k):
         fig, axes = real(*a, **k)
         drawn.append(axes)
         return fig, axes
     monkeypatch.setattr(plt, "subplots", subplots)
-    splot.plot_cells(robot, results, tmp_path / "c.png")
-    squares = drawn[0].flat[0].collections[0]
-    assert len(squares.get_paths()) == 1 and to_hex(squares.get_facecolor()[0]) == splot.COLOURS["singular"]
+    return drawn
+
+
+def _shown(panel, status):
+    """Where the panel's image shows ``status`` (rows from the bottom, columns from the left)."""
+    from certkin.plots import singularity as splot
+    colour = [int(splot.COLOURS[status][k:k + 2], 16) / 255 for k in (1, 3, 5)]
+    return np.all(np.isclose(panel.get_images()[0].get_array(), colour), axis=-1)
+
+
+def test_a_projected_cell_grid_shows_the_least_favourable_status_of_its_cells(tmp_path, monkeypatch):
+    """Cells of a 4-D grid drawn on (x, y) slices overlapped: the last drawn won, and a free square could
+    cover a singular cell.  Each square now shows the worst status of the cells drawn on it: the square
+    (x, y) = (0, 0) of the slice z in [0, 1] holds a free cell (psi in [0, 1]) and a singular one (psi in
+    [1, 2]): red, and the opposite square (all free) not."""
+    from types import SimpleNamespace
+    from certkin.plots import singularity as splot
+    robot = SimpleNamespace(name="r", pose_names=["x", "y", "z", "psi"], angle_names=["psi"])
+    cells = [SimpleNamespace(lo=np.array([x, y, z, p]), hi=np.array([x + 1, y + 1, z + 1, p + 1]), sign=1,
+                             status="singular" if (x, y, z, p) == (0, 0, 0, 1) else "singularity-free")
+             for x in (0.0, 1.0) for y in (0.0, 1.0) for z in (0.0, 1.0) for p in (0.0, 1.0, 2.0)]
+    drawn = _drawn_panels(monkeypatch)
+    splot.plot_cells(robot, cells, tmp_path / "c.png")
+    red = _shown(drawn[0].flat[0], "singular")          # the panel of z in [0, 1]
+    h, w = red.shape
+    assert red[:h // 2 - 1, :w // 2 - 1].all() and not red[h // 2 + 1:, w // 2 + 1:].any()
+    assert not _shown(drawn[0].flat[1], "singular").any()
+
+
+def test_a_singular_cell_smaller_than_a_pixel_is_still_red(tmp_path, monkeypatch):
+    """A 200 x 200 grid at fixed phi: its 542 singular cells, a band one or two cells wide, were drawn
+    as squares under a pixel and their neighbours' borders covered them: no red pixel at all, in the
+    picture and in the report.  Each panel is now an image where every pixel a singular cell touches is
+    red: the pixel under each singular cell's centre is red."""
+    from certkin.plots import singularity as splot
+    robot = load_robot(str(EXAMPLES / "seed003-planar-example-2.toml"))
+    cells = classify_cells(robot, "x=-50:50,y=-50:50,phi=0.3", 200)
+    singular = [c for c in cells if c.status == "singular"]
+    assert len(singular) > 100 and any(c.status == "singularity-free" for c in cells)
+    drawn = _drawn_panels(monkeypatch)
+    splot.plot_cells(robot, cells, tmp_path / "c.png")
+    panel = drawn[0].flat[0]
+    red = _shown(panel, "singular")
+    (x0, x1), (y0, y1) = panel.get_images()[0].get_extent()[:2], panel.get_images()[0].get_extent()[2:]
+    centre = np.array([(c.lo[:2] + c.hi[:2]) / 2 for c in singular])
+    col = ((centre[:, 0] - x0) / (x1 - x0) * red.shape[1]).astype(int)
+    row = ((centre[:, 1] - y0) / (y1 - y0) * red.shape[0]).astype(int)
+    assert red[row, col].all()
+    assert panel.get_xlabel().startswith("x") and panel.get_ylabel().startswith("y")
+
+
+def test_a_fixed_coordinate_is_never_a_drawn_axis(tmp_path, monkeypatch):
+    """y fixed at 5.1 (an enclosure one float wide) was taken for a drawn axis: the cells were drawn a
+    float high, and the panels were blank.  The drawn axes are those the cells vary along (here x and
+    phi: the first panel shows every status the cells have); with one such axis, the other is a band."""
+    from certkin.plots import singularity as splot
+    robot = load_robot(str(EXAMPLES / "seed003-planar-example-2.toml"))
+    cells = classify_cells(robot, "x=-50:50,y=5.1,phi=0:45deg", 12)
+    drawn = _drawn_panels(monkeypatch)
+    splot.plot_cells(robot, cells, tmp_path / "c.png")
+    panel = drawn[0].flat[0]
+    assert panel.get_xlabel().startswith("x (") and panel.get_ylabel().startswith("phi (")
+    assert {c.status for c in cells} == {"singular", "singularity-free"}
+    assert _shown(panel, "singular").sum() > 1000 and _shown(panel, "free-").sum() > 1000
+    cells = classify_cells(robot, "x=10,y=10,phi=0:90deg", 20)
+    drawn.clear()
+    splot.plot_cells(robot, cells, tmp_path / "d.png")
+    panel = drawn[0].flat[0]
+    assert panel.get_xlabel().startswith("phi (") and "every cell" in panel.get_ylabel()
+    assert _shown(panel, "singular").any() and _shown(panel, "free+").sum() > 1000
 
 
 def test_the_cell_plot_never_leaves_a_singular_cell_out(tmp_path):

@@ -9,6 +9,7 @@ import numpy as np
 from ..display import lower, outward, upper
 from ..engine import EXCLUDED, PROVED, UNDECIDED
 from .figure import pyplot
+from .raster import draw_boxes
 
 COLOURS = {"inside": "#55a868", "boundary": "#f2c14e", "outside": "#e6e6e6", "arc": "#1f3b73"}
 
@@ -27,29 +28,12 @@ PIXELS = 400            # fewer than the axes have on the page (about 600 at 120
 
 
 def _raster(ax, paving, dlo, dhi):
-    """The paving as an image of at most ``PIXELS`` a side, square pixels: each box colours every pixel
-    it touches (rounded outward), outside first, then inside, then boundary on top, a boundary box one
-    pixel wider on every side (the page stretches the image by a fraction, and a page pixel straddling
-    two image pixels shows one of them): a page pixel is green only where no boundary box touches it.
-    Boxes are added with a summed-area table, so millions take a second."""
-    dlo, dhi = np.asarray(dlo, float), np.asarray(dhi, float)
-    step = max(float(np.max(dhi - dlo)) / PIXELS, 1e-300)
-    shape = np.clip(np.ceil((dhi - dlo) / step), 1, PIXELS).astype(np.int64)       # (columns, rows)
-    rgb = np.ones((shape[1], shape[0], 3))
-    for kind, name, grow in ((EXCLUDED, "outside", 0), (PROVED, "inside", 0), (UNDECIDED, "boundary", 1)):
-        lo, hi = paving.boxes(kind)
-        if not len(lo):
-            continue
-        a = np.clip(np.floor((lo - dlo) / step) - grow, 0, shape).astype(np.int64)
-        b = np.clip(np.ceil((hi - dlo) / step) + grow, 0, shape).astype(np.int64)
-        table = np.zeros((shape[1] + 1, shape[0] + 1), np.int64)
-        for (i, j), sign in (((a[:, 1], a[:, 0]), 1), ((a[:, 1], b[:, 0]), -1), ((b[:, 1], a[:, 0]), -1),
-                             ((b[:, 1], b[:, 0]), 1)):
-            np.add.at(table, (i, j), sign)
-        covered = np.cumsum(np.cumsum(table, 0), 1)[:shape[1], :shape[0]] > 0
-        rgb[covered] = [int(COLOURS[name][k:k + 2], 16) / 255 for k in (1, 3, 5)]
-    ax.imshow(rgb, extent=(dlo[0], dlo[0] + shape[0] * step, dlo[1], dlo[1] + shape[1] * step), origin="lower",
-              interpolation="nearest")
+    """The paving as an image of at most ``PIXELS`` a side, square pixels (``raster.draw_boxes``):
+    outside first, then inside, then boundary on top, a boundary box one pixel wider on every side: a
+    page pixel is green only where no boundary box touches it."""
+    layers = [(*paving.boxes(kind), COLOURS[name], grow)
+              for kind, name, grow in ((EXCLUDED, "outside", 0), (PROVED, "inside", 0), (UNDECIDED, "boundary", 1))]
+    draw_boxes(ax, layers, dlo, dhi, PIXELS)
 
 
 def plot_section(result, path):
