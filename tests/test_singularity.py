@@ -180,6 +180,23 @@ def test_largest_free_box_cut_by_its_time_budget_says_so_with_its_whole_time():
     checked(r)
 
 
+def test_a_bisection_cut_short_prints_its_proved_scale_rounded_down():
+    """The proved s of a cut bisection was printed to 9 digits rounded to nearest: 1.18603515625 as
+    1.18603516, more than was proved.  It is rounded down now (terminal and report); the s not proved
+    is printed exactly."""
+    from types import SimpleNamespace
+    from certkin.cli.singular import describe
+    from certkin.report.singularity import singularity_verdict
+    robot = load_robot(str(EXAMPLES / "seed003-planar-example-2.toml"))
+    g = {"stopped": "time budget", "proved": 1.18603515625, "not_proved": 1.1865234375, "tried": 12}
+    r = SimpleNamespace(status="singularity-free", sign=1, boxes=10, seconds=0.5, bisection=g, around={},
+                        scale_factor=g["proved"], lo=np.zeros(3), hi=np.ones(3), texts=None, name="r")
+    line = describe(robot, r)
+    assert "s = 1.18603515 proved" in line and "1.18603516" not in line and "s = 1.1865234375 is not" in line
+    verdict = singularity_verdict([r])
+    assert "s = 1.18603515 proved" in verdict and "1.18603516" not in verdict
+
+
 def test_largest_free_box_does_not_search_a_box_with_a_corner_of_the_other_sign():
     """A box whose corner has det(A) of the sign opposite to the pose's is singular: it is not searched
     (near the singularity surface the search, depth first, spent the whole time budget on such a box)."""

@@ -103,7 +103,8 @@ def describe(robot, r):
     g = r.bisection
     if g and g["stopped"] and r.status == "singularity-free":       # --around, cut short
         cause = "the time budget (--max-seconds) ran out" if g["stopped"] == "time budget" else "Ctrl-C came"
-        beyond = f"; the box for s = {g['not_proved']:.9g} is not proved" if g["not_proved"] is not None else ""
-        line += (f"\n  {cause} while the box was grown: s = {g['proved']:.9g} proved after {g['tried']} boxes tried"
+        beyond = f"; the box for s = {display.point(g['not_proved'])} is not proved" if g["not_proved"] is not None else ""
+        line += (f"\n  {cause} while the box was grown: s = {display.lower(g['proved'], 9)} proved (rounded down) "
+                 f"after {g['tried']} boxes tried"
                  f"{beyond}; a larger box may be proved with more time")
     return line

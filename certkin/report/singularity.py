@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..display import inward, outward, point
+from ..display import inward, lower, outward, point
 from ..plots import plot_cells
 from .page import esc, evidence_section, figure, robot_section, table, tree_evidence, write_report
 
@@ -19,7 +19,7 @@ def singularity_verdict(results) -> str:
             g, cut = r.bisection, ""
             if g and g["stopped"]:          # --around, cut short: the box is proved, its size is not the largest
                 cause = "the time budget ran out" if g["stopped"] == "time budget" else "Ctrl-C came"
-                cut = (f" The box was still being grown when {cause} (s = {g['proved']:.9g} proved after "
+                cut = (f" The box was still being grown when {cause} (s = {lower(g['proved'], 9)} proved, rounded down, after "
                        f"{g['tried']} boxes tried): a larger box may be proved with more time.")
             return f"Singularity-free: det(A) {'>' if r.sign > 0 else '<'} 0 on the whole box.{cut}"
         if r.status == "singular":
@@ -49,7 +49,7 @@ def singularity_report(robot, results, path, certificate=None, budget=None) -> N
         a = results[0].around
         pose = ", ".join(f"{n}={v}" for n, v in zip(robot.pose_names, a["pose"]))
         question = (f"How large a box around the pose {pose} (the pose ± s times the scale "
-                    f"{', '.join(f'{v:g}' for v in a['scale'])}, s found by bisection) can be proved free of "
+                    f"{', '.join(point(v) for v in a['scale'])}, s found by bisection) can be proved free of "
                     "singularities, det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) never 0 on it? The box found "
                     "is in the answer below")
     elif len(results) == 1 and results[0].texts is not None:     # the decimals given, exactly
