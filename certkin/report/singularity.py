@@ -49,7 +49,7 @@ def singularity_report(robot, results, path, certificate=None, budget=None) -> N
         a = results[0].around
         pose = ", ".join(f"{n}={v}" for n, v in zip(robot.pose_names, a["pose"]))
         question = (f"How large a box around the pose {pose} (the pose ± s times the scale "
-                    f"{', '.join(point(v) for v in a['scale'])}, s found by bisection) can be proved free of "
+                    f"{', '.join(point(v).removesuffix('.0') for v in a['scale'])}, s found by bisection) can be proved free of "
                     "singularities, det(A) (the parallel Jacobian A of A ṫ + B ρ̇ = 0) never 0 on it? The box found "
                     "is in the answer below")
     elif len(results) == 1 and results[0].texts is not None:     # the decimals given, exactly
