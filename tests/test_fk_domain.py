@@ -205,3 +205,28 @@ def test_a_domain_names_only_the_variables_it_narrows():
     assert len(expected) == 3
     assert len(forward_kinematics(robot, "28.99,13.66,40.53", domain={"phi": (-0.5, 0.5)}).solutions) == 3
     assert in_ranges({"phi": Interval.from_bounds(np.array(0.1), np.array(0.2))}, {"phi": (-1e12, 1e12)}) is True
+
+
+def test_a_planar_posture_at_phi_pi_is_enclosed_near_pi_and_filtered():
+    """Seed 003 example 2 with the leg lengths of the pose (20, 5, pi) to 30 digits (mpmath): the root box
+    crosses phi = ±pi, and atan2 gave phi = [-pi, pi], so any angle range of --domain left the posture
+    unresolved (blaming "a middle angle of 0 or pi", which a planar robot does not have).  Its angle is
+    now enclosed near pi; phi in [3.1, 3.2] keeps it, phi in [-1, 1] drops it, both complete."""
+    import mpmath
+    robot = load_robot(str(EXAMPLES / "seed003-planar-example-2.toml"))
+    a = [("3.78", "4.34"), ("34.47", "-3.78"), ("16.233", "34.76")]
+    b = [("-4.83", "-3.19"), ("12.04", "-3.19"), ("8.23", "12.09")]
+    with mpmath.workdps(40):
+        lengths = ",".join(mpmath.nstr(mpmath.sqrt((20 - mpmath.mpf(bx) - mpmath.mpf(ax)) ** 2
+                                                   + (5 - mpmath.mpf(by) - mpmath.mpf(ay)) ** 2), 30)
+                           for (ax, ay), (bx, by) in zip(a, b))
+    everything = forward_kinematics(robot, lengths)
+    near = [s for s in everything.solutions if float(s["box"].lo[0]) <= 20 <= float(s["box"].hi[0])]
+    assert len(near) == 1 and near[0]["box"].lo[3] <= 0 <= near[0]["box"].hi[3]          # sin phi ∋ 0
+    phi = near[0]["pose"]["phi"]
+    assert 3.1415 < float(phi.lo) <= np.pi <= float(phi.hi) < 3.1417
+    kept = forward_kinematics(robot, lengths, domain="x=-100:100,y=-100:100,phi=3.1:3.2")
+    assert kept.complete and any(float(s["box"].lo[0]) <= 20 <= float(s["box"].hi[0]) for s in kept.solutions)
+    dropped = forward_kinematics(robot, lengths, domain="x=-100:100,y=-100:100,phi=-1:1")
+    assert dropped.complete and not any(float(s["box"].lo[0]) <= 20 <= float(s["box"].hi[0]) for s in dropped.solutions)
+    assert proofs.check(kept.certificate()).ok

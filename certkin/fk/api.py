@@ -325,8 +325,9 @@ def _finish(result, system, pending, angle_filter, computed=None):
         if edge and not result.message:
             result.message = (f"{display.counted(edge, 'posture')} proved unique in the box searched "
                               f"{'lies' if edge == 1 else 'lie'} on an edge of the angle ranges of the domain, or where "
-                              f"{'its' if edge == 1 else 'their'} angles are not determined (a middle angle of 0 or pi "
-                              "leaves the other two free), so not proved inside or outside them: widen the ranges to decide")
+                              f"{'its' if edge == 1 else 'their'} angles are not determined"
+                              + (" (a middle angle of 0 or pi leaves the other two free)" if system.kind != "planar-3rpr" else "")
+                              + ", so not proved inside or outside them: widen the ranges to decide")
     _cluster_leaves(result, system)
     if pending:
         hull = _clusters(np.array([p[0] for p in pending]), np.array([p[1] for p in pending]))

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from intervals import Interval, atan2, sqr, sqrt
+from intervals import Interval, atan2, pi, sqr, sqrt
 
 from ..robots.spherical import rotation_float
 from .rotation import DQ_INDEX, RotatedPoints, from_midrad
@@ -48,6 +48,18 @@ BEYOND = 2.0 ** -10     # the domain reaches this far beyond the unit circle/sph
 
 def _cat(parts, axis=-1):
     return Interval.from_bounds(np.stack([p.lo for p in parts], axis=axis), np.stack([p.hi for p in parts], axis=axis))
+
+
+def angle(y: Interval, x: Interval) -> Interval:
+    """The angles of the points of the boxes Y × X, modulo 2π: ``atan2`` in (−π, π], except for a
+    box crossing the cut (x < 0 and 0 in Y, where atan2 gives [−π, π]): there atan2(−y, −x) + π, an
+    enclosure in [π/2, 3π/2] (the angle of (−t, −s) is that of (t, s) minus π)."""
+    a = atan2(y, x)
+    cut = (x.hi < 0) & (y.lo < 0) & (y.hi >= 0)
+    if not np.any(cut):
+        return a
+    b = atan2(-y, -x) + pi
+    return Interval.from_bounds(np.where(cut, b.lo, a.lo), np.where(cut, b.hi, a.hi))
 
 
 class FKSystem(RotatedPoints):
@@ -236,10 +248,12 @@ class FKSystem(RotatedPoints):
     def pose(self, X: Interval) -> dict:
         """Enclosures of the pose variables (dict name -> (N,) Interval).
 
-        Angles come from entries of R with a rigorous atan2; they are wide
-        near a parametrisation singularity (theta = 0 for Gough, phi2 = 0 for
+        Angles come from entries of R with a rigorous atan2 (``angle``: an angle
+        near ±pi is enclosed near pi, never as [-pi, pi]); they are wide near a
+        parametrisation singularity (theta = 0 for Gough, phi2 = 0 for
         spherical) where ``platform_points`` stay tight.
         """
+        atan2 = angle
         if self.kind == "planar-3rpr":
             return {"x": X[:, 0], "y": X[:, 1], "phi": atan2(X[:, 3], X[:, 2])}
         R = self.rotation(X)
