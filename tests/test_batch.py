@@ -23,7 +23,7 @@ from certfile import Doc
 from certkin.batch import local, read_jobs, run_batch
 from certkin.batch import jobs as jobs_module
 from certkin.batch.jobs import dumps
-from certkin.batch.results import untimed
+from certkin.batch.results import TIMING_FIELDS, untimed
 from certkin.cli import main
 from certkin.cli.batch import run_job
 from certkin.errors import InputError
@@ -124,6 +124,37 @@ def test_two_workers_and_a_dask_cluster_give_identical_results(reference, jobs_f
         assert main(["batch", str(jobs_file), "--out", str(tmp_path / "dask"),
                      "--scheduler", cluster.scheduler_address]) == 0
     assert outputs(tmp_path / "dask") == expected
+
+
+
+def seconds_keys(doc) -> set:
+    """Every key of a document (at any depth) that names a time in seconds."""
+    if isinstance(doc, dict):
+        return {k for k in doc if "seconds" in k} | set().union(*map(seconds_keys, doc.values()))
+    if isinstance(doc, list):
+        return set().union(set(), *map(seconds_keys, doc))
+    return set()
+
+
+def test_every_commands_answer_and_certificate_are_the_same_on_one_or_two_workers(tmp_path):
+    """A workspace section's ``stats.paving_seconds`` was not a timing field: its document and the
+    ``document_sha256`` of its certificate changed from run to run.  Every field of a document that
+    holds seconds is now one, for every command."""
+    planning = str(ROOT / "examples" / "robots" / "seed001-3rpr-planning.toml")
+    jobs = [{"id": "f", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"},
+            {"id": "c", "command": "singular", "robot": PLANAR, "box": "x=-50:0,y=-50:0,phi=0:0.3925", "cells": 2},
+            {"id": "j", "command": "trajectory", "robot": MEL, "from": "-69,-50,500,85deg,10deg,0",
+             "via": "0,0,500,85deg,10deg,0", "to": "84,92,500,85deg,10deg,0"},
+            {"id": "p", "command": "plan", "robot": planning, "from": "20,0,3.0", "to": "40,20,3.0"},
+            {"id": "w", "command": "workspace", "robot": planning, "orientation": "0.5"},
+            {"id": "s", "command": "workspace", "robot": MICRO, "orientation": "0,0,0", "z": "20005"},
+            {"id": "v", "command": "workspace", "robot": MEL, "z_range": "500:520", "slabs": 2}]
+    run_batch(jobs, tmp_path / "one", run_job, workers=1)
+    run_batch(jobs, tmp_path / "two", run_job, workers=2)
+    assert outputs(tmp_path / "one") == outputs(tmp_path / "two")
+    for j in jobs:
+        document = json.loads((tmp_path / "one" / f"{j['id']}.json").read_text())
+        assert seconds_keys(document) <= TIMING_FIELDS, j["id"]
 
 
 BROKEN = [

@@ -33,8 +33,8 @@ SUMMARY = "summary.json"
 LOCK = ".certkin-batch.lock"                 # held by the batch that writes in the directory
 ERROR, FAILED = "error", "failed"            # verdicts of jobs without an answer
 SLOWEST = 5
-TIMING_FIELDS = {"seconds", "cpu_seconds", "job_seconds", "job_cpu_seconds", "batch_cpu_seconds", "slowest", "date",
-                 "workers", "attempts", "resumed", "retried"}      # what differs between runs of the same jobs
+TIMING_FIELDS = {"seconds", "cpu_seconds", "paving_seconds", "job_seconds", "job_cpu_seconds", "batch_cpu_seconds",
+                 "slowest", "date", "workers", "attempts", "resumed", "retried"}   # what differs between runs of the same jobs
 
 
 def untimed(doc):
