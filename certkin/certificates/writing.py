@@ -256,12 +256,16 @@ def temporary_of(name: str) -> str | None:
 
 @contextmanager
 def _renamed(tmp, path):
+    """Rename ``tmp`` onto ``path`` when the block ends, remove it if it fails.  An ``OSError`` that names
+    no file, or the temporary one (a full disk met by a writer), is raised naming ``path``."""
     try:
         yield
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         if os.path.exists(tmp):
             os.unlink(tmp)
+        if isinstance(exc, OSError) and exc.filename in (None, tmp):
+            raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
         raise
 
 

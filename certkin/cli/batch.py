@@ -31,7 +31,7 @@ from ..robots.files import robot_file_bytes
 from ..trajectory.constraints import Constraints
 from . import COMMANDS as CLI_COMMANDS
 from .common import REPORT_SUFFIXES, Parser, check_output_directory, check_output_path, count, options, refuse, \
-    report_writer, write_certificate, write_text_out
+    report_writer, write_certificate, write_text_out, writing, writing_in
 
 COMMANDS = ("fk", "singular", "trajectory", "plan", "workspace")
 OUTPUTS = ("json", "certificate", "report", "plot", "progress")   # the batch writes a job's outputs itself
@@ -318,14 +318,15 @@ def run(args):
             from tqdm import tqdm         # a bar only with --progress
             bar.append(tqdm(total=len(jobs), desc="jobs", unit="job", file=sys.stderr, leave=False))
         bar[0].update(1)
-    with options({"out": "--out", "scheduler": "--scheduler"}):
+    with options({"out": "--out", "scheduler": "--scheduler"}), writing_in("--out", args.out):
         workers = args.workers or os.cpu_count() or 1
         summary = run_batch(jobs, args.out, run_job, workers, args.scheduler, tick if args.progress else None,
                             preload(jobs))
     for b in bar:
         b.close()
     if args.report:
-        report_writer("batch_report")(summary, args.out, args.report)
+        with writing("--report", args.report):
+            report_writer("batch_report")(summary, args.out, args.report)
     write_text_out(sys.stdout, (json.dumps(summary, allow_nan=False) if args.json else table(summary, args.out)) + "\n")
     return 130 if summary["interrupted"] else 0
 

@@ -340,15 +340,38 @@ class Answer:
         return self.document_source
 
 
+class NotWritten(InputError):
+    """An output file (``--certificate``, ``--report``, ``--plot``) that could not be written (a full
+    disk, an I/O error): the answer computed is still printed."""
+
+
+@contextmanager
+def writing(option: str, path):
+    """Turn an ``OSError`` of the block, which writes ``path`` for ``option``, into ``NotWritten``
+    naming the option, the path and the system's reason."""
+    try:
+        yield
+    except OSError as exc:
+        raise NotWritten(option, "", f"cannot write {path}: {exc.strerror or exc}") from None
+
+
+@contextmanager
+def writing_in(option: str, directory):
+    """``writing`` for a block that writes files in ``directory`` (``--out``): the error names the file."""
+    try:
+        yield
+    except OSError as exc:
+        where = exc.filename if exc.filename is not None else directory
+        raise NotWritten(option, "", f"cannot write {where}: {exc.strerror or exc}") from None
+
+
 def write_certificate(path, document):
     """Write ``--certificate`` (atomically: nothing half-written); a directory or an unwritable path is
     bad input (exit 2, one line).  What ``Document.write`` returns: (size, SHA-256) of a small file."""
     if os.path.isdir(path):
         raise InputError("--certificate", "", f"{path} is a directory")
-    try:
+    with writing("--certificate", path):
         return document.write(path)
-    except OSError as exc:
-        raise InputError("--certificate", "", f"cannot write {path}: {exc.strerror or exc}") from None
 
 
 def write_outputs(args, answer: Answer) -> None:
@@ -358,19 +381,29 @@ def write_outputs(args, answer: Answer) -> None:
         write_certificate(args.certificate, answer.certificate())
         written = args.certificate
     if getattr(args, "report", None) and answer.report is not None:
-        answer.report(args.report, written)     # (never a file an earlier run left at that name)
+        with writing("--report", args.report):
+            answer.report(args.report, written)     # (never a file an earlier run left at that name)
     if getattr(args, "plot", None) and answer.plot is not None:
-        with atomic_path(args.plot) as path:
+        with writing("--plot", args.plot), atomic_path(args.plot) as path:
             answer.plot(path)
 
 
 def show(args, answer: Answer, out=None) -> int:
     """Write the outputs of an answer, then print its JSON document (``--json``) or its description
-    (on ``out``, default stdout)."""
-    write_outputs(args, answer)
+    (on ``out``, default stdout).  An output that cannot be written (``NotWritten``) is raised after
+    the answer is printed: a full disk does not lose what was proved."""
+    try:
+        write_outputs(args, answer)
+    except NotWritten:
+        _print(args, answer, out)
+        raise
+    _print(args, answer, out)
+    return 0
+
+
+def _print(args, answer: Answer, out=None) -> None:
     text = display.json_text(answer.document) if args.json else answer.describe()
     write_text_out(out or sys.stdout, text + "\n")
-    return 0
 
 
 PIECE = 1 << 16

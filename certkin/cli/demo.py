@@ -28,7 +28,7 @@ from ..singularity import certify_singularity_free, classify_cells
 from ..report import batch_report
 from ..trajectory import verify_trajectory
 from .batch import run_job, table
-from .common import check_output_directory, options
+from .common import check_output_directory, options, writing_in
 
 
 SOURCE_TREE = Path(__file__).resolve().parent.parent.parent
@@ -97,11 +97,12 @@ def _batch_demo(robots, out, results: Path):
     jobs = fk_jobs(robot.source, robot, "L1=28:30:5,L2=13:14:5,L3=40:41:2", "demo-fk")
     out("")
     out(f"== A batch: {len(jobs)} forward-kinematics jobs of {name} on 2 workers, into {results}/")
-    with options({"out": "--out"}):
+    with options({"out": "--out"}), writing_in("--out", results):
         summary = run_batch(jobs, results, run_job, workers=2)
     for line in table(summary, results).splitlines():
         out("  " + line)
-    batch_report(summary, results, results / "report.html")
+    with writing_in("--out", results):
+        batch_report(summary, results, results / "report.html")
     out(f"  report of the campaign: {results / 'report.html'}")
 
 

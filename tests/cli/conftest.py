@@ -61,11 +61,13 @@ def cli(tmp_path, capsys, monkeypatch):
     return run
 
 
-def limited(argv, tmp_path, memory=MEMORY_LIMIT, timeout=300) -> Run:
-    """``certkin argv`` in a subprocess whose address space is limited to ``memory`` bytes."""
+def limited(argv, tmp_path, memory=MEMORY_LIMIT, timeout=300, file_size=None) -> Run:
+    """``certkin argv`` in a subprocess whose address space is limited to ``memory`` bytes (and each
+    file it writes to ``file_size`` bytes, if given: a write past it fails, as on a full disk)."""
     argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    files = "" if file_size is None else f"resource.setrlimit(resource.RLIMIT_FSIZE, ({file_size}, {file_size}))\n"
     code = ("import resource, sys\n"
-            f"resource.setrlimit(resource.RLIMIT_AS, ({memory}, {memory}))\n"
+            f"resource.setrlimit(resource.RLIMIT_AS, ({memory}, {memory}))\n" + files +
             "from certkin.cli import main\n"
             f"sys.exit(main({argv!r}))\n")
     before = set(_files(tmp_path))

@@ -5,7 +5,7 @@ import os
 
 import pytest
 
-from conftest import MEL, R2, answered, refused
+from conftest import MEL, R2, answered, limited, refused
 
 JOB = {"id": "a", "command": "fk", "robot": R2, "lengths": "28.99,13.66,40.53"}
 
@@ -235,3 +235,11 @@ def test_a_byte_order_mark_before_the_first_job_is_no_error(cli, jobs):
     run = cli("batch", jobs(b"\xef\xbb\xbf" + json.dumps(JOB).encode()), "--out", "{tmp}/out", "--json")
     answered(run)
     assert json.loads(run.out)["counts"] == {"fk complete": 1}
+
+
+def test_an_out_directory_the_disk_cannot_hold_is_named_with_its_file(jobs, tmp_path):
+    """A full disk under --out was blamed on standard output: the error now names --out and the file."""
+    job = {"id": "a", "command": "singular", "robot": R2, "box": "x=-50:0,y=-50:0,phi=0:0.3925"}
+    run = limited(["batch", jobs(json.dumps(job)), "--out", "{tmp}/res", "--workers", "1"], tmp_path, file_size=100)
+    assert run.code == 2, (run.code, run.err)
+    assert run.err == f"certkin: error: --out: cannot write {tmp_path}/res/a.json: File too large\n", run.err

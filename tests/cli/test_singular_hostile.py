@@ -210,3 +210,15 @@ def test_the_least_header_of_a_grid_is_at_most_its_claims(tmp_path, box):
         g[0], g[-1] = a, b
     assert len(claims) == np.prod([len(g) - 1 for g in grids])
     assert 0.7 * written < least_header(robot.pose_names, grids) <= written
+
+
+@pytest.mark.parametrize("option, name", [("--plot", "c.png"), ("--report", "c.html"), ("--certificate", "c.cert")])
+def test_an_output_the_disk_cannot_hold_is_named_and_the_answer_is_still_printed(tmp_path, option, name):
+    """A full disk under --plot or --report was blamed on standard output, and the answer was lost: the
+    error now names the option and the file with the system's reason, after the answer is printed."""
+    run = limited(S + ["--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "3", option, f"{{tmp}}/{name}"],
+                  tmp_path, file_size=100)
+    assert run.code == 2, (run.code, run.err)
+    assert run.err == f"certkin: error: {option}: cannot write {tmp_path}/{name}: File too large\n", run.err
+    assert "27 cells: 6 singularity-free, 21 singular, 0 undecided" in run.out
+    assert run.left == []
