@@ -207,6 +207,15 @@ def test_bad_files(tmp_path):
         load_robot(tmp_path / "missing.toml")
 
 
+
+def test_a_robot_file_that_starts_with_a_byte_order_mark_loads(tmp_path):
+    """A file saved by a Windows editor starts with a UTF-8 BOM: it was 'not valid TOML'."""
+    source = EXAMPLES / "seed003-planar-example-2.toml"
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + source.read_bytes())
+    assert load_robot(path).to_dict() == load_robot(source).to_dict()
+
+
 def test_decimals_of_more_than_1000_digits_are_refused_naming_the_field(tmp_path):
     """A 4400-digit decimal raised "ValueError: Exceeds the limit (4300 digits)" (``Fraction`` of its text), a
     4400-digit integer the same in tomllib; 1000 digits are taken (a certificate's checker reads them)."""

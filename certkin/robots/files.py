@@ -106,7 +106,7 @@ def load_robot(path) -> Robot:
         raw = robot_file_bytes(path)
         if len(raw) > MAX_FILE_BYTES:
             raise RobotFileError(source, "", f"larger than {MAX_FILE_BYTES // 2 ** 20} MiB: not a robot file")
-        data = tomllib.loads(raw.decode("utf-8"), parse_float=Decimal)
+        data = tomllib.loads(raw.decode("utf-8-sig"), parse_float=Decimal)   # (a BOM: a Windows editor)
     except RobotFileError:
         raise
     except FileNotFoundError:
