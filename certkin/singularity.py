@@ -41,7 +41,7 @@ from .certificates.singularity import least_header
 from .certificates import writing
 from .engine import OPEN, PROVED, Budget, Decisions, budgets, interrupt, search
 from .engine.budgets import Clock, make_budget, positive_integer
-from .errors import InputError
+from .errors import InputError, shown
 from .quiet import quiet
 from .robots import as_robot
 from .robots.poses import MAX_MAGNITUDE, inner_box, parse_box, parse_pose
@@ -415,7 +415,7 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     clock = Clock(budget.max_seconds)
     center, texts = parse_pose(pose, robot, "pose") if not isinstance(pose, Interval) else (pose, None)
     d = len(robot.pose_names)
-    sc = _unit_box(scale, d)
+    sc = _unit_box(scale, robot.pose_names)
     tried, proved, boxes = 0, 0.0, 0
     asked = {"pose": list(texts) if texts is not None else [float(v) for v in center.mid()], "scale": sc.tolist()}
 
@@ -485,17 +485,24 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     return answer(best, bad)
 
 
-def _unit_box(scale, d: int) -> np.ndarray:
-    """The half-widths of the unit box of ``largest_free_box`` (default 1 in every variable)."""
+def _unit_box(scale, names) -> np.ndarray:
+    """The half-widths of the unit box of ``largest_free_box`` (default 1 in every variable), one per
+    pose variable of ``names``; a bad one is named."""
+    d = len(names)
     if scale is None:
         return np.ones(d)
     parts = scale.split(",") if isinstance(scale, str) else list(np.atleast_1d(scale))
-    try:
-        sc = np.array([float(p) for p in parts], dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("scale", "", f"expected {d} comma-separated positive numbers") from None
-    if len(sc) != d or not np.all(np.isfinite(sc)) or np.any(sc <= 0) or np.any(sc > MAX_SCALE):
-        raise InputError("scale", "", f"expected {d} comma-separated positive numbers up to {MAX_SCALE:g}")
+    if len(parts) != d:
+        raise InputError("scale", "", f"expected {d} comma-separated positive numbers ({', '.join(names)}), "
+                                      f"got {len(parts)}")
+    sc = np.ones(d)
+    for k, (name, part) in enumerate(zip(names, parts)):
+        try:
+            sc[k] = float(part.strip() if isinstance(part, str) else part)
+        except (TypeError, ValueError):
+            sc[k] = math.nan
+        if not (math.isfinite(sc[k]) and 0 < sc[k] <= MAX_SCALE):
+            raise InputError("scale", name, f"expected a positive number up to {MAX_SCALE:g}, got {shown(part)}")
     return sc
 
 
