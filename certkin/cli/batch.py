@@ -110,10 +110,25 @@ def job_argv(job: dict) -> list[str]:
         elif value is False or value is None:
             continue
         elif isinstance(value, list) and key == "via":
-            argv += [f"{option}={_text(v)}" for v in value]
+            argv += [f"{option}={_text(_flat(option, v))}" for v in value]
         else:
-            argv.append(f"{option}={_text(value)}")
+            argv.append(f"{option}={_text(_flat(option, value))}")
     return argv
+
+
+BOX_FORMS = 'a box is a text "x=a:b,..." or a list of such items ("x=a:b")'
+
+
+def _flat(option: str, value):
+    """``value`` if it is a number, a text, or a list or table of those (joined by commas); a list or a
+    table inside one is refused, naming the item (``{"x": [-1, 1]}`` would read as ``x=-1,1``)."""
+    items = value.items() if isinstance(value, dict) else enumerate(value) if isinstance(value, list) else ()
+    for k, v in items:
+        if isinstance(v, (list, dict)):
+            what = BOX_FORMS if option == "--box" else "expected numbers or texts, not a list or a table in one"
+            field = str(k) if isinstance(value, dict) else f"item {k + 1}"
+            raise InputError(option, field, f"{what}, got {shown(value)}")
+    return value
 
 
 def _text(value) -> str:

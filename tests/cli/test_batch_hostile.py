@@ -106,13 +106,15 @@ def test_bad_job_lines_are_error_jobs(cli, jobs, tmp_path):
              json.dumps({**JOB, "id": "b15"})[:-1] + ', "lengths": "1,2,3"}',   # once: the last one won
              json.dumps({**JOB, "id": "b16", "lengths": [None, 1, 2]}),
              json.dumps({**JOB, "id": "b17", "command": ["fk"]}),
-             json.dumps({**JOB, "id": None})]
+             json.dumps({**JOB, "id": None}),
+             json.dumps({"id": "b18", "command": "singular", "robot": R2, "box": {"x": [-1, 1]}}),
+             json.dumps({"id": "b19", "command": "singular", "robot": R2, "box": [[-1, 1], [0, 1], [0, 0.1]]})]
     run = cli("batch", jobs(*lines), "--out", "{tmp}/out", "--workers", "1", "--json")
     answered(run)
     summary = json.loads(run.out)
     errors = {e["id"]: e["error"] for e in summary["errors"]}
     assert set(errors) == {"line-2", "b1", "b2", "b3", "b4", "b5", "line-8", "b7", "b8", "b9", "b10", "b11", "b12",
-                           "b13", "line-16", "line-17", "b16", "b17", "line-20"}, errors
+                           "b13", "line-16", "line-17", "b16", "b17", "line-20", "b18", "b19"}, errors
     for word, jid in (("nested too deeply", "line-2"), ("--max-seconds", "b1"), ("certificate", "b2"),
                       ("command", "b3"), ("--cells", "b4"), ("--from", "b5"), ("id", "line-8"),
                       ("'bogus': not an option of certkin fk", "b7"),
@@ -120,10 +122,12 @@ def test_bad_job_lines_are_error_jobs(cli, jobs, tmp_path):
                       ("certkin batch --progress", "b10"), ("'help': not an option of certkin fk", "b11"),
                       ("'len': not an option", "b12"), ("'rep': not an option", "b13"),
                       ("nested more than 32 deep", "line-16"), ("'lengths' given twice", "line-17"),
-                      ("'null'", "b16"), ('got ["fk"]', "b17"), ("got null", "line-20")):
+                      ("'null'", "b16"), ('got ["fk"]', "b17"), ("got null", "line-20"),
+                      ('--box: x: a box is a text "x=a:b,..." or a list of such items ("x=a:b"), got {"x": [-1, 1]}',
+                       "b18"), ("--box: item 1: a box is a text", "b19")):
         assert word in errors[jid] and "\n" not in errors[jid], (jid, errors[jid])
     assert "None" not in run.out and "True" not in run.out
-    assert summary["counts"]["fk complete"] == 1 and summary["jobs"] == 20
+    assert summary["counts"]["fk complete"] == 1 and summary["jobs"] == 22
     assert summary["counts"]["? error"] == 4     # no command, or not a text (["fk"]): line-2, 16, 17 and b17
     assert (tmp_path / "out" / "a.cert").exists()
 
