@@ -13,6 +13,8 @@ from ..robots import load_robot
 from .batch import parse_job
 from .common import count
 
+MAX_SEED = 2 ** 63 - 1      # the largest seed that is a signed 64-bit integer (numpy takes any, other tools may not)
+
 
 def add_arguments(j):
     sub = j.add_subparsers(dest="generator", metavar="grid", required=True, parser_class=type(j))
@@ -25,7 +27,8 @@ def add_arguments(j):
     g.add_argument("--from", dest="start", metavar="x=a:b[:n],...", help="trajectory: start poses")
     g.add_argument("--to", dest="goal", metavar="x=a:b[:n],...", help="trajectory: goal poses")
     g.add_argument("--count", type=count(MAX_JOBS), help=f"trajectory: number of random start/goal pairs (at most {MAX_JOBS})")
-    g.add_argument("--seed", type=count(2 ** 63, least=0), help="trajectory: seed of the random draw (default 0)")
+    g.add_argument("--seed", type=count(MAX_SEED, least=0),
+                   help=f"trajectory: seed of the random draw, 0 to {MAX_SEED} (default 0)")
     g.add_argument("--decimals", type=count(15, least=0),
                    help="trajectory: decimal places of drawn values, 0 to 15 (default 3)")
     g.add_argument("--prefix", help="prefix of the job ids (default: the command)")

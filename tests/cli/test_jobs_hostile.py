@@ -39,6 +39,7 @@ HOSTILE = [
     (TRAJ + ["--count", "-1"], ["--count"]),
     (TRAJ + ["--count", "1000000000000"], ["--count"]),               # once: out of memory
     (TRAJ + ["--count", "2", "--seed", "-1"], ["--seed"]),            # once: numpy's traceback
+    (TRAJ + ["--count", "2", "--seed", "9223372036854775808"], ["--seed", "from 0 to 9223372036854775807,"]),
     (TRAJ + ["--count", "2", "--decimals", "99"], ["--decimals"]),
     (TRAJ + ["--count", "2", "--decimals", "nan"], ["--decimals"]),
     (FK + ["--box", "x=1"], ["--box", "fk"]),                          # an option of another command
