@@ -163,3 +163,14 @@ def test_a_free_box_is_asked_about_in_the_decimals_given_never_a_wider_box(tmp_p
     page = cells.read_text()
     assert "8 singularity-free" in page
     assert "x ∈ [-20, -10.00000001], y ∈ [20, 30], phi ∈ [0.1234567891, 0.323456789], cut into 8 cells" in page
+
+
+def test_a_trajectory_report_calls_a_via_polyline_a_polyline(tmp_path, capsys):
+    """A motion through --via poses was called "the straight-line motion"."""
+    straight, polyline = tmp_path / "s.html", tmp_path / "p.html"
+    _run(capsys, "trajectory", MEL, "--from", START, "--to", GOAL, "--report", str(straight))
+    _run(capsys, "trajectory", MEL, "--from", START, "--via", "0,0,500,85deg,10deg,0", "--to", GOAL,
+         "--report", str(polyline))
+    assert "Is the straight-line motion" in straight.read_text()
+    page = polyline.read_text()
+    assert "straight-line motion" not in page and "Is the polyline motion of 2 straight segments" in page

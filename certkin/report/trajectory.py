@@ -24,9 +24,13 @@ def trajectory_sections(robot, result, budget=None) -> list:
     j = result.to_json()
     motion = " → ".join(",".join(p.values()) for p in j["path"])
     skipped = "".join(f"<li>not checked: {esc(k)} ({esc(why)})</li>" for k, why in result.constraints.unchecked())
+    segments = len(j["path"]) - 1
+    shape = ("the straight-line motion", "linear in the pose variables, t from 0 to 1") if segments == 1 else \
+        (f"the polyline motion of {segments} straight segments", "linear in the pose variables on each segment, "
+                                                                 "t from 0 to 1 on each")
     out = [("Question and assumptions", (
-        f"<p>Is the straight-line motion {esc(motion)} (linear in the pose variables, t from 0 to 1 on each "
-        f"segment) feasible? Constraints checked: {esc(', '.join(j['constraints']))}, with the limits of the "
+        f"<p>Is {shape[0]} {esc(motion)} ({shape[1]}) feasible? "
+        f"Constraints checked: {esc(', '.join(j['constraints']))}, with the limits of the "
         f"robot file shown above.</p><ul>{skipped or '<li>every constraint family was checked</li>'}</ul>"))]
     L = result.leaves
     states = {"leaves (t-intervals) of the search": len(L["tlo"]) if L else 0}
