@@ -616,7 +616,7 @@ def test_a_polyline_too_long_for_the_memory_ceiling_is_refused_before_it_starts(
 
 def test_a_polyline_that_takes_longer_to_prepare_than_max_seconds_is_refused_before_it_starts():
     """420 via points with a moving orientation took 30 s at --max-seconds 0.01: their polynomials are
-    built before the search, which the clock cannot stop.  Refused at once, naming max_seconds; a short
+    built before the search (the clock stops them only between chunks).  Refused at once, naming max_seconds; a short
     polyline at the same budget is answered (undecided where the time ran out) within a second or two."""
     import time
     robot = load_robot(MEL)
@@ -629,3 +629,48 @@ def test_a_polyline_that_takes_longer_to_prepare_than_max_seconds_is_refused_bef
     r = verify_trajectory(robot, "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0", waypoints=via[:5],
                           max_seconds=0.01)
     assert r.stats["budget_exhausted"] and r.path.segments == 6
+
+
+def _moving_polyline(segments):
+    """Via points of a polyline whose orientation moves on every segment (4 pieces each on the MEL robot)."""
+    return [f"{10 * k / segments:.6f},0,500,{(-1) ** k * 8}deg,5deg,0" for k in range(1, segments)]
+
+
+def test_the_piece_polynomials_stop_between_chunks_when_asked(mel):
+    """With a moving orientation the polynomials are built PIECE_ROWS rows at a time; ``stop()``, asked
+    after each chunk, ends the building there: the rows built are the first rows of the full build."""
+    from certkin.trajectory.constraints import PIECE_ROWS, Constraints, piece_plan
+    from certkin.trajectory.path import angle_step
+    path = parse_path(mel, "0,0,500,0,0,0", "10,0,500,0,0,0", _moving_polyline(40))
+    P0, D = path.start_and_step()
+    cons = Constraints(mel, ["leg-length"])
+    n, degree = piece_plan(angle_step(mel, D))
+    seg, k = np.repeat(np.arange(P0.shape[0]), n), np.tile(np.arange(n), P0.shape[0])
+    args = (P0[seg], D[seg], k / n, np.full(len(k), 1.0 / n), degree)
+    assert len(k) > PIECE_ROWS
+    asked = []
+    part = cons.piece_polynomials(*args, stop=lambda: asked.append(1) or True)
+    full = cons.piece_polynomials(*args)
+    assert len(asked) == 1 and part["pose"].legs[0].shape[0] == PIECE_ROWS
+    for mine, whole in zip(part["legs_sq"], full["legs_sq"], strict=True):
+        assert np.array_equal(mine.lo, whole.lo[:PIECE_ROWS]) and np.array_equal(mine.hi, whole.hi[:PIECE_ROWS])
+
+
+def test_a_time_budget_spent_while_the_polynomials_are_built_decides_nothing(mel, monkeypatch):
+    """A polyline with a moving orientation at --max-seconds 5 took 7 s: its polynomials, the margins'
+    seed points and the mean indices were computed whatever the clock said.  With a clock already past
+    the budget, the building stops after its first chunk and nothing is searched: every piece is an
+    undecided leaf (no guess), no indices, and the certificate checks."""
+    from certkin.engine.budgets import Clock
+    from certkin.trajectory.families.base import UNKNOWN
+
+    class Expired(Clock):
+        def elapsed(self):
+            return self.max_seconds + 1.0
+
+    monkeypatch.setattr("certkin.trajectory.verify.Clock", Expired)
+    r = verify_trajectory(mel, "0,0,500,0,0,0", "10,0,500,0,0,0", _moving_polyline(40), max_seconds=30)
+    assert r.status == "undecided" and r.stats["boxes"] == 0 and r.stats["budget_exhausted"]
+    assert r.indices is None and (r.leaves["state"] == UNKNOWN).all()
+    assert np.isinf(r.leaves["mlo"]).all() and np.isinf(r.leaves["mhi"]).all()
+    checked(r)

@@ -195,17 +195,21 @@ class Constraints:
         (``linear_data``; built once per search, bounded per t-interval by ``PolyPath``)."""
         return self._functions(PathPose.polynomial(linear["V"], linear["w"], linear["R"]), linear=linear, P0=P0)
 
-    def piece_polynomials(self, P0: Interval, D: Interval, a, h, degree: int) -> dict | None:
+    def piece_polynomials(self, P0: Interval, D: Interval, a, h, degree: int, stop=None) -> dict | None:
         """Any path: per piece t ∈ [a, a + h] of a segment (rows of P0, D, a, h), the constraint
         functions as polynomials in the local τ ∈ [0, 1], t = a + h τ (``intervals.polynomial``:
         sin/cos by Taylor expansions with Lagrange remainders, products truncated to ``degree``
         with remainders; valid for τ ∈ [0, 1]).  None when the model uses a function the
         polynomials do not support.  Rows are expanded ``PIECE_ROWS`` at a time and joined (the
-        products hold about 1 MiB a row while they run: a polyline of 60 segments took 0.4 GiB)."""
+        products hold about 1 MiB a row while they run: a polyline of 60 segments took 0.4 GiB).
+        ``stop()``, asked after each chunk: when true, only the rows built so far are returned (the
+        first rows, a multiple of ``PIECE_ROWS``: the time budget ran out)."""
         shape = (P0.shape[0],)
         a, h = np.broadcast_to(np.asarray(a, float), shape), np.broadcast_to(np.asarray(h, float), shape)
         parts = []
         for k in range(0, P0.shape[0], PIECE_ROWS):
+            if parts and stop is not None and stop():
+                break
             rows = slice(k, k + PIECE_ROWS)
             part = self._piece_polynomials(P0[rows], D[rows], a[rows], h[rows], degree)
             if part is None:

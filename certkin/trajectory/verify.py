@@ -50,6 +50,7 @@ PIECE_BATCH = 256    # boxes decided at once with a moving orientation (each hol
                      # 0.3 s a batch for the MEL robot: a Ctrl-C, checked between batches, stops the search that soon)
 PIECE_BYTES = 8 * 2 ** 10    # held per piece and constraint with a moving orientation, at most (the MEL robot,
                              # 22 constraints, 301 segments of 8 pieces: 0.45 GiB at the peak, 6.7 KiB each)
+SEED_POINTS = 128    # instants evaluated at once by ``seed_best`` (the clock is read between them)
 PIECE_SECONDS = 130e-6       # to build the polynomials of a piece and constraint before the search starts (the
                              # MEL robot: 121 segments of 16 pieces, 22 constraints, 5.5 s; 421 segments, 30 s)
 
@@ -60,7 +61,9 @@ class TrajectoryProblem:
     reasons = ("every constraint decided on the interval",)
 
     def __init__(self, constraints: Constraints, P0, D, piece_segment, segment_path, n_paths, rtol=MARGIN_RTOL,
-                 min_width=1e-9, linear=False):
+                 min_width=1e-9, linear=False, clock=None):
+        """``clock``: with a moving orientation, the polynomials are built while it has time left;
+        ``complete`` is false when it ran out first (the problem must then not be searched)."""
         self.c = constraints
         self.P0, self.D = P0, D
         self.piece_segment = piece_segment
@@ -77,7 +80,9 @@ class TrajectoryProblem:
             S, n = P0.shape[0], self.n_pieces
             seg = np.repeat(np.arange(S), n)
             k = np.tile(np.arange(n), S)
-            self.polys = constraints.piece_polynomials(P0[seg], D[seg], k / n, np.full(len(k), 1.0 / n), degree)
+            self.polys = constraints.piece_polynomials(P0[seg], D[seg], k / n, np.full(len(k), 1.0 / n), degree,
+                                                       stop=clock and clock.out)
+        self.complete = self.polys is None or self.polys["pose"].legs[0].shape[0] == P0.shape[0] * self.n_pieces
         self.crossings = None if self.polys is None else constraints.crossing_polynomials(self.polys)
         self.delta = 0.25 * min_width       # cuts at t* ± delta leave [t* − delta, t* + delta] as the last piece
 
@@ -157,12 +162,13 @@ class TrajectoryProblem:
         box, k = np.nonzero(pieces)
         return points[box, k][:, None], points[box, k + 1][:, None], seg[box]
 
-    def seed_best(self, lo, hi, seg):
+    def seed_best(self, lo, hi, seg, clock=None):
         """Start each path's refinement target ``best`` from point evaluations: at the ends of the
         segments and at the estimated minima of the margins inside the pieces (``crossing_polynomials``:
         stationary points of ρ² and E/Δ).  The upper bound of a margin at any instant bounds its
         minimum over the path, so ``best`` stays an upper bound; the intervals far from the minimum
-        are then settled at once instead of after the minimum's interval has been narrowed."""
+        are then settled at once instead of after the minimum's interval has been narrowed.  The points
+        are evaluated ``SEED_POINTS`` at a time while ``clock`` (if any) has time left."""
         if self.rtol is None:
             return
         segments = np.unique(seg)
@@ -176,9 +182,12 @@ class TrajectoryProblem:
             t.append(est[found])
             s.append(where[found])
         points = np.unique(np.stack([np.concatenate(s).astype(np.float64), np.concatenate(t)], axis=1), axis=0)
-        S, T = points[:, 0].astype(np.int64), points[:, 1]
-        _, _, mhi = self.evaluate(T, T, S, upper=True)
-        np.fmin.at(self.best, self.segment_path[S], mhi)
+        for k in range(0, len(points), SEED_POINTS):
+            if clock is not None and clock.out():
+                break
+            S, T = points[k:k + SEED_POINTS, 0].astype(np.int64), points[k:k + SEED_POINTS, 1]
+            _, _, mhi = self.evaluate(T, T, S, upper=True)
+            np.fmin.at(self.best, self.segment_path[S], mhi)
 
     def _cuts(self, lo, hi, seg, state, refine):
         """Per box, a cut near an estimated crossing of an unknown column, or else around an
@@ -259,15 +268,8 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
                                             f"({budget.max_seconds:g} s): give more, or verify fewer segments at a time")
     lo = np.tile(edges[:-1], n_seg)[:, None]
     hi = np.tile(edges[1:], n_seg)[:, None]
-    problem = TrajectoryProblem(cons, P0, D, piece_segment, seg_path, len(paths), rtol, budget.min_width, linear)
-    lo, hi, piece_segment = problem.presplit(lo, hi, piece_segment)
-    problem.piece_segment = piece_segment
-    problem.seed_best(lo, hi, piece_segment)
-    searched = replace(budget.within(clock.left()), max_memory=max(1, int(budget.max_memory * SEARCH_SHARE)))
-    batch = {"batch": PIECE_BATCH} if problem.pieces else {}    # moving orientation: about 0.4 MiB a box while decided
-    found = search(problem, lo, hi, scale=np.ones(1), budget=searched, progress=progress, min_batch=64, max_rounds=5,
-                   **batch)
-    leaves, segment, tlo, thi, state, mlo, mhi = _leaf_states(problem, found.tree, piece_segment, cons.K, rtol, clock)
+    problem = TrajectoryProblem(cons, P0, D, piece_segment, seg_path, len(paths), rtol, budget.min_width, linear, clock)
+    (segment, tlo, thi, state, mlo, mhi), boxes, exhausted = _solved(problem, lo, hi, budget, clock, progress, rtol)
     results = []
     for p_index, path in enumerate(paths):
         segs = np.nonzero(seg_path == p_index)[0]
@@ -278,12 +280,33 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
         r.leaves = {"segment": local[order], "tlo": tlo[mine][order], "thi": thi[mine][order],
                     "state": state[mine][order], "mlo": mlo[mine][order], "mhi": mhi[mine][order]}
         conclude(r, problem.best[p_index])
-        if indices and not clock.out() and not interrupt.cut_short():
-            r.indices = _mean_indices(problem, cons, segs)
-        r.stats = {"boxes": int(found.boxes), "leaves": int(mine.sum()), "seconds": round(clock.elapsed(), 6),
-                   "budget_exhausted": bool(found.exhausted or clock.out())}
+        if indices and not interrupt.cut_short():
+            r.indices = _mean_indices(problem, cons, segs, clock)
+        r.stats = {"boxes": int(boxes), "leaves": int(mine.sum()), "seconds": round(clock.elapsed(), 6),
+                   "budget_exhausted": bool(exhausted or clock.out())}
         results.append(r)
     return results
+
+
+def _solved(problem, lo, hi, budget, clock, progress, rtol):
+    """Search the pieces ``[lo, hi]`` (one per row of ``problem.piece_segment``): the leaves' (segment,
+    t bounds, states, margin bounds), the boxes decided and whether a budget ran out.  When the time
+    budget ran out while the polynomials were built (``problem.complete`` false), nothing is searched:
+    every piece is a leaf with every constraint ``unknown`` and unbounded margins."""
+    K = problem.c.K
+    if not problem.complete:
+        n = len(lo)
+        return (problem.piece_segment, lo[:, 0], hi[:, 0], np.full((n, K), UNKNOWN, dtype=np.int8),
+                np.full((n, K), -np.inf), np.full((n, K), np.inf)), 0, True
+    lo, hi, piece_segment = problem.presplit(lo, hi, problem.piece_segment)
+    problem.piece_segment = piece_segment
+    problem.seed_best(lo, hi, piece_segment, clock)
+    searched = replace(budget.within(clock.left()), max_memory=max(1, int(budget.max_memory * SEARCH_SHARE)))
+    batch = {"batch": PIECE_BATCH} if problem.pieces else {}    # moving orientation: about 0.4 MiB a box while decided
+    found = search(problem, lo, hi, scale=np.ones(1), budget=searched, progress=progress, min_batch=64, max_rounds=5,
+                   **batch)
+    leaves = _leaf_states(problem, found.tree, piece_segment, K, rtol, clock)[1:]
+    return leaves, found.boxes, found.exhausted
 
 
 def _leaf_states(problem, tree, piece_segment, K, rtol, clock, chunk: int = 256):
@@ -357,12 +380,15 @@ def verify_trajectory(robot, start, goal, waypoints=(), constraints=None, budget
                                max_seconds=max_seconds, min_width=min_width, max_memory=max_memory)[0]
 
 
-def _mean_indices(problem, cons, segs) -> list:
+def _mean_indices(problem, cons, segs, clock) -> list | None:
     """Certified enclosures of the mean margin over the path (∫ margin ds / segments),
-    from INDEX_STEPS sub-intervals per segment: each contributes width × [min, max]."""
+    from INDEX_STEPS sub-intervals per segment: each contributes width × [min, max].
+    None (no indices) when ``clock`` runs out first (it is read between chunks of segments)."""
     edges = np.linspace(0.0, 1.0, INDEX_STEPS + 1)
     total = None
     for k in range(0, len(segs), INDEX_SEGMENTS):      # a few segments at a time: bounded memory
+        if clock.out():
+            return None
         part = segs[k:k + INDEX_SEGMENTS]
         seg = np.repeat(part, INDEX_STEPS)
         _, mlo, mhi = problem.evaluate(np.tile(edges[:-1], len(part)), np.tile(edges[1:], len(part)), seg)
