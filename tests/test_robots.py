@@ -11,7 +11,7 @@ import pytest
 import sympy as sp
 
 from certkin import InputError, RobotFileError, load_robot, robot_from_dict
-from certkin.robots import GoughStewart, Planar3RPR, Spherical3DOF
+from certkin.robots import Planar3RPR
 from certkin.robots.files import MAX_FILE_BYTES, READ_CHUNK, robot_file_bytes
 from certkin.robots.poses import parse_box, parse_lengths, parse_pose
 from intervals import Interval

@@ -9,7 +9,6 @@ property test.  Every certificate is re-checked by ``proofs``.
 """
 import copy
 import json
-import os
 import subprocess
 import sys
 from fractions import Fraction
