@@ -176,3 +176,18 @@ def test_ctrl_c_stops_a_trajectory_with_a_moving_orientation_at_once(capsys):
     assert code == 130 and doc["interrupted"] is True and doc["status"] == "undecided"
     assert elapsed < 2.5 + 1.0                       # (it went on for 2 s more)
     assert doc["stats"]["seconds"] <= elapsed
+
+
+def test_an_earlier_interrupted_command_does_not_cost_a_later_call_its_indices():
+    """``cut_short()`` stays true once a command was cut short by Ctrl-C (the command line reads it after
+    the answer is built), and a later ``verify_trajectory`` in the same process (the API, the next test of
+    a worker) left out its mean margins.  Only a Ctrl-C of the call itself leaves them out now."""
+    from certkin import load_robot, verify_trajectory
+    from certkin.engine import interrupt
+    interrupt.cut()                          # what an interrupted command leaves behind
+    try:
+        r = verify_trajectory(load_robot(MEL), "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0")
+    finally:
+        with interrupt.interruptible():     # (entering resets the state)
+            pass
+    assert r.indices is not None and len(r.indices) == 6 + 15

@@ -280,7 +280,7 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
         r.leaves = {"segment": local[order], "tlo": tlo[mine][order], "thi": thi[mine][order],
                     "state": state[mine][order], "mlo": mlo[mine][order], "mhi": mhi[mine][order]}
         conclude(r, problem.best[p_index])
-        if indices and not interrupt.cut_short():
+        if indices and not interrupt.requested():         # (Ctrl-C in this call; not one of an earlier command)
             r.indices = _mean_indices(problem, cons, segs, clock)
         r.stats = {"boxes": int(boxes), "leaves": int(mine.sum()), "seconds": round(clock.elapsed(), 6),
                    "budget_exhausted": bool(exhausted or clock.out())}
