@@ -253,9 +253,8 @@ class FKSystem(RotatedPoints):
         parametrisation singularity (theta = 0 for Gough, phi2 = 0 for
         spherical) where ``platform_points`` stay tight.
         """
-        atan2 = angle
         if self.kind == "planar-3rpr":
-            return {"x": X[:, 0], "y": X[:, 1], "phi": atan2(X[:, 3], X[:, 2])}
+            return {"x": X[:, 0], "y": X[:, 1], "phi": angle(X[:, 3], X[:, 2])}
         R = self.rotation(X)
         e = lambda i, j: R[:, i, j]  # noqa: E731
         out = {}
@@ -263,15 +262,15 @@ class FKSystem(RotatedPoints):
             # R = Rz(psi) Rx(theta) Rz(phi): R33 = cos theta, (R13, R23) = sin theta (sin psi, −cos psi),
             # (R31, R32) = sin theta (sin phi, cos phi)
             out.update({"x": X[:, 0], "y": X[:, 1], "z": X[:, 2]})
-            out["psi"] = atan2(e(0, 2), -e(1, 2))
-            out["theta"] = atan2(sqrt(sqr(e(0, 2)) + sqr(e(1, 2))), e(2, 2))
-            out["phi"] = atan2(e(2, 0), e(2, 1))
+            out["psi"] = angle(e(0, 2), -e(1, 2))
+            out["theta"] = angle(sqrt(sqr(e(0, 2)) + sqr(e(1, 2))), e(2, 2))
+            out["phi"] = angle(e(2, 0), e(2, 1))
         else:
             # Q = Rz(phi1) Ry(phi2) Rz(phi3): Q33 = cos phi2, (Q13, Q23) = sin phi2 (cos phi1, sin phi1),
             # (Q31, Q32) = sin phi2 (−cos phi3, sin phi3)
-            out["phi1"] = atan2(e(1, 2), e(0, 2))
-            out["phi2"] = atan2(sqrt(sqr(e(0, 2)) + sqr(e(1, 2))), e(2, 2))
-            out["phi3"] = atan2(e(2, 1), -e(2, 0))
+            out["phi1"] = angle(e(1, 2), e(0, 2))
+            out["phi2"] = angle(sqrt(sqr(e(0, 2)) + sqr(e(1, 2))), e(2, 2))
+            out["phi3"] = angle(e(2, 1), -e(2, 0))
         return out
 
     def unknowns_of_pose(self, pose) -> np.ndarray:
