@@ -33,6 +33,7 @@ True
 from __future__ import annotations
 
 from contextlib import contextmanager
+from contextvars import ContextVar
 from fractions import Fraction
 from math import comb, factorial
 
@@ -64,18 +65,20 @@ def padded(a, n):
 _BERNSTEIN = {}
 _TO_POWERS: dict = {}    # order -> _taylor_to_powers(order)
 _HALF = Interval(0.5)
-_LIMIT = [None]          # degree limit of products (``degree_limit``), None: exact
+_LIMIT = ContextVar("degree_limit", default=None)   # degree limit of products (``degree_limit``), None: exact
 
 
 @contextmanager
 def degree_limit(d: int):
-    """Products made inside keep degree ≤ d (terms above folded into c_0, valid for t ∈ [0, 1])."""
-    previous = _LIMIT[0]
-    _LIMIT[0] = d
+    """Products made inside keep degree ≤ d (terms above folded into c_0, valid for t ∈ [0, 1]).
+
+    The limit belongs to the thread (the context) that set it: products computed meanwhile by
+    other threads keep their own limit, or none."""
+    token = _LIMIT.set(d)
     try:
         yield
     finally:
-        _LIMIT[0] = previous
+        _LIMIT.reset(token)
 
 
 def _fold(lo, hi, d):
@@ -185,8 +188,8 @@ class Poly:
         for i in range(1, p):                    # Σ_{i+j=k} c_i d_j, each addition rounded outward
             lo[..., i:i + q] = down_sum(lo[..., i:i + q] + P.lo[..., i, :])
             hi[..., i:i + q] = up_sum(hi[..., i:i + q] + P.hi[..., i, :])
-        if _LIMIT[0] is not None:
-            lo, hi = _fold(lo, hi, _LIMIT[0])
+        if (limit := _LIMIT.get()) is not None:
+            lo, hi = _fold(lo, hi, limit)
         return Poly(lo, hi)
 
     __rmul__ = __mul__
@@ -270,8 +273,8 @@ def _trig(x: Poly, kind: str, order: int) -> Poly:
     bound = up(bound / float(factorial(order + 1)))        # exact divisor (order ≤ 12)
     lo[..., 0] = down_sum(lo[..., 0] - bound)
     hi[..., 0] = up_sum(hi[..., 0] + bound)
-    if _LIMIT[0] is not None:
-        lo, hi = _fold(lo, hi, _LIMIT[0])
+    if (limit := _LIMIT.get()) is not None:
+        lo, hi = _fold(lo, hi, limit)
     return Poly(lo, hi)
 
 

@@ -175,6 +175,22 @@ def test_truncated_products_contain_the_exact_values_on_0_1(a, b, d, where):
         assert inside(exact_value(a, t) * exact_value(b, t), rr.lo, rr.hi)
 
 
+def test_degree_limit_holds_in_its_own_thread_only():
+    """A ``degree_limit`` set by one thread (a trajectory with a moving orientation) does not truncate
+    the products of another thread running at the same time (a path of constant orientation, whose
+    polynomials are exact, the shapes its callers expect)."""
+    import threading
+    from intervals.polynomial import degree_limit
+    p = thin([1.0, 1.0])                                # 1 + t
+    seen = {}
+    with degree_limit(1):
+        other = threading.Thread(target=lambda: seen.setdefault("degree", (p * p * p).degree))
+        other.start()
+        other.join()
+        assert (p * p).degree == 1                      # this thread's limit still holds
+    assert seen["degree"] == 3                          # exact in the other thread
+
+
 def test_compiled_model_on_polynomials_matches_mpmath():
     """The Gough-Stewart leg vectors compiled once run on polynomial variables (moving
     orientation): the values at sample instants enclose a 40-digit evaluation."""
