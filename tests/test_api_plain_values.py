@@ -194,3 +194,18 @@ def test_angles_are_refused_beyond_where_a_certificate_can_be_checked():
         certkin.certify_singularity_free(planar, "x=-50:50,y=-50:50,phi=1e9:1000000001")
     r = certkin.certify_singularity_free(planar, "x=-50:50,y=-50:50,phi=1e5:100001")
     assert proofs.check(r.certificate()).ok
+
+
+def test_a_long_double_stands_for_its_shortest_text_enclosed():
+    """np.longdouble values were enclosed as the nearest float64, a point: a box from 0.1 (the text
+    recorded) was searched from 0.1000000000000000055 and called singularity-free, and its
+    certificate was rejected ("'0.1' is not inside the box")."""
+    ld = np.longdouble
+    box = {"x": (ld(-20), ld(-10)), "y": (ld(20), ld(30)), "phi": (ld("0.1"), ld(1) / 3)}
+    r = certkin.certify_singularity_free(R2, box)
+    assert r.box["phi"][0] == "0.1" and r.lo[2] < 0.1
+    assert r.status == "singularity-free" and proofs.check(r.certificate()).ok
+    planning = str(ROBOTS / "seed001-3rpr-planning.toml")
+    r = certkin.verify_trajectory(planning, [ld(20), 0, ld(1) / 3], "30,10,3.5")
+    assert r.to_json()["path"][0]["phi"] == str(ld(1) / 3) and proofs.check(r.certificate()).ok
+

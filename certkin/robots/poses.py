@@ -63,6 +63,8 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
 def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval, str]:
     if isinstance(value, np.generic) and not isinstance(value, (np.str_, np.bytes_)):
         value = value.item()                 # a numpy scalar: the Python number of the same value
+    if isinstance(value, np.floating):       # a long double (``item`` keeps it): its shortest text, as a
+        value = str(value)                   # float stands for its repr (float64 would round it, inward)
     if isinstance(value, bool) or value is None:
         got = "nothing" if value is None else str(value).lower()
         raise RobotFileError(source, field, f"expected a number, got {got}")
