@@ -209,3 +209,24 @@ def test_a_long_double_stands_for_its_shortest_text_enclosed():
     r = certkin.verify_trajectory(planning, [ld(20), 0, ld(1) / 3], "30,10,3.5")
     assert r.to_json()["path"][0]["phi"] == str(ld(1) / 3) and proofs.check(r.certificate()).ok
 
+
+def test_a_fraction_is_its_exact_decimal_or_refused():
+    """Fractions were taken and written as "2899/100": the lengths of an FK answer, a pose of a path,
+    whose certificates the checker rejects (not an exact decimal), and a robot whose first use raised
+    a bare ValueError.  A fraction with a decimal is that decimal; 1/3 has none and is refused."""
+    from fractions import Fraction
+    r = certkin.forward_kinematics(R2, [Fraction(2899, 100), Fraction(683, 50), "40.53"])
+    assert r.lengths == ["28.99", "13.66", "40.53"] and len(r.solutions) == 6 and proofs.check(r.certificate()).ok
+    with pytest.raises(certkin.InputError, match=r"^lengths: leg 1: not an exact decimal: 1/3"):
+        certkin.forward_kinematics(R2, [Fraction(1, 3), 13.66, 40.53])
+    planning = str(ROBOTS / "seed001-3rpr-planning.toml")
+    with pytest.raises(certkin.InputError, match=r"^start: phi: not an exact decimal"):
+        certkin.verify_trajectory(planning, [20, 0, Fraction(1, 3)], "30,10,3.5")
+    robot = {"kind": "planar-3rpr", "base": [[Fraction(189, 50), 4.34], [34.47, -3.78], [16.233, 34.76]],
+             "platform": [[-4.83, -3.19], [12.04, -3.19], [8.23, 12.09]]}
+    assert certkin.robot_from_dict(robot).base[0] == ("3.78", "4.34")
+    robot["base"][0][0] = Fraction(1, 3)
+    with pytest.raises(certkin.RobotFileError, match=r"base\[0\]\[0\]: not an exact decimal"):
+        certkin.robot_from_dict(robot)
+    with pytest.raises(certkin.InputError, match="below 1e-400"):
+        certkin.forward_kinematics(R2, [Fraction(1, 10 ** 500), 1, 1])

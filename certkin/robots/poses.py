@@ -65,6 +65,8 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
         value = value.item()                 # a numpy scalar: the Python number of the same value
     if isinstance(value, np.floating):       # a long double (``item`` keeps it): its shortest text, as a
         value = str(value)                   # float stands for its repr (float64 would round it, inward)
+    if isinstance(value, Fraction):
+        value = _fraction_text(value, source, field)
     if isinstance(value, bool) or value is None:
         got = "nothing" if value is None else str(value).lower()
         raise RobotFileError(source, field, f"expected a number, got {got}")
@@ -108,6 +110,25 @@ def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval
     if not (math.isfinite(lo) and math.isfinite(hi)):       # a finite decimal beyond the float range
         raise RobotFileError(source, field, f"{_plain(value)} is out of range ({limit})")
     return Interval.from_bounds(np.array(lo), np.array(hi)), exact_text(text)
+
+
+def _fraction_text(q: Fraction, source: str, field: str):
+    """A fraction as the exact decimal it is (``Fraction(2899, 100)``: ``"28.99"``; an int when whole),
+    since a claim states its numbers as exact decimals; one with no decimal (1/3) raises ``RobotFileError``."""
+    den = q.denominator
+    if den == 1:
+        return q.numerator
+    twos = (den & -den).bit_length() - 1
+    fives, rest = 0, den >> twos
+    while rest % 5 == 0 and fives <= 4 * MAX_DIGITS:
+        fives, rest = fives + 1, rest // 5
+    if rest != 1:
+        raise RobotFileError(source, field, f"not an exact decimal: {shown(q)} (give a decimal number)")
+    k = max(twos, fives)
+    if k > 4 * MAX_DIGITS:
+        raise RobotFileError(source, field, f"a decimal of more than {MAX_DIGITS} digits (no robot needs that "
+                                            "many, and a certificate's checker reads no more)")
+    return str(Decimal(f"{q.numerator * (10 ** k // den)}E-{k}"))
 
 
 def too_many_digits(text) -> bool:
