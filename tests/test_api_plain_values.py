@@ -230,3 +230,16 @@ def test_a_fraction_is_its_exact_decimal_or_refused():
         certkin.robot_from_dict(robot)
     with pytest.raises(certkin.InputError, match="below 1e-400"):
         certkin.forward_kinematics(R2, [Fraction(1, 10 ** 500), 1, 1])
+
+
+def test_waypoints_may_be_an_array_of_poses():
+    """waypoints=np.array([[...]]) (and a path's "via" given so) raised numpy's "truth value of an array
+    is ambiguous"; waypoints=5 a TypeError."""
+    planning = str(ROBOTS / "seed001-3rpr-planning.toml")
+    expected = certkin.verify_trajectory(planning, "20,0,3.0", "30,10,3.0", waypoints=[[25.0, 5.0, 3.0]]).to_json()["path"]
+    r = certkin.verify_trajectory(planning, "20,0,3.0", "30,10,3.0", waypoints=np.array([[25, 5, 3.0]]))
+    assert r.to_json()["path"] == expected and r.status == "feasible"
+    [r] = certkin.verify_trajectories(planning, [{"start": "20,0,3.0", "goal": "30,10,3.0", "via": np.array([[25, 5, 3.0]])}])
+    assert r.to_json()["path"] == expected
+    with pytest.raises(certkin.InputError, match="^waypoints: expected a list of poses, got int"):
+        certkin.verify_trajectory(planning, "20,0,3.0", "30,10,3.0", waypoints=5)

@@ -50,7 +50,11 @@ def parse_path(robot, start, goal, waypoints=()) -> Path:
     """``start``, ``goal`` and optional ``waypoints`` (pose texts or sequences) -> ``Path``."""
     if isinstance(waypoints, (str, dict)):         # one pose, not a list of them (a text was read letter by letter)
         raise InputError("waypoints", "", "expected a list of poses: give [pose] for one")
-    items = [("start", start)] + [(f"waypoints[{k}]", w) for k, w in enumerate(waypoints or ())] + [("goal", goal)]
+    try:                                           # (a 2-D array has no truth value: never ``waypoints or ()``)
+        waypoints = [] if waypoints is None else list(waypoints)
+    except TypeError:
+        raise InputError("waypoints", "", f"expected a list of poses, got {type(waypoints).__name__}") from None
+    items = [("start", start)] + [(f"waypoints[{k}]", w) for k, w in enumerate(waypoints)] + [("goal", goal)]
     ivs, texts = [], []
     for parameter, pose in items:
         iv, t = parse_pose(pose, robot, parameter)

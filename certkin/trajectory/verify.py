@@ -354,7 +354,7 @@ def as_path(robot, item, k: int = 0) -> Path:
             unknown = set(item) - {"start", "goal", "via"}
             if unknown or "start" not in item or "goal" not in item:
                 raise InputError("", "", "expected the keys start, goal and optional via")
-            return parse_path(robot, item["start"], item["goal"], list(item.get("via") or ()))
+            return parse_path(robot, item["start"], item["goal"], item.get("via"))
         poses = list(item) if not isinstance(item, str) else None
         if poses is None or len(poses) < 2 or any(np.ndim(p) == 0 and not isinstance(p, str) for p in poses):
             raise InputError("", "", "expected (start, goal) or (start, via..., goal): two poses or more")
