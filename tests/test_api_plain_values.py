@@ -113,6 +113,10 @@ def test_a_budget_is_checked_when_made_and_fixed_afterwards():
         with pytest.raises(certkin.InputError) as exc:
             certkin.Budget(**{field: "5"})
         assert exc.value.source == field
+    for field in ("max_boxes", "max_memory"):          # (np.array([5]) raised "only 0-dimensional arrays ...")
+        with pytest.raises(certkin.InputError, match=f"^{field}: expected a positive integer"):
+            certkin.Budget(**{field: np.array([5])})
+    assert certkin.Budget(max_boxes=np.int64(5), max_memory=np.array(2 ** 20)).max_boxes == 5
     b = certkin.Budget(max_boxes=10)
     with pytest.raises(dataclasses.FrozenInstanceError):
         b.max_boxes = -5

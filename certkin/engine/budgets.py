@@ -53,9 +53,12 @@ def positive_integer(value, parameter: str, most: int | None = None) -> int:
     """An integer >= 1 (and <= ``most``); bools, floats with a fraction, nan and text are refused."""
     if isinstance(value, float) and value.is_integer():
         value = int(value)
-    if isinstance(value, bool) or not isinstance(value, int) and not hasattr(value, "__index__"):
-        raise InputError(parameter, "", f"expected a positive integer, got {shown(value)}")
-    value = int(value)
+    try:
+        if isinstance(value, bool) or not isinstance(value, int) and not hasattr(value, "__index__"):
+            raise TypeError
+        value = int(value)
+    except TypeError:                   # (np.array([5]) has __index__, and int() of it raises TypeError)
+        raise InputError(parameter, "", f"expected a positive integer, got {shown(value)}") from None
     if value < 1 or (most is not None and value > most):
         bound = f" from 1 to {most}" if most is not None else ""
         raise InputError(parameter, "", f"expected a positive integer{bound}, got {value}")
