@@ -326,7 +326,7 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
                          f"header holds (a checker reads {writing.MAX_HEADER >> 20} MiB of it): ask for fewer cells, or "
                          "split the box")
     reserve = CELL_SECONDS * len(free) * cells if cells > 1 else 0.0     # the cells' answers, after the search
-    if reserve > clock.left():
+    if reserve and reserve > clock.left():           # (one box: a budget spent already gives undecided)
         raise InputError("n", "", f"{n} cells per side make {cells} cells, whose answers take about {reserve:.3g} s, "
                          f"more than the time budget ({budget.max_seconds:g} s)")
     idx = np.stack(np.meshgrid(*[np.arange(c) for c in counts], indexing="ij"), -1).reshape(-1, len(counts))

@@ -367,6 +367,14 @@ def test_budget_keywords_and_paths_are_accepted():
     assert exc.value.source == "n"
 
 
+
+def test_a_time_budget_spent_before_the_search_gives_undecided_not_an_error():
+    """max_seconds=1e-9 raised "n: 1 cells per side make 1 cells, whose answers take about 0 s, more than
+    the time budget": an error naming a parameter certify_singularity_free does not have."""
+    r = certify_singularity_free(robot_from_dict(EX2), FULL, max_seconds=1e-9)
+    assert r.status in ("undecided", "singular")
+    checked(r)
+
 ISOSCELES = {"name": "isosceles mirror", "kind": "planar-3rpr", "base": [[-10, 0], [10, 0], [0, 15]],
              "platform": [[-3, 0], [3, 0], [0, 4]]}
 
