@@ -247,3 +247,17 @@ def test_waypoints_may_be_an_array_of_poses():
     assert r.to_json()["path"] == expected
     with pytest.raises(certkin.InputError, match="^waypoints: expected a list of poses, got int"):
         certkin.verify_trajectory(planning, "20,0,3.0", "30,10,3.0", waypoints=5)
+
+
+def test_many_paths_are_refused_when_their_answers_alone_exceed_the_time_budget():
+    """2000 paths with max_seconds=0.1 took 2 s (the MEL robot: 10 s), all undecided: each path's answer
+    is concluded after the search, about a millisecond a path, which no budget bounded."""
+    import time
+    planning = str(ROBOTS / "seed001-3rpr-planning.toml")
+    t0 = time.perf_counter()
+    with pytest.raises(certkin.InputError, match="^max_seconds: 2000 paths of 4 constraints take about"):
+        certkin.verify_trajectories(planning, [("20,0,3.0", "30,10,3.0")] * 2000, max_seconds=0.1)
+    assert time.perf_counter() - t0 < 2.0
+    t0 = time.perf_counter()
+    rs = certkin.verify_trajectories(planning, [("20,0,3.0", "30,10,3.0")] * 200, max_seconds=0.5)
+    assert time.perf_counter() - t0 < 2.0 and {r.status for r in rs} <= {"feasible", "undecided"}

@@ -53,6 +53,8 @@ PIECE_BYTES = 8 * 2 ** 10    # held per piece and constraint with a moving orien
 SEED_POINTS = 128    # instants evaluated at once by ``seed_best`` (the clock is read between them)
 PIECE_SECONDS = 130e-6       # to build the polynomials of a piece and constraint before the search starts (the
                              # MEL robot: 121 segments of 16 pieces, 22 constraints, 5.5 s; 421 segments, 30 s)
+PATH_SECONDS = 250e-6        # per path and constraint: to conclude a path's answer from its leaves after the search
+                             # (measured: the MEL robot, 22 constraints, 5 ms a path; the planar planning robot, 4, 1 ms)
 
 
 class TrajectoryProblem:
@@ -226,8 +228,10 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     ``goal`` and optional ``via``.  ``constraints``: names (``"leg-length"``,
     ``"leg-length,joints"`` or a list; default all).  The budget (``budget`` or the keywords)
     bounds the whole call: when it runs out the t-ranges left are ``undecided``; segments with a moving
-    orientation whose polynomials would take longer to build than ``max_seconds`` (and 1 s) are refused
-    (``InputError`` naming max_seconds) unless ``refuse_slow`` is false (``plan``: its own clock decides)."""
+    orientation whose polynomials would take longer to build than ``max_seconds`` (and 1 s), or more paths
+    than the answers of ``max_seconds`` can be concluded in after the search (``PATH_SECONDS`` a path and
+    constraint, kept from the search's time), are refused (``InputError`` naming max_seconds) unless
+    ``refuse_slow`` is false (``plan``: its own clock decides)."""
     robot = as_robot(robot)
     paths = [as_path(robot, p, k) for k, p in enumerate(_path_list(paths))]
     if not paths:
@@ -240,6 +244,11 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     if cons.K == 0:
         raise InputError("constraints", "", "no constraint can be checked: " +
                          "; ".join(f"{k}: {v}" for k, v in cons.skipped.items()))
+    reserve = len(paths) * cons.K * PATH_SECONDS          # the paths' answers, after the search
+    if refuse_slow and reserve > budget.max_seconds:
+        raise InputError("max_seconds", "", f"{len(paths)} paths of {cons.K} constraints take about {reserve:.3g} s to "
+                                            f"conclude (their answers, after the search), more than the time budget "
+                                            f"({budget.max_seconds:g} s): give more, or verify fewer paths at a time")
     clock = Clock(budget.max_seconds)
     P0s, Ds, seg_path = [], [], []
     for p_index, path in enumerate(paths):
@@ -269,7 +278,8 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     lo = np.tile(edges[:-1], n_seg)[:, None]
     hi = np.tile(edges[1:], n_seg)[:, None]
     problem = TrajectoryProblem(cons, P0, D, piece_segment, seg_path, len(paths), rtol, budget.min_width, linear, clock)
-    (segment, tlo, thi, state, mlo, mhi), boxes, exhausted = _solved(problem, lo, hi, budget, clock, progress, rtol)
+    (segment, tlo, thi, state, mlo, mhi), boxes, exhausted = _solved(problem, lo, hi, budget, clock, progress, rtol,
+                                                                     reserve)
     results = []
     for p_index, path in enumerate(paths):
         segs = np.nonzero(seg_path == p_index)[0]
@@ -288,11 +298,12 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     return results
 
 
-def _solved(problem, lo, hi, budget, clock, progress, rtol):
+def _solved(problem, lo, hi, budget, clock, progress, rtol, reserve=0.0):
     """Search the pieces ``[lo, hi]`` (one per row of ``problem.piece_segment``): the leaves' (segment,
     t bounds, states, margin bounds), the boxes decided and whether a budget ran out.  When the time
     budget ran out while the polynomials were built (``problem.complete`` false), nothing is searched:
-    every piece is a leaf with every constraint ``unknown`` and unbounded margins."""
+    every piece is a leaf with every constraint ``unknown`` and unbounded margins.  ``reserve``: seconds
+    kept from the search for the answers built after it."""
     K = problem.c.K
     if not problem.complete:
         n = len(lo)
@@ -301,7 +312,7 @@ def _solved(problem, lo, hi, budget, clock, progress, rtol):
     lo, hi, piece_segment = problem.presplit(lo, hi, problem.piece_segment)
     problem.piece_segment = piece_segment
     problem.seed_best(lo, hi, piece_segment, clock)
-    searched = replace(budget.within(clock.left()), max_memory=max(1, int(budget.max_memory * SEARCH_SHARE)))
+    searched = replace(budget.within(clock.left() - reserve), max_memory=max(1, int(budget.max_memory * SEARCH_SHARE)))
     batch = {"batch": PIECE_BATCH} if problem.pieces else {}    # moving orientation: about 0.4 MiB a box while decided
     found = search(problem, lo, hi, scale=np.ones(1), budget=searched, progress=progress, min_batch=64, max_rounds=5,
                    **batch)
