@@ -21,29 +21,32 @@ import numbers
 
 import numpy as np
 
-from .rounding import (ABS, INF, MAX, REL, down, down_product, down_square, down_sum, enclose, up, up_product,
-                       up_square, up_sum)
+from .rounding import (ABS, INF, MAX, REL, down, down_product, down_square, down_sum, enclose, float_bounds, up,
+                       up_product, up_square, up_sum)
 
 _EXACT_SCALARS = (str, Decimal, Fraction, numbers.Integral)
 
 
 def _endpoints(value):
-    """(lo, hi) float arrays enclosing ``value`` (exact for floats, outward for decimals)."""
+    """(lo, hi) float arrays enclosing ``value`` (exact for float64s, outward for decimals and long
+    doubles)."""
     if isinstance(value, Interval):
         return value.lo, value.hi
     if isinstance(value, (float, np.floating)):
         if np.isnan(value):
             raise ValueError("NaN is not a number an interval can enclose")
-        v = np.float64(value)
-        return v, v
+        lo, hi = float_bounds(value)
+        return np.float64(lo), np.float64(hi)
     if isinstance(value, _EXACT_SCALARS) and not isinstance(value, (bool, np.bool_)):
         lo, hi = enclose(value)
         return np.float64(lo), np.float64(hi)
     arr = np.asarray(value)
-    if arr.dtype.kind in "fiu":
-        arr = arr.astype(np.float64)
+    if arr.dtype.kind == "f":
         if np.isnan(arr).any():
             raise ValueError("NaN is not a number an interval can enclose")
+        return float_bounds(arr)
+    if arr.dtype.kind in "iu":
+        arr = arr.astype(np.float64)
         return arr, arr
     if arr.dtype.kind in "OU":
         flat = [enclose(v) for v in arr.ravel().tolist()]
@@ -269,8 +272,8 @@ def as_interval(x) -> Interval:
     if isinstance(x, Interval):
         return x
     if isinstance(x, (float, np.floating)) or (isinstance(x, np.ndarray) and x.dtype.kind == "f"):
-        a = np.asarray(x, dtype=np.float64)  # a float is its own exact binary value
-        return Interval.from_bounds(a, a)
+        lo, hi = float_bounds(x)             # a float64 is its own exact binary value, a long double is
+        return Interval.from_bounds(lo, hi)  # enclosed by the float64s around it
     return Interval(x)
 
 

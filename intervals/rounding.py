@@ -21,8 +21,10 @@ undefined on extended reals, such as ``0 * inf``); every predicate of this
 package answers conservatively on them.
 
 Decimal inputs (strings, ``Decimal``, ``Fraction``, ``int``) are enclosed by
-the two floats around their exact rational value; a float is taken as its
-exact binary value.
+the two floats around their exact rational value; a float64 (or narrower) is
+taken as its exact binary value, and a wider numpy float (a long double) by
+the float64 below and above its value when it has no float64 equal
+(``float_bounds``).
 """
 from __future__ import annotations
 
@@ -169,9 +171,9 @@ def to_fraction(value) -> Fraction:
     if isinstance(value, (int, np.integer)):
         return Fraction(int(value))
     if isinstance(value, (float, np.floating)):
-        if not math.isfinite(value):
+        if not np.isfinite(value):          # (math.isfinite rounds a long double to float64 first)
             raise ValueError(f"not a finite number: {value!r}")
-        return Fraction(float(value))
+        return Fraction(*value.as_integer_ratio())      # exact for a long double too (float() would round it)
     if isinstance(value, (str, Decimal)):
         return Fraction(_finite_decimal(value))
     raise ValueError(f"not a number: {value!r}")
@@ -248,12 +250,39 @@ def enclose_plain(text: str) -> tuple[float, float] | None:
     return enclose_decimal(d) if d.is_finite() else None
 
 
+def float_bounds(values) -> tuple[np.ndarray, np.ndarray]:
+    """Float64 arrays ``lo <= values <= hi`` (elementwise) for a float array or scalar of any precision.
+
+    A float64, or a narrower float, is its own exact binary value: ``lo = hi = values``.  A wider
+    float (a long double: 64 or 112 significand bits) has a float64 equal only if it is short
+    enough; otherwise it lies strictly between two adjacent float64s, which are returned.  The
+    cast to float64 rounds (to nearest); comparing the cast back with the original is exact
+    (every float64 is a long double), so it tells on which side the value lies, and the
+    neighbour on that side (``np.nextafter``) is the other bound.  A value beyond the float64
+    range gets an infinite bound on its side (``[MAX, inf]``), one below the smallest subnormal
+    a bound 0.  NaN stays NaN (the caller decides what it means).
+    """
+    a = np.asarray(values)
+    if a.dtype.kind != "f" or a.dtype.itemsize <= 8:
+        f = np.asarray(a, dtype=np.float64)  # no copy of a float64 array
+        return f, f
+    with np.errstate(over="ignore", under="ignore"):
+        f = a.astype(np.float64)
+    below = f.astype(a.dtype) < a          # the value is above its rounding: f is the lower bound
+    above = f.astype(a.dtype) > a
+    lo = np.where(above, np.nextafter(f, -INF), f) + 0.0     # + 0.0: no negative zero
+    hi = np.where(below, np.nextafter(f, INF), f) + 0.0
+    return lo, hi
+
+
 def enclose(value) -> tuple[float, float]:
-    """Outward float enclosure ``(lo, hi)`` of an exact number (see ``to_fraction``)."""
+    """Outward float enclosure ``(lo, hi)`` of an exact number (see ``to_fraction``): a float64 is
+    its own value, a long double is enclosed by the float64s around it (``float_bounds``)."""
     if isinstance(value, (float, np.floating)):
         if math.isnan(value):
             raise ValueError("NaN is not a number an interval can enclose")
-        return float(value), float(value)
+        lo, hi = float_bounds(value)
+        return float(lo), float(hi)
     if isinstance(value, (str, Decimal)):
         return enclose_decimal(_finite_decimal(value))
     return enclose_fraction(to_fraction(value))

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from intervals import Interval, div, mul, pown, sqr, sqrt
+from intervals import Interval, div, mul, pown, sqr, sqrt, to_fraction
+from intervals.interval import as_interval
 from intervals.rounding import EXACT_HIGH, EXACT_LOW, down, down_sum, enclose, enclose_decimal, enclose_fraction, up, up_sum
 
 SETTINGS = settings(max_examples=300, deadline=None)
@@ -103,6 +104,53 @@ def test_one_tenth_strictly_enclosed():
     assert Interval(Decimal("0.1")).lo == x.lo
     assert Interval(Fraction(1, 10)).hi == x.hi
     assert Interval(0.1).lo == Interval(0.1).hi == 0.1  # a float is its exact binary value
+
+
+LONG_DOUBLE_IS_WIDER = np.finfo(np.longdouble).nmant > np.finfo(np.float64).nmant
+
+
+@st.composite
+def long_doubles(draw):
+    """Long doubles with bits beyond float64's (a ratio of integers, scaled over the whole float64
+    range and past it), and exact ones."""
+    n = draw(st.integers(-(2 ** 64), 2 ** 64))
+    d = draw(st.integers(1, 2 ** 64))
+    e = draw(st.sampled_from([0, 0, 1, -1, 60, -60, 1000, -1000, 1023, -1070, 1100, -1100]))
+    return np.ldexp(np.longdouble(n) / np.longdouble(d), e)
+
+
+@pytest.mark.skipif(not LONG_DOUBLE_IS_WIDER, reason="numpy's long double is float64 on this platform")
+@SETTINGS
+@given(long_doubles())
+def test_long_doubles_are_enclosed_outward(x):
+    """A long double is enclosed by the float64s around its exact value (``as_integer_ratio``, checked
+    with mpmath too), adjacent when it has no float64 equal, by Interval, enclose, as_interval,
+    arrays of them and to_fraction alike."""
+    q = Fraction(*x.as_integer_ratio())
+    assert to_fraction(x) == q
+    lo, hi = enclose(x)
+    assert inside(q, Interval.from_bounds(np.float64(lo), np.float64(hi)))
+    if np.isfinite(float(x)) and Fraction(float(x)) == q:
+        assert lo == hi
+    elif np.isfinite(lo) and np.isfinite(hi):
+        assert np.nextafter(lo, np.inf) == hi
+    with mpmath.workprec(200):
+        m = mpmath.mpf(x.as_integer_ratio()[0]) / x.as_integer_ratio()[1]
+        assert mpmath.mpf(lo) <= m <= mpmath.mpf(hi)
+    for iv in (Interval(x), as_interval(x), Interval(np.array([x, -x]))[0], as_interval(np.array([x, -x]))[0],
+               -Interval(np.array([x, -x]))[1], -as_interval(np.array([x, -x]))[1]):
+        assert inside(q, iv)
+        assert (float(iv.lo), float(iv.hi)) == (lo, hi)
+
+
+@pytest.mark.skipif(not LONG_DOUBLE_IS_WIDER, reason="numpy's long double is float64 on this platform")
+def test_one_third_as_a_long_double_is_strictly_enclosed():
+    x = np.longdouble(1) / 3
+    q = Fraction(*x.as_integer_ratio())
+    iv = Interval(x)
+    assert Fraction(float(iv.lo)) < q < Fraction(float(iv.hi))
+    assert inside(q, Interval(1, 2) * x) and inside(q, Interval(x, 1))
+    assert enclose(np.longdouble(0.5)) == (0.5, 0.5)       # exact in float64: not widened
 
 
 def test_bad_inputs_rejected():
