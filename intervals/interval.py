@@ -45,15 +45,22 @@ def _endpoints(value):
         if np.isnan(arr).any():
             raise ValueError("NaN is not a number an interval can enclose")
         return float_bounds(arr)
-    if arr.dtype.kind in "iu":
+    if arr.dtype.kind in "iu" and not _beyond_exact_integers(arr):
         arr = arr.astype(np.float64)
         return arr, arr
-    if arr.dtype.kind in "OU":
+    if arr.dtype.kind in "iuOU":             # (integers of more than 53 bits: each enclosed as a rational)
         flat = [enclose(v) for v in arr.ravel().tolist()]
         lo = np.array([p[0] for p in flat], dtype=np.float64).reshape(arr.shape)
         hi = np.array([p[1] for p in flat], dtype=np.float64).reshape(arr.shape)
         return lo, hi
     raise ValueError(f"cannot build an interval from {value!r}")
+
+
+def _beyond_exact_integers(arr) -> bool:
+    """True if the integer array holds a value of magnitude above 2**53 (its float64 may round)."""
+    if arr.size == 0 or arr.dtype.itemsize < 8:
+        return False
+    return bool(arr.max() > 2 ** 53 or (arr.dtype.kind == "i" and arr.min() < -(2 ** 53)))
 
 
 class Interval:

@@ -153,6 +153,26 @@ def test_one_third_as_a_long_double_is_strictly_enclosed():
     assert enclose(np.longdouble(0.5)) == (0.5, 0.5)       # exact in float64: not widened
 
 
+@SETTINGS
+@given(st.lists(st.integers(-(2 ** 63), 2 ** 63 - 1), min_size=1, max_size=4), st.sampled_from([np.int64, np.uint64]))
+def test_integer_arrays_beyond_2_to_53_are_enclosed_outward(values, dtype):
+    """An int64 or uint64 array holds integers float64 cannot all represent (2**53 + 1): each is
+    enclosed as the integer it is, as a Python int is."""
+    if dtype is np.uint64:
+        values = [abs(v) for v in values]
+    arr = np.array(values, dtype=dtype)
+    for iv in (Interval(arr), as_interval(arr)):
+        for k, v in enumerate(values):
+            assert inside(Fraction(v), iv[k])
+            assert (float(iv.lo[k]), float(iv.hi[k])) == enclose(v)
+
+
+def test_two_to_53_plus_one_in_an_integer_array_is_strictly_enclosed():
+    iv = Interval(np.array([2 ** 53 + 1, 3], dtype=np.int64))
+    assert float(iv.lo[0]) < 2 ** 53 + 1 < float(iv.hi[0])
+    assert float(iv.lo[1]) == float(iv.hi[1]) == 3.0
+
+
 def test_bad_inputs_rejected():
     for bad in ["abc", "nan", "inf", float("nan"), True]:
         with pytest.raises(ValueError):
