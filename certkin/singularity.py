@@ -40,7 +40,7 @@ from .certificates import singularity_certificate
 from .certificates.singularity import least_header
 from .certificates import writing
 from .engine import OPEN, PROVED, Budget, Decisions, budgets, interrupt, search
-from .engine.budgets import Clock, make_budget, positive_integer
+from .engine.budgets import Clock, make_budget, positive_integer, progress_callback
 from .errors import InputError, shown
 from .quiet import quiet
 from .robots import as_robot
@@ -295,7 +295,9 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
     (``CELL_BYTES`` each), or whose answers take longer than ``max_seconds`` (``CELL_SECONDS`` each,
     kept from the search's time), are refused (``InputError`` naming ``n``); with ``certificate``
     (the answers are to be written as one), so are more cells than the header a checker reads holds
-    (``certificates.singularity.least_header``), before anything is searched."""
+    (``certificates.singularity.least_header``), before anything is searched.  ``progress``: None or
+    a callable (else ``InputError``)."""
+    progress = progress_callback(progress)
     robot = as_robot(robot)
     budget = make_budget(budgets.SINGULARITY, budget, max_boxes=max_boxes, max_seconds=max_seconds,
                          min_width=min_width, max_memory=max_memory)
@@ -408,6 +410,7 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     resolution; None if none: the largest s lies between the two) and ``stopped``: None when the bisection ran
     to its end, else ``"time budget"`` or ``"interrupted"`` (it stopped there: more time may prove a larger box).
     """
+    progress = progress_callback(progress)
     robot = as_robot(robot)
     budget = make_budget(budgets.LARGEST_FREE_BOX, budget, max_boxes=max_boxes, max_seconds=max_seconds,
                          min_width=min_width, max_memory=max_memory)

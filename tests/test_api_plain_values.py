@@ -261,3 +261,32 @@ def test_many_paths_are_refused_when_their_answers_alone_exceed_the_time_budget(
     t0 = time.perf_counter()
     rs = certkin.verify_trajectories(planning, [("20,0,3.0", "30,10,3.0")] * 200, max_seconds=0.5)
     assert time.perf_counter() - t0 < 2.0 and {r.status for r in rs} <= {"feasible", "undecided"}
+
+
+def test_a_progress_that_is_not_callable_is_refused_up_front():
+    """``progress=5`` raised TypeError ("'int' object is not callable") from inside the search, after
+    the robot was loaded and work had started, and ``progress=0`` was silently ignored: now any value
+    neither None nor callable is an InputError naming progress, before the robot is even read (a
+    missing robot file is not reached)."""
+    from certkin.singularity import largest_free_box
+    from certkin.workspace import workspace_section, workspace_volume
+    missing = str(ROBOTS / "no-such-robot.toml")
+    calls = [
+        lambda p: certkin.certify_singularity_free(missing, "x=-20:-10,y=20:30,phi=0:0.3", progress=p),
+        lambda p: largest_free_box(missing, "-15,25,0.1", progress=p),
+        lambda p: certkin.forward_kinematics(missing, L, progress=p),
+        lambda p: certkin.verify_trajectory(missing, "-69,-50,500,0,0,0", (0, 0, 500, 0, 0, 0), progress=p),
+        lambda p: certkin.verify_trajectories(missing, [("-69,-50,500,0,0,0", "0,0,500,0,0,0")], progress=p),
+        lambda p: certkin.plan(missing, "-90,140,520,0,0,0", "55,140,520,0,0,0", progress=p),
+        lambda p: workspace_section(missing, "0,0,0", 500, progress=p),
+        lambda p: workspace_volume(missing, "0,0,0", "500:510", progress=p),
+    ]
+    for call in calls:
+        for bad in (5, 0, "bar", True):
+            with pytest.raises(certkin.InputError, match="^progress: expected None or a callable"):
+                call(bad)
+        with pytest.raises(certkin.RobotFileError):       # None and a callable pass on to the robot
+            call(lambda *a: None)
+    seen = []
+    certkin.forward_kinematics(R2, L, progress=lambda *a: seen.append(a))
+    assert seen

@@ -9,7 +9,8 @@ workspace's ``min_width`` is relative to the size of the section (``workspace.pa
 of searches it runs; loading a robot's model comes on top.  ``max_memory`` bounds what the
 solvers allocate for their records (the search tree, the cells of a classification): a search
 that reaches it stops with ``undecided``, and work that would need more is refused before it
-starts.  Every value is checked: a bad one raises ``InputError`` naming the parameter.
+starts.  Every value is checked: a bad one raises ``InputError`` naming the parameter (so is a
+``progress`` that is neither None nor callable: ``progress_callback``).
 """
 from __future__ import annotations
 
@@ -87,6 +88,14 @@ def make_budget(defaults: dict, budget: Budget | None = None, *, max_boxes=None,
     given = {k: v for k, v in (("max_boxes", max_boxes), ("max_seconds", max_seconds), ("min_width", min_width),
                                ("max_memory", max_memory)) if v is not None}
     return replace(base, **given) if given else base
+
+
+def progress_callback(progress):
+    """``progress`` itself if it is None or callable; anything else is refused up front
+    (``InputError`` naming ``progress``), before a robot is loaded or a search runs."""
+    if progress is None or callable(progress):
+        return progress
+    raise InputError("progress", "", f"expected None or a callable (called as the work goes on), got {shown(progress)}")
 
 
 class Clock:

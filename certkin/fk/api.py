@@ -26,7 +26,7 @@ from intervals import Interval, sqr
 from .. import display
 from ..engine import BUDGET, PROVED, RESOLUTION, UNDECIDED, Budget, budgets
 from ..certificates.fk import record_sink
-from ..engine.budgets import make_budget
+from ..engine.budgets import make_budget, progress_callback
 from ..errors import InputError
 from ..quiet import quiet
 from ..robots import as_robot
@@ -59,8 +59,10 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     certificate): a search past ``record_limit`` nodes (default ``budgets.FK_RECORD_NODES``) hands
     each closed part to a temporary file (``certificates.segments``), or keeps it in memory with
     ``record="whole"``; without ``record`` it forgets its excluded leaves and ``fk_certificate``
-    runs it again with ``record``.
+    runs it again with ``record``.  ``progress``: None or a callable ``progress(boxes, frontier)``
+    (else ``InputError``).
     """
+    progress = progress_callback(progress)
     robot = as_robot(robot)
     keywords = dict(max_boxes=max_boxes, max_seconds=max_seconds, min_width=min_width, max_memory=max_memory)
     if track is not None and domain is not None:      # (the tracked posture was returned outside the domain)

@@ -30,7 +30,7 @@ import numpy as np
 from .. import display
 from ..certificates import trajectory_certificate
 from ..engine import Budget, budgets, interrupt
-from ..engine.budgets import Clock, make_budget
+from ..engine.budgets import Clock, make_budget, progress_callback
 from ..errors import InputError, shown
 from ..quiet import quiet
 from ..robots import as_robot
@@ -124,7 +124,8 @@ def plan(robot, start, goal, constraints=None, divisions: int = 6, margin: int =
     segments verified; ``progress(edges, nodes)`` is called after each batch.  Waypoints
     are exact decimals (the grid's poses rounded to 12 digits: the poses verified are the ones
     printed).  A ``found`` result always starts at ``start``, ends at ``goal`` and has one
-    ``feasible`` segment per step."""
+    ``feasible`` segment per step.  A ``progress`` neither None nor callable is an ``InputError``."""
+    progress = progress_callback(progress)
     robot = as_robot(robot)
     divisions = _count(divisions, "divisions", 1, MAX_DIVISIONS)
     margin = _count(margin, "margin", 0, MAX_DIVISIONS)

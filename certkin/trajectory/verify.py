@@ -30,7 +30,7 @@ from intervals import Interval
 from intervals.rounding import down, sum_bounds, up
 
 from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, budgets, interrupt, search
-from ..engine.budgets import Clock, make_budget, positive_number
+from ..engine.budgets import Clock, make_budget, positive_number, progress_callback
 from ..errors import InputError
 from ..quiet import quiet
 from ..robots import as_robot
@@ -231,7 +231,9 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     orientation whose polynomials would take longer to build than ``max_seconds`` (and 1 s), or more paths
     than the answers of ``max_seconds`` can be concluded in after the search (``PATH_SECONDS`` a path and
     constraint, kept from the search's time), are refused (``InputError`` naming max_seconds) unless
-    ``refuse_slow`` is false (``plan``: its own clock decides)."""
+    ``refuse_slow`` is false (``plan``: its own clock decides).  ``progress``: None or a callable
+    (else ``InputError``)."""
+    progress = progress_callback(progress)
     robot = as_robot(robot)
     paths = [as_path(robot, p, k) for k, p in enumerate(_path_list(paths))]
     if not paths:
@@ -384,7 +386,8 @@ def verify_trajectory(robot, start, goal, waypoints=(), constraints=None, budget
     """Is the straight (or polyline) motion from ``start`` to ``goal`` feasible?  See the module docstring.
 
     ``robot``: a robot or a robot file's path; ``start``, ``goal``, ``waypoints``: poses (texts or
-    sequences of exact values); ``constraints`` as in ``verify_trajectories``."""
+    sequences of exact values); ``constraints`` and ``progress`` as in ``verify_trajectories``."""
+    progress = progress_callback(progress)
     robot = as_robot(robot)
     path = parse_path(robot, start, goal, waypoints)
     return verify_trajectories(robot, [path], constraints, budget, progress, indices, max_boxes=max_boxes,

@@ -16,7 +16,7 @@ from intervals import Interval
 from .. import display
 from ..certificates import section_certificate
 from ..engine import Budget, budgets
-from ..engine.budgets import make_budget
+from ..engine.budgets import make_budget, progress_callback
 from ..errors import InputError
 from ..quiet import quiet
 from ..robots import as_robot
@@ -115,8 +115,9 @@ def workspace_section(robot, orientation=None, z=None, *, budget: Budget | None 
     ``orientation``: ``"psi,theta,phi"`` (Gough) or ``"phi"`` (planar), a
     sequence or a mapping of exact decimals (``deg`` allowed); ``z``: an exact
     decimal (Gough only).  ``robot``: a robot or a robot file's path.  ``min_width`` is relative to
-    the domain.  Raises ``InputError`` for bad input.
+    the domain.  ``progress``: None or a callable.  Raises ``InputError`` for bad input.
     """
+    progress = progress_callback(progress)
     robot = as_robot(robot)
     check_robot(robot)
     angles, texts = parse_orientation(robot, orientation)

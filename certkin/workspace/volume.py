@@ -18,7 +18,7 @@ from intervals.rounding import down, up, up_sum
 from .. import display
 from ..certificates import volume_certificate
 from ..engine import Budget, budgets
-from ..engine.budgets import make_budget, positive_integer
+from ..engine.budgets import make_budget, positive_integer, progress_callback
 from ..errors import InputError
 from ..quiet import quiet
 from ..robots import as_robot
@@ -123,8 +123,10 @@ def workspace_volume(robot, orientation=None, z_range=None, slabs=DEFAULT_SLABS,
     outside adds it to the outer volume.  ``min_width`` is relative to the
     largest section; boxes are not split below twice the distance a section
     boundary moves across a slab (finer boxes would mostly stay boundary
-    boxes: more slabs is the better way to narrow the bracket).
+    boxes: more slabs is the better way to narrow the bracket).  ``progress``: None or a callable
+    (else ``InputError``).
     """
+    progress = progress_callback(progress)
     robot = as_robot(robot)
     check_robot(robot)
     if robot.kind != "gough-stewart":
