@@ -290,3 +290,34 @@ def test_a_progress_that_is_not_callable_is_refused_up_front():
     seen = []
     certkin.forward_kinematics(R2, L, progress=lambda *a: seen.append(a))
     assert seen
+
+
+def test_a_masked_array_is_refused_when_an_entry_is_masked_and_read_when_none_is():
+    """A numpy masked array of lengths was read as its data, the masked entry's hidden value
+    included (forward_kinematics answered for lengths the caller had masked out): an array with a
+    masked entry is now an InputError naming the parameter; one with nothing masked is its data."""
+    from numpy import ma
+    cases = [
+        (lambda: certkin.forward_kinematics(R2, ma.array([28.99, 13.66, 40.53], mask=[0, 1, 0])),
+         r"lengths: .*1 masked entry \(the first at index 1\)"),
+        (lambda: certkin.forward_kinematics(R2, ma.array([[28.99, 13.66, 40.53]], mask=[[0, 0, 1]])),
+         r"lengths: .*index \[0, 2\]"),
+        (lambda: certkin.track_sequence(R2, ma.array([[28.99, 13.66, 40.53], [29, 13.66, 40.53]],
+                                                     mask=[[0, 0, 0], [1, 0, 0]]), "30,13,-1.9"), r"lengths: .*\[1, 0\]"),
+        (lambda: certkin.forward_kinematics(R2, L, track=ma.array([30, 13, -1.9], mask=[0, 1, 0])), "track: "),
+        (lambda: certkin.verify_trajectory(MEL, ma.array([-69, -50, 500, 0, 0, 0], mask=[1, 0, 0, 0, 0, 0]),
+                                           "0,0,500,0,0,0"), "start: "),
+        (lambda: certkin.verify_trajectory(MEL, "-69,-50,500,0,0,0", "0,0,500,0,0,0",
+                                           waypoints=ma.array([[-30, -20, 500, 0, 0, 0]], mask=[[0, 1, 0, 0, 0, 0]])),
+         "waypoints: "),
+        (lambda: certkin.verify_trajectories(MEL, ma.array([[[-69, -50, 500, 0, 0, 0], [0, 0, 500, 0, 0, 0]]],
+                                                           mask=[[[0] * 6, [0, 0, 1, 0, 0, 0]]])), "paths: "),
+        (lambda: certkin.plan(MEL, ma.array([-90, 140, 520, 0, 0, 0], mask=[0, 0, 1, 0, 0, 0]), "55,140,520,0,0,0"),
+         "start: "),
+        (lambda: certkin.forward_kinematics(R2, [28.99, ma.masked, 40.53]), "lengths: leg 2: a masked entry"),
+    ]
+    for call, message in cases:
+        with pytest.raises(certkin.InputError, match="^" + message):
+            call()
+    whole = certkin.forward_kinematics(R2, ma.array([28.99, 13.66, 40.53], mask=False))
+    assert whole.lengths == ["28.99", "13.66", "40.53"] and len(whole.solutions) == 6

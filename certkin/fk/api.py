@@ -48,7 +48,8 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     ``robot``: a robot or a robot file's path.  The budget: ``budget`` or the keywords
     ``max_boxes``, ``max_seconds``, ``min_width``, ``max_memory``.  ``lengths``: one set (sequence or "l1,l2,..." text), or a 2-D array with
     one row per instance (then a list of results is returned; the instances
-    are searched together, as one batch).  ``domain``: optional box of pose
+    are searched together, as one batch); a numpy masked array is taken only with nothing masked
+    (a masked entry is an ``InputError``: it has no value to certify).  ``domain``: optional box of pose
     variables (``"x=a:b,..."``); position ranges narrow the search, angle
     ranges filter the solutions.  ``track``: a previous pose; the unique
     posture near it is proved directly when possible (``result.tracked``),

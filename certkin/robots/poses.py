@@ -9,6 +9,11 @@ contains the box the user wrote.  A bound may be given once (``phi=0.5``) to fix
 Errors raise ``InputError`` naming the *parameter* of the API function that took the value
 (``lengths``, ``box``, ``start``, ...) and the field; the command line renames parameters to its
 options (``certkin.cli``).  Robot files use ``parse_number`` with the file name as the source.
+
+A numpy masked array (``numpy.ma``) of lengths or poses is taken only when nothing in it is
+masked (it is then its data); one with a masked entry is refused (``unmasked``): a masked entry
+has no value a certificate could be about, and reading its hidden data would answer another
+question.
 """
 from __future__ import annotations
 
@@ -60,7 +65,27 @@ def parse_number(value, source: str, field: str, angle: bool = False) -> tuple[I
     return iv, text
 
 
+def unmasked(value, parameter: str, field: str = ""):
+    """``value`` itself, or a numpy masked array's data when none of its entries is masked.
+
+    A masked array with a masked entry raises ``InputError`` naming ``parameter`` (and the
+    index of the first masked entry); its hidden data is never read as a value."""
+    if not isinstance(value, np.ma.MaskedArray):
+        return value
+    mask = np.ma.getmaskarray(value)
+    if mask.any():
+        first = tuple(int(i) for i in np.argwhere(mask)[0])
+        at = f" (the first at index {first[0] if len(first) == 1 else list(first)})" if first else ""
+        raise InputError(parameter, field, f"a masked array with {int(mask.sum())} masked "
+                                           f"entr{'y' if mask.sum() == 1 else 'ies'}{at}: every value must be given "
+                                           "(a masked entry has no value to certify)")
+    return np.ma.getdata(value)
+
+
 def _parse_number(value, source: str, field: str, angle: bool) -> tuple[Interval, str]:
+    if isinstance(value, np.ma.MaskedArray) and np.ma.is_masked(value):    # (numpy.ma.masked, an entry of one)
+        raise RobotFileError(source, field, "a masked entry: every value must be given (a masked entry has no value "
+                                            "to certify)")
     if isinstance(value, np.generic) and not isinstance(value, (np.str_, np.bytes_)):
         value = value.item()                 # a numpy scalar: the Python number of the same value
     if isinstance(value, np.floating):       # a long double (``item`` keeps it): its shortest text, as a
@@ -219,7 +244,9 @@ def exceeds(a, b) -> bool:
 def parse_pose(text, robot, parameter="pose") -> tuple[Interval, list[str]]:
     """(d,) enclosure of a pose and its exact texts.  ``text``: the values in the order of the pose
     variables (``"0,0,520,85deg,10deg,0"``), or each named (``"x=0,y=0,z=520,..."``, any order, as
-    in a box), a sequence of values, or a mapping {name: value}."""
+    in a box), a sequence of values, or a mapping {name: value}; a masked array only with nothing
+    masked (``unmasked``)."""
+    text = unmasked(text, parameter)
     if not isinstance(text, (str, list, tuple, dict, np.ndarray)):
         raise InputError(parameter, "", f"expected a pose (a text, a sequence of values or a mapping), got "
                                         f"{'nothing' if text is None else type(text).__name__}")
@@ -336,7 +363,8 @@ def inner_box(texts: dict, robot):
 def parse_lengths(robot, lengths, parameter="lengths"):
     """(rows of enclosures, rows of exact texts, whether the input was a batch) of one set of leg
     lengths (sequence or "l1,l2,..." text) or a 2-D array with one row per instance (or a list of
-    "l1,l2,..." texts, one per instance)."""
+    "l1,l2,..." texts, one per instance); a masked array only with nothing masked (``unmasked``)."""
+    lengths = unmasked(lengths, parameter)
     if isinstance(lengths, str):
         lengths = [p.strip() for p in lengths.split(",")]
     elif isinstance(lengths, (list, tuple)) and lengths and all(isinstance(r, str) and "," in r for r in lengths):
@@ -411,6 +439,7 @@ def length_enclosures(robot, lengths):
     """(enclosures (M, legs), rows of exact texts, whether the input was a batch): ``parse_lengths``
     as arrays, with a direct path for one set of floats or plain decimal texts (a float stands for
     its text repr(v), as there; anything else, or any doubt, takes ``parse_lengths``)."""
+    lengths = unmasked(lengths, "lengths")
     items = lengths.split(",") if isinstance(lengths, str) else lengths
     if isinstance(items, (list, tuple)) and len(items) == robot.n_legs:
         lo, hi, texts = [], [], []
@@ -441,9 +470,10 @@ def float_length_rows(robot, lengths):
 
     As in ``length_enclosures``, a float's text is its ``repr``: the shortest decimal that rounds
     to it, so that decimal lies within half a spacing of the float, between the float's two
-    neighbours — the enclosure used here (no decimal-to-rational conversion per value).
+    neighbours — the enclosure used here (no decimal-to-rational conversion per value).  A masked
+    array is None too (``parse_lengths`` refuses it if an entry is masked).
     """
-    if not isinstance(lengths, np.ndarray) or lengths.dtype.kind != "f" or lengths.ndim != 2 \
+    if not isinstance(lengths, np.ndarray) or isinstance(lengths, np.ma.MaskedArray) or lengths.dtype.kind != "f" or lengths.ndim != 2 \
             or lengths.shape[1] != robot.n_legs or not len(lengths):
         return None
     v = lengths.astype(np.float64)
@@ -479,8 +509,10 @@ def orientation_names(robot) -> tuple[str, ...]:
 def parse_orientation(robot, orientation, parameter="orientation"):
     """([Interval] per angle, [exact text]) from ``"psi,theta,phi"`` (``deg`` allowed), a sequence or a mapping.
 
-    ``None`` means every angle 0.  Planar robots take one angle, ``phi``.
+    ``None`` means every angle 0.  Planar robots take one angle, ``phi``.  A masked array only
+    with nothing masked (``unmasked``).
     """
+    orientation = unmasked(orientation, parameter)
     names = orientation_names(robot)
     if orientation is None:
         parts = ["0"] * len(names)
@@ -519,6 +551,7 @@ def parse_height(value, parameter="z", name="z"):
 
 def parse_height_range(value, parameter="z_range"):
     """((enclosure, text), (enclosure, text)) of ``"lo:hi"`` or a pair, lo < hi exactly."""
+    value = unmasked(value, parameter, "z")
     if isinstance(value, str):
         parts = value.split(":")
         if len(parts) != 2:

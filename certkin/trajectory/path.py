@@ -13,7 +13,7 @@ import numpy as np
 from intervals import Interval
 
 from ..errors import InputError
-from ..robots.poses import parse_pose
+from ..robots.poses import parse_pose, unmasked
 
 
 @dataclass
@@ -50,6 +50,7 @@ def parse_path(robot, start, goal, waypoints=()) -> Path:
     """``start``, ``goal`` and optional ``waypoints`` (pose texts or sequences) -> ``Path``."""
     if isinstance(waypoints, (str, dict)):         # one pose, not a list of them (a text was read letter by letter)
         raise InputError("waypoints", "", "expected a list of poses: give [pose] for one")
+    waypoints = unmasked(waypoints, "waypoints")
     try:                                           # (a 2-D array has no truth value: never ``waypoints or ()``)
         waypoints = [] if waypoints is None else list(waypoints)
     except TypeError:

@@ -34,6 +34,7 @@ from ..engine.budgets import Clock, make_budget, positive_number, progress_callb
 from ..errors import InputError
 from ..quiet import quiet
 from ..robots import as_robot
+from ..robots.poses import unmasked
 from .constraints import Constraints, piece_plan
 from .crossings import crossing_points
 from .families.base import SATISFIED, UNKNOWN, VIOLATED
@@ -225,7 +226,8 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     ``robot``: a robot or a robot file's path.  ``paths``: a list whose items are each a ``Path``,
     a pair ``(start, goal)`` or a sequence ``(start, via..., goal)`` of poses (texts such as
     ``"-69,-50,500,85deg,10deg,0"`` or sequences of exact values), or a mapping with ``start``,
-    ``goal`` and optional ``via``.  ``constraints``: names (``"leg-length"``,
+    ``goal`` and optional ``via``; a numpy masked array of poses is taken only with nothing masked
+    (``robots.poses.unmasked``).  ``constraints``: names (``"leg-length"``,
     ``"leg-length,joints"`` or a list; default all).  The budget (``budget`` or the keywords)
     bounds the whole call: when it runs out the t-ranges left are ``undecided``; segments with a moving
     orientation whose polynomials would take longer to build than ``max_seconds`` (and 1 s), or more paths
@@ -349,7 +351,9 @@ def _leaf_states(problem, tree, piece_segment, K, rtol, clock, chunk: int = 256)
 
 
 def _path_list(paths):
-    """The items of ``paths`` (a list, or an array of shape (paths, poses, d))."""
+    """The items of ``paths`` (a list, or an array of shape (paths, poses, d); a masked array only
+    with nothing masked)."""
+    paths = unmasked(paths, "paths")
     if isinstance(paths, (str, Path)) or isinstance(paths, dict):
         raise InputError("paths", "", "expected a list of paths (each a Path, (start, goal) or (start, via..., goal))")
     try:
