@@ -392,3 +392,14 @@ def test_leg_length_arrays_of_the_wrong_shape_are_refused_saying_what_was_given(
             parse_lengths(planar, lengths)
     rows, texts, batch = parse_lengths(planar, np.ones((2, 3)))
     assert batch and len(texts) == 2
+
+
+def test_unknown_angles_are_an_input_error_naming_angles():
+    """``with_angles("xyz")`` raised a plain ValueError (and ``with_angles(["zyz"])`` a TypeError,
+    'unhashable type'): both are InputErrors naming ``angles``, with the same message."""
+    robot = load_robot(EXAMPLES / "seed003-spherical-example-1.toml")
+    with pytest.raises(InputError, match=r"^angles: unknown angles 'xyz' \(zyz or tilt-torsion\)$"):
+        robot.with_angles("xyz")
+    with pytest.raises(InputError, match=r"^angles: unknown angles \['zyz'\] \(zyz or tilt-torsion\)$"):
+        robot.with_angles(["zyz"])
+    assert robot.with_angles("tilt-torsion").with_angles("zyz").pose_names == ("phi1", "phi2", "phi3")

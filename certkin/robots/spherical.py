@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError, shown
 from .base import Robot
 
 
@@ -28,10 +29,12 @@ class Spherical3DOF(Robot):
     symbolic_det = True
 
     def with_angles(self, angles: str):
-        """The same robot with pose angles ``zyz`` (Euler) or ``tilt-torsion``."""
-        cls = {"zyz": Spherical3DOF, "tilt-torsion": Spherical3DOFTiltTorsion}.get(angles)
+        """The same robot with pose angles ``zyz`` (Euler) or ``tilt-torsion``; anything else is an
+        ``InputError`` naming ``angles``."""
+        cls = {"zyz": Spherical3DOF, "tilt-torsion": Spherical3DOFTiltTorsion}.get(angles) \
+            if isinstance(angles, str) else None
         if cls is None:
-            raise ValueError(f"unknown angles {angles!r} (zyz or tilt-torsion)")
+            raise InputError("angles", "", f"unknown angles {shown(angles)} (zyz or tilt-torsion)")
         return cls(self.name, self.base, self.platform, self.limits, self.home if cls is type(self) else None, self.source)
 
     def rotation_float(self, pose) -> np.ndarray:
