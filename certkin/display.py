@@ -182,12 +182,32 @@ def interval(iv, digits: int = DIGITS) -> str:
     return outward(lo, hi, digits)
 
 
+SIZE_UNITS = (("GiB", 2 ** 30), ("MiB", 2 ** 20), ("KiB", 2 ** 10))
+
+
 def size(n_bytes: float) -> str:
     """A memory size for a person: '1 MiB', '0.5 GiB' (3 significant digits; a measure, not a claim)."""
-    for unit, scale in (("GiB", 2 ** 30), ("MiB", 2 ** 20), ("KiB", 2 ** 10)):
+    for unit, scale in SIZE_UNITS:
         if n_bytes >= scale:
             return f"{n_bytes / scale:.3g} {unit}"
     return f"{n_bytes:.0f} bytes"
+
+
+def size_bound(n_bytes, up: bool = True) -> str:
+    """A memory size in a claim, in ``size``'s units with 3 significant digits, rounded on the exact
+    value: up (``up``: a stated need is never understated, 54 700 bytes is '53.5 KiB') or down (an
+    amount given or available is never overstated).  Under 1 KiB a whole number of bytes, rounded
+    likewise ('1 byte', '1000 bytes'); never '0' for a positive size shown up.
+
+    >>> size_bound(54_700), size_bound(54_700, up=False), size_bound(0.4), size_bound(2 ** 20 + 1)
+    ('53.5 KiB', '53.4 KiB', '1 byte', '1.01 MiB')
+    """
+    q = Fraction(exact(n_bytes))
+    for unit, scale in SIZE_UNITS:
+        if q >= scale:
+            return f"{_text(_directed(q / scale, 3, up))} {unit}"
+    n = math.ceil(q) if up else math.floor(q)
+    return f"{n} byte{'' if n == 1 else 's'}"
 
 
 def counted(n: int, noun: str) -> str:

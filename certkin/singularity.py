@@ -317,8 +317,8 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
                          f"the box budget ({budget.max_boxes} boxes): each cell needs one box at least")
     if cells * CELL_BYTES > budget.max_memory:                 # (one box: the budget is what is too small)
         what = f"{n} cells per side make {cells} cells, about" if n > 1 else "the box needs about"
-        raise InputError("n" if n > 1 else "max_memory", "", f"{what} {display.size(cells * CELL_BYTES)}, more than "
-                         f"the memory budget ({display.size(budget.max_memory)})")
+        raise InputError("n" if n > 1 else "max_memory", "", f"{what} {display.size_bound(cells * CELL_BYTES)}, more "
+                         f"than the memory budget ({display.size_bound(budget.max_memory, up=False)})")
     counts = [n if f else 1 for f in free]
     grids = [np.linspace(lo0[i], hi0[i], c + 1) for i, c in enumerate(counts)]
     for g, a, b in zip(grids, lo0, hi0):

@@ -160,6 +160,24 @@ def test_sizes_are_shown_in_the_largest_binary_unit():
     assert size(77.2 * 2 ** 20) == "77.2 MiB" and size(3 * 2 ** 10) == "3 KiB"
 
 
+@given(st.one_of(st.integers(1, 2 ** 45), st.floats(min_value=1e-3, max_value=2.0 ** 45)))
+def test_a_size_in_a_claim_is_rounded_on_its_side(n):
+    """A stated need shown "about 0 MiB" (a size under 1 MiB, rounded to whole MiB): ``size_bound`` shows
+    3 significant digits in the largest binary unit, whole bytes below 1 KiB, never below the size
+    rounded up and never above it rounded down."""
+    from certkin.display import size_bound
+    units = {"byte": 1, "bytes": 1, "KiB": 2 ** 10, "MiB": 2 ** 20, "GiB": 2 ** 30}
+    q = Fraction(n)
+    for up in (True, False):
+        number, unit = size_bound(n, up).split()
+        shown = Fraction(Decimal(number)) * units[unit]
+        assert (shown >= q if up else shown <= q), (n, up, number, unit)
+        assert shown == 0 or abs(shown - q) <= q / 99 + 1
+        assert unit in ("byte", "bytes") or Fraction(Decimal(number)) >= 1
+    assert size_bound(1) == "1 byte" and size_bound(0.4) == "1 byte" and size_bound(0.4, up=False) == "0 bytes"
+    assert size_bound(2 ** 20 + 1) == "1.01 MiB" and size_bound(2 ** 20 + 1, up=False) == "1 MiB"
+
+
 def test_a_report_shows_a_one_sided_margin_as_proved_not_as_missing():
     """A margin with a proved lower bound and no upper bound was shown "not computed" in reports."""
     from certkin.report.page import enclosure

@@ -496,3 +496,18 @@ def test_the_cell_plot_never_leaves_a_singular_cell_out(tmp_path):
     rgb = np.asarray(Image.open(tmp_path / "c.png").convert("RGB")).astype(int)
     red = np.all(np.abs(rgb - [int(COLOURS["singular"][i:i + 2], 16) for i in (1, 3, 5)]) < 10, axis=2)
     assert red.sum() > 1000        # a square of a panel (the legend's patch is about 200 pixels)
+
+
+def test_the_memory_cells_need_is_shown_rounded_up_and_the_budget_rounded_down():
+    """The memory refusal showed both sizes rounded to nearest ('1 MiB, more than the memory budget
+    (1 MiB)' could be printed) and '1 bytes': the need is now rounded up, the budget down."""
+    from certkin import InputError
+    from certkin.singularity import CELL_BYTES
+    path = str(EXAMPLES / "seed003-planar-example-2.toml")
+    with pytest.raises(InputError, match=r"^max_memory: the box needs about 6\.84 KiB, more than the memory budget "
+                                         r"\(1 byte\)$"):
+        certify_singularity_free(path, "x=-20:-10,y=20:30,phi=0:0.3", max_memory=1)
+    assert 150 * CELL_BYTES > 2 ** 20 + 1 > 149 * CELL_BYTES    # 150 cells: 1.0014 MiB, more than 1 MiB + 1 byte
+    with pytest.raises(InputError, match=r"^n: 150 cells per side make 150 cells, about 1\.01 MiB, more than the "
+                                         r"memory budget \(1 MiB\)$"):
+        classify_cells(path, "x=-20:-10,y=25,phi=0.1", 150, max_memory=2 ** 20 + 1)

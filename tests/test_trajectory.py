@@ -9,6 +9,7 @@ property test.  Every certificate is re-checked by ``proofs``.
 """
 import copy
 import json
+import math
 import subprocess
 import sys
 from fractions import Fraction
@@ -611,6 +612,28 @@ def test_a_polyline_too_long_for_the_memory_ceiling_is_refused_before_it_starts(
     r = verify_trajectory(robot, "0,0,500,0,0,0", "84,92,500,85deg,10deg,0",
                           waypoints=["-69,-50,500,85deg,10deg,0"] * 5, max_memory=256 * 2 ** 20, max_seconds=30)
     assert r.path.segments == 6
+
+
+def test_the_memory_a_moving_orientation_needs_is_shown_rounded_up_and_suffices():
+    """max_memory=1 said the segment "need about 0 MiB" (and max_memory=2**20 "about 1 MiB", more than
+    1 MiB): the least max_memory is now shown rounded up with 3 significant digits (KiB under 1 MiB),
+    with the amount given rounded down, and that least amount is taken."""
+    import re
+    from decimal import Decimal
+    robot = load_robot(MEL)
+    for given, shown_given in ((1, "1 byte given"), (2 ** 20, "1 MiB given")):
+        with pytest.raises(InputError) as exc:
+            verify_trajectory(robot, "-69,-50,500,0,0,0", "0,0,500,10deg,0,0", max_memory=given)
+        assert exc.value.source == "max_memory" and "0 MiB" not in exc.value.problem
+        assert shown_given in exc.value.problem and "1 segment with" in exc.value.problem
+        number, unit = re.search(r"at least ([0-9.]+) (KiB|MiB|GiB|bytes?)", exc.value.problem).groups()
+        least = Fraction(Decimal(number)) * {"byte": 1, "bytes": 1, "KiB": 2 ** 10, "MiB": 2 ** 20, "GiB": 2 ** 30}[unit]
+        assert least > given
+    r = verify_trajectory(robot, "-69,-50,500,0,0,0", "0,0,500,10deg,0,0", max_memory=math.ceil(least),
+                          max_seconds=30)
+    assert r.path.segments == 1
+    with pytest.raises(InputError, match=r"^max_memory: .* at least [0-9.]+ KiB .*1 byte given"):
+        verify_trajectory(robot, "-69,-50,500,0,0,0", "0,0,500,1deg,0,0", constraints="leg-length", max_memory=1)
 
 
 def test_a_polyline_that_takes_longer_to_prepare_than_max_seconds_is_refused_before_it_starts():

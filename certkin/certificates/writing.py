@@ -31,6 +31,7 @@ import zlib
 
 import numpy as np
 
+from ..display import size_bound
 from ..errors import InputError
 
 FORMAT = "certkin-certificate"
@@ -119,7 +120,7 @@ class Document:
         header = self._entries()
         text = json.dumps(header, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
         if (size := len(text.encode())) > MAX_HEADER:      # (a claim per cell: more than about 100 000 cells)
-            raise InputError("certificate", str(path), f"its header would hold {size / 2 ** 20:.0f} MiB "
+            raise InputError("certificate", str(path), f"its header would hold {size_bound(size)} "
                              f"of claims, more than the {MAX_HEADER >> 20} MiB a checker reads (proofs/container.py): "
                              "ask for fewer cells, or split the box")
         with atomic_file(path) as fh:

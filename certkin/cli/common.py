@@ -165,7 +165,8 @@ def _memory(text):
         raise refused
     physical = physical_memory()
     if physical is not None and size > physical:
-        raise InputError("", "", f"{shown(text)} is more than this machine's memory ({physical / 2 ** 30:.1f} GiB)")
+        raise InputError("", "", f"{shown(text)} is more than this machine's memory "
+                                 f"({display.size_bound(physical, up=False)})")
     return int(size)
 
 

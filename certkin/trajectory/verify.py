@@ -23,6 +23,7 @@ than the tolerance.  Verdicts:
 from __future__ import annotations
 
 from dataclasses import replace
+from fractions import Fraction
 
 import numpy as np
 
@@ -31,6 +32,7 @@ from intervals.rounding import down, sum_bounds, up
 
 from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, budgets, interrupt, search
 from ..engine.budgets import Clock, make_budget, positive_number, progress_callback
+from ..display import counted, size_bound
 from ..errors import InputError
 from ..quiet import quiet
 from ..robots import as_robot
@@ -270,10 +272,12 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     edges = np.linspace(0.0, 1.0, pieces + 1)          # exact binary fractions
     piece_segment = np.repeat(np.arange(n_seg), pieces)
     if linear is None and n_seg * pieces * cons.K * PIECE_BYTES > budget.max_memory * (1 - SEARCH_SHARE):
-        need = n_seg * pieces * cons.K * PIECE_BYTES / (1 - SEARCH_SHARE) / 2 ** 20
-        raise InputError("max_memory", "", f"{n_seg} segments with a moving orientation need about {need:.0f} MiB "
-                                           "(their polynomials, held while the paths are verified): give more, or "
-                                           "verify fewer segments at a time")
+        need = Fraction(n_seg * pieces * cons.K * PIECE_BYTES) / Fraction(1 - SEARCH_SHARE)   # the least max_memory
+                                                                                              # the test above takes
+        raise InputError("max_memory", "", f"{counted(n_seg, 'segment')} with a moving orientation need a max_memory "
+                                           f"of at least {size_bound(need)} (their polynomials, held while the paths "
+                                           f"are verified; {size_bound(budget.max_memory, up=False)} given): give more, "
+                                           "or verify fewer segments at a time")
     prepare = n_seg * pieces * cons.K * PIECE_SECONDS if linear is None else 0.0
     if refuse_slow and prepare > max(budget.max_seconds, 1.0):      # (built before the search: no clock stops it)
         raise InputError("max_seconds", "", f"{n_seg} segments with a moving orientation take about {prepare:.3g} s to "
