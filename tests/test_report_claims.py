@@ -142,6 +142,22 @@ def test_the_recheck_command_works_from_the_report_directory(tmp_path, capsys, m
     assert main(["check", "../b/r.cert"]) == 0
 
 
+def test_the_recheck_command_of_a_path_starting_with_a_dash_is_not_read_as_an_option(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    _run(capsys, "fk", PLANAR, "--lengths", LENGTHS, "--report", "r.html", "--certificate=-r.cert")
+    assert "<code>certkin check ./-r.cert</code>" in Path("r.html").read_text()
+    assert main(["check", "./-r.cert"]) == 0
+    jobs = tmp_path / "jobs.jsonl"
+    jobs.write_text(json.dumps({"id": "a", "command": "fk", "robot": PLANAR, "lengths": LENGTHS}) + "\n")
+    (tmp_path / "reports").mkdir()
+    _run(capsys, "batch", str(jobs), "--out=-res", "--workers", "1", "--report", "reports/b.html")
+    page = (tmp_path / "reports" / "b.html").read_text()
+    assert "From the directory of this report, re-check one with <code>certkin check ../-res/&lt;id&gt;.cert" in page
+    assert "<code>for f in ../-res/*.cert; do" in page
+    monkeypatch.chdir(tmp_path / "reports")
+    assert main(["check", "../-res/a.cert"]) == 0
+
+
 def test_plan_takes_a_constraints_object_as_verify_trajectories_does():
     from certkin import plan
     from certkin.trajectory.constraints import Constraints

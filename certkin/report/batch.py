@@ -3,13 +3,12 @@ certificate (name, size, SHA-256) with the command that re-checks them, and the 
 from __future__ import annotations
 
 import json
-import shlex
 from pathlib import Path
 
 from ..errors import InputError
 from ..plots import plot_campaign
 from ..robots import load_robot, robot_from_dict
-from .page import esc, figure, robot_section, table, write_report
+from .page import esc, figure, from_report, robot_section, shell_path, table, write_report
 
 
 def batch_verdict(summary: dict) -> str:
@@ -76,10 +75,11 @@ def batch_report(summary: dict, out, path) -> None:
     sections.append(("Figures", figure(lambda p: plot_campaign(summary, p), "jobs by verdict and job times")))
     certs = [(r["id"], r["command"], r["verdict"], r["certificate"]["file"], r["certificate"]["bytes"],
               r["certificate"]["sha256"]) for r in summary["results"] if r.get("certificate")]
-    directory = shlex.quote(str(out))
+    directory = shell_path(from_report(out, path))
     certificates = (
-        f"<p>{len(certs)} certificates in <code>{esc(out)}</code>. Re-check one with <code>certkin check "
-        f"{esc(directory)}/&lt;id&gt;.cert</code>, all of them with <code>for f in {esc(directory)}/*.cert; do "
+        f"<p>{len(certs)} certificates in <code>{esc(out)}</code>. From the directory of this report, re-check one "
+        f"with <code>certkin check {esc(directory)}/&lt;id&gt;.cert</code>, all of them with <code>for f in "
+        f"{esc(directory)}/*.cert; do "
         "certkin check \"$f\" || echo \"REJECTED $f\"; done</code>, or run the batch again: it re-checks every "
         "certificate and answers again any job whose certificate does not check.</p>"
         + table(("job", "command", "verdict", "certificate", "size (bytes)", "SHA-256"), certs))

@@ -142,12 +142,24 @@ def certificate_section(path, report=None) -> str:
     facts = file_facts(path)
     where = ""
     if report is not None:
-        path = os.path.relpath(os.path.abspath(path), os.path.dirname(os.path.abspath(report)))
+        path = from_report(path, report)
         where = " from the directory of this report"
     return table(("file", "size (bytes)", "SHA-256"), [(facts["file"], facts["bytes"], facts["sha256"])]) + \
-        f"<p>Re-check it with the independent checker{where}: <code>certkin check {esc(shlex.quote(str(path)))}</code> " \
-        f"(or <code>python -m proofs {esc(shlex.quote(str(path)))}</code>); exit code 0 only when every step " \
+        f"<p>Re-check it with the independent checker{where}: <code>certkin check {esc(shell_path(path))}</code> " \
+        f"(or <code>python -m proofs {esc(shell_path(path))}</code>); exit code 0 only when every step " \
         "re-verifies.</p>"
+
+
+def from_report(path, report) -> str:
+    """``path`` relative to the directory of the report ``report`` (what a reader of the report types there)."""
+    return os.path.relpath(os.path.abspath(path), os.path.dirname(os.path.abspath(report)))
+
+
+def shell_path(path) -> str:
+    """``path`` as one word of a shell command that no command reads as an option: quoted
+    (``shlex.quote``), and a relative path starting with '-' given as ``./-...``."""
+    text = str(path)
+    return shlex.quote("./" + text if text.startswith("-") else text)
 
 
 def write_report(path, title: str, verdict: str, sections, certificate=None, certificates_html=None) -> None:
