@@ -1018,3 +1018,17 @@ def test_a_scheduler_that_goes_away_leaves_the_rest_pending_not_failed_nor_hangi
     assert batch.returncode == 130 and "Traceback" not in err and "scheduler went away" in err
     assert summary["interrupted"] and not summary["failed"]
     assert any(k.endswith("pending") for k in summary["counts"])
+
+
+def test_the_report_of_an_interrupted_batch_lists_its_pending_jobs(tmp_path):
+    """An interrupted batch whose finished jobs were all decided: its report said "Every job was answered."
+    of the jobs the interrupt kept from running; it lists them as pending."""
+    from certkin.batch import PENDING
+    from certkin.batch.results import row, summarise
+    from certkin.report.batch import batch_report
+    job = {"command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"}
+    rows = [row({**job, "id": "a"}, "complete", 0.1), row({**job, "id": "b"}, PENDING, 0.0, 0)]
+    batch_report(summarise(rows, 0.2, True, "1 local"), tmp_path, tmp_path / "r.html")
+    page = (tmp_path / "r.html").read_text()
+    assert "Every job was answered" not in page
+    assert "<td>b</td><td>pending</td>" in page

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ..batch import PENDING
 from ..errors import InputError
 from ..plots import plot_campaign
 from ..robots import load_robot, robot_from_dict
@@ -69,7 +70,9 @@ def batch_report(summary: dict, out, path) -> None:
              ("workers", summary["workers"])]
     problems = [(e["id"], "bad input", e["error"]) for e in summary["errors"]] + \
                [(e["id"], "failed", e["error"]) for e in summary["failed"]] + \
-               [(i, "undecided", "budget exhausted or resolution reached") for i in summary["undecided"]]
+               [(i, "undecided", "budget exhausted or resolution reached") for i in summary["undecided"]] + \
+               [(r["id"], PENDING, "not run or not re-checked: the batch was interrupted (the same command resumes it)")
+                for r in summary["results"] if r["verdict"] == PENDING]
     sections.append(("Evidence", table(("jobs", "count"), rows) +
                      (table(("job", "outcome", "why"), problems) if problems else "<p>Every job was answered.</p>")))
     sections.append(("Figures", figure(lambda p: plot_campaign(summary, p), "jobs by verdict and job times")))
