@@ -183,8 +183,9 @@ class SingularityResult:
     tree: object = None             # the search tree (engine.Tree), shared by the cells of one run
     node: int = 0                   # the root node of this box in ``tree``
     undecided: list = field(default_factory=list)
-    boxes: int = 0
+    boxes: int = 0                  # the boxes of its search (a cell: the nodes of its part of the shared tree)
     seconds: float = 0.0
+    search_boxes: int = 0           # the boxes the search decided for all the cells of its run together
     scale_factor: float | None = None  # for largest_free_box
     around: dict | None = None         # for largest_free_box: {"pose": texts, "scale": half-widths of the unit box}
     bisection: dict | None = None      # for largest_free_box: how the search for s went (see there)
@@ -351,7 +352,7 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
             ids = open_ids[starts[r]:starts[r + 1]]
             und = list(zip(tree.lo[ids], tree.hi[ids]))
         out.append(SingularityResult(robot, texts if len(idx) == 1 else None, clo[r], chi[r], STATUS[code], sign,
-                                     wit, tree, r, und or [], nodes[r], per_cell_seconds))
+                                     wit, tree, r, und or [], nodes[r], per_cell_seconds, res.boxes))
     if len(idx) == 1:
         out[0].boxes, out[0].seconds = res.boxes, res.seconds
         out[0].exact_values = {name: texts[name][0] for name, e in zip(robot.pose_names, inner[2]) if e}

@@ -112,6 +112,16 @@ def test_singular_report_lists_the_undecided_boxes(tmp_path, capsys):
     assert "undecided box 1" in report.read_text()
 
 
+def test_a_cells_report_counts_the_boxes_decided_within_the_budget(tmp_path, capsys):
+    """The boxes of every cell's part of the search tree (794, bisected boxes never decided included) were
+    shown as the boxes decided, beside a budget of 300."""
+    report = tmp_path / "c.html"
+    _run(capsys, "singular", PLANAR, "--box", "x=-50:50,y=-50:50,phi=0:0.7853981634", "--cells", "4",
+         "--max-boxes", "300", "--report", str(report))
+    page = report.read_text()
+    assert "<td>boxes decided</td><td>300</td>" in page and "<td>budget: boxes</td><td>300</td>" in page
+
+
 def test_trajectory_report_lists_the_undecided_instants(tmp_path, capsys):
     report = tmp_path / "t.html"
     doc = json.loads(_run(capsys, "trajectory", MEL, "--from", START, "--to", GOAL, "--max-boxes", "40", "--json",

@@ -65,7 +65,8 @@ def singularity_report(robot, results, path, certificate=None, budget=None) -> N
         f"<p>{esc(question)}; limits of the robot file are not used (the question is about det(A) only).</p>")))
     tree = results[0].tree
     evidence = tree_evidence(tree) if tree is not None else None
-    used = {"boxes decided": sum(r.boxes for r in results), "seconds": f"{sum(r.seconds for r in results):.3f}"}
+    decided = results[0].search_boxes if len(results) > 1 else results[0].boxes   # (a cell's boxes: tree nodes)
+    used = {"boxes decided": decided, "seconds": f"{sum(r.seconds for r in results):.3f}"}
     sections.append(("Evidence", evidence_section(evidence, budget, used)))
     if len(results) == 1:
         r = results[0]
