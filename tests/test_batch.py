@@ -1032,3 +1032,18 @@ def test_the_report_of_an_interrupted_batch_lists_its_pending_jobs(tmp_path):
     page = (tmp_path / "r.html").read_text()
     assert "Every job was answered" not in page
     assert "<td>b</td><td>pending</td>" in page
+
+
+def test_a_resumed_job_is_timed_by_this_run_not_by_the_run_that_answered_it(tmp_path):
+    """A resumed job's row took the seconds of the run that answered it from its document: a run that
+    only re-checked listed it among its slowest jobs and counted its old time in the seconds in jobs."""
+    jobs = [{"id": "f", "command": "fk", "robot": PLANAR, "lengths": "28.99,13.66,40.53"}]
+    out = tmp_path / "out"
+    run_batch(jobs, out, run_job)
+    doc = json.loads((out / "f.json").read_text())
+    doc["stats"]["seconds"] = 1000.0              # (a timing field: the answer is still the same)
+    (out / "f.json").write_text(json.dumps(doc))
+    summary = run_batch(jobs, out, run_job)
+    (r,) = summary["results"]
+    assert r["resumed"] and 0 < r["seconds"] < 100 and r["cpu_seconds"] > 0
+    assert summary["job_seconds"] < 100 and summary["slowest"][0]["seconds"] < 100

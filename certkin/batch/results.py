@@ -166,7 +166,8 @@ def done(out, job: dict, verdict, robot_sha256, robot=None, instances=None) -> d
     re-checks, is about the job's robot (``robot()``: its ``to_dict()``; the same geometry SHA-256), holds
     the document's ``answer_sha256`` (no field edited since) and ``agrees`` with the document and the job (``instances()``: a path's constraint instances for the
     job's ``constraints``, which every claim of a path must list).  ``verdict(command,
-    document)`` names the answer."""
+    document)`` names the answer.  The row's times are 0: the job was not run again (the caller times
+    this check), and the times of the run that answered it are in its document."""
     path, cert = document_path(out, job["id"]), certificate_path(out, job["id"])
     try:
         document = json.loads(path.read_text())
@@ -191,9 +192,7 @@ def done(out, job: dict, verdict, robot_sha256, robot=None, instances=None) -> d
                 robot is not None and certificate.header.get("geometry_sha256") != proofs.geometry_sha256(robot()):
             return None
         document.pop("job")
-        seconds = document.get("stats", {}).get("seconds", 0.0) if isinstance(document.get("stats"), dict) else 0.0
-        seconds = seconds if isinstance(seconds, (int, float)) and 0 <= seconds < 1e9 else 0.0     # (as written)
-        return row(job, verdict(job.get("command"), document), seconds, 0, facts, resumed=True)
+        return row(job, verdict(job.get("command"), document), 0.0, 0, facts, resumed=True)
     except (OSError, ValueError, LookupError, TypeError, AttributeError, InputError):   # (edited out of shape: run again)
         return None
 
@@ -290,7 +289,7 @@ def summarise(rows: list, wall_seconds: float, interrupted: bool, workers: str, 
             "retried": [r["id"] for r in rows if r["attempts"] > 1],
             "resumed": sum(bool(r.get("resumed")) for r in rows),
             "seconds": round(wall_seconds, 3), "job_seconds": round(sum(r["seconds"] for r in rows), 3),
-            "job_cpu_seconds": round(sum(r["cpu_seconds"] for r in rows if not r.get("resumed")), 3),
+            "job_cpu_seconds": round(sum(r["cpu_seconds"] for r in rows), 3),
             "batch_cpu_seconds": None if cpu_seconds is None else round(cpu_seconds, 3),
             "slowest": [{"id": r["id"], "seconds": r["seconds"]}
                         for r in sorted(rows, key=lambda r: -r["seconds"])[:SLOWEST] if r["seconds"] > 0],
