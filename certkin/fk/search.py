@@ -64,7 +64,8 @@ POSITION_GEOMETRIC = 7.0  # Gough: position side k scaled by this times √(W_k 
 GAP = 0.5                # a gap between the two branches of an HC4 square root spanning this much of a side splits it
 HC4_PASSES = 2           # slope systems: at most this many HC4 passes per box, each on the box the one before
 HC4_AGAIN = 0.2          # contracted, when it shrank a side by this fraction or more
-SPREAD_INFLATE = 2.0     # uncertain lengths: ε-inflation once every side is within this times the root's spread
+SPREAD_INFLATE = 2.0     # uncertain lengths: ε-inflation once every side is within this times the root's spread,
+GIVE_UP_WIDTH = 2.0 ** -8  # and the box is within Newton's reach (``newton_reach`` below 1) or this narrow (scaled)
 
 
 def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None, record_limit=None, record_sink=None):
@@ -91,6 +92,24 @@ def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None,
     problem = FKProblem(system, L, scale, slopes=system.kind != "planar-3rpr")
     return search(problem, lo, hi, scale=scale, budget=budget, batch=max(8192, 256 * len(lo)), progress=progress,
                   initial_splits=INITIAL_SPLITS, record_limit=record_limit, record_sink=record_sink)
+
+
+def newton_reach(C, J: Interval):
+    """Per box, the largest row sum of |I − C J| (float arithmetic: a heuristic, no claim rests on it),
+    J an interval matrix (N, n, n).  Below 1 the box is within Newton's reach: the Krawczyk operator
+    contracts it, and the root's spread over uncertain leg lengths, |C| rad f, says how far its roots
+    move.  Far above 1 (beside a nearly singular Jacobian) |C| may be large for want of a root: such
+    a box is given up as a cluster only once it is ``GIVE_UP_WIDTH`` narrow, else bisected (seed 002,
+    lengths within 1e-4: 39 boxes 0.02 to 0.06 wide (scaled) were given up with reach 2 000 to 2 000 000,
+    the other 47 804 cluster leaves are within 0.0005 with reach below 0.7; its 24 postures lay in 11
+    unique boxes and 16 clusters up to 1.7 wide, holding up to 4 each; after, in 13 unique boxes and
+    13 clusters 0.005 to 0.25 wide, holding at most one each; within 1e-3: one cluster before, 21
+    after, all but one holding one posture, and 416 042 boxes instead of 515 492)."""
+    with np.errstate(all="ignore"):
+        mid, rad = 0.5 * (J.lo + J.hi), 0.5 * (J.hi - J.lo)
+        M = np.abs(np.eye(C.shape[-1]) - np.einsum("nij,njk->nik", C, mid)) + np.einsum("nij,njk->nik", np.abs(C), rad)
+        reach = np.max(np.sum(M, axis=2), axis=1)
+    return np.where(np.isfinite(reach), reach, np.inf)
 
 
 class _Batch:
@@ -336,6 +355,7 @@ class FKProblem:
             radL = np.zeros(rlo.shape)
             radL[:, :system.legs] = 0.5 * (Lr.hi - Lr.lo)
             within = np.all(rhi - rlo <= SPREAD_INFLATE * np.einsum("nij,nj->ni", np.abs(C), radL), axis=1)
+            within &= (newton_reach(C, J) < 1.0) | (np.max((rhi - rlo) / self.scale, axis=1) <= GIVE_UP_WIDTH)
             small |= ~done & ~keep & within
         if small.any():      # small open boxes: ε-inflation around a Newton iterate
             sm = rest[small]
