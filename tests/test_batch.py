@@ -1047,3 +1047,29 @@ def test_a_resumed_job_is_timed_by_this_run_not_by_the_run_that_answered_it(tmp_
     (r,) = summary["results"]
     assert r["resumed"] and 0 < r["seconds"] < 100 and r["cpu_seconds"] > 0
     assert summary["job_seconds"] < 100 and summary["slowest"][0]["seconds"] < 100
+
+
+def test_an_output_option_set_to_false_or_null_is_left_out_as_any_option():
+    """``"json": false`` or ``"progress": null`` in a job leaves the option out (as false does for any
+    option); ``"certificate": "x"`` still names what the batch writes itself."""
+    from certkin.cli.batch import job_argv
+    assert job_argv({"id": "a", "command": "fk", "robot": PLANAR, "lengths": "1,2,3", "json": False,
+                     "progress": None, "report": False}) == [PLANAR, "--lengths=1,2,3"]
+    with pytest.raises(InputError, match="certificate: not an option of a job"):
+        job_argv({"id": "a", "command": "fk", "robot": PLANAR, "certificate": "x"})
+
+
+def test_the_campaign_picture_draws_no_job_time_when_no_job_ended(tmp_path, monkeypatch):
+    """Every job pending (an interrupt before any ended): the time panel draws no bar and says so; it
+    drew one job of 0 s, labelled "1 jobs".  Ended jobs are counted in the legend."""
+    import matplotlib.figure
+    from certkin.plots.batch import plot_campaign
+    drawn = []
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", lambda fig, *a, **k: drawn.append(fig))
+    rows = [{"id": f"j{k}", "command": "fk", "verdict": "pending", "seconds": 0.0} for k in range(3)]
+    plot_campaign({"counts": {"fk pending": 3}, "results": rows}, tmp_path / "a.png")
+    times = drawn[-1].axes[1]
+    assert not times.patches and [t.get_text() for t in times.texts] == ["no job ended"]
+    rows[0].update(verdict="complete", seconds=0.5)
+    plot_campaign({"counts": {"fk complete": 1, "fk pending": 2}, "results": rows}, tmp_path / "b.png")
+    assert [t.get_text() for t in drawn[-1].axes[1].get_legend().get_texts()] == ["1 job"]

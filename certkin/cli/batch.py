@@ -100,7 +100,7 @@ def job_argv(job: dict) -> list[str]:
     for key, value in job.items():
         if key in FIXED:
             continue
-        if key in OUTPUTS:
+        if key in OUTPUTS and value is not False and value is not None:    # (false or null: left out, as any option)
             raise InputError(key, "", "not an option of a job: " + OUTPUT_NOTES.get(key, OUTPUT_NOTES[None]))
         if not OPTION_NAME.fullmatch(str(key)):
             raise InputError(clip(repr(key)), "", "not an option name (letters, digits, '_' or '-')")

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..display import counted
 from .figure import pyplot
 
 
@@ -38,17 +39,21 @@ def plot_campaign(summary: dict, path):
     a.set_xlabel("jobs", fontsize=8)
     a.set_title("jobs by command and verdict", fontsize=9)
     a.legend(fontsize=6, loc="lower right")
-    times = np.array([r["seconds"] for r in summary["results"] if r["verdict"] != "pending"] or [0.0])
-    times = np.maximum(times, 1e-4)
-    bins = np.logspace(np.log10(times.min()), np.log10(times.max() * 1.01 + 1e-4), 30)
-    b.hist(times, bins=bins, color="#4c72b0", label=f"{len(times)} jobs")
+    times = np.array([r["seconds"] for r in summary["results"] if r["verdict"] != "pending"])
+    if len(times):
+        times = np.maximum(times, 1e-4)
+        bins = np.logspace(np.log10(times.min()), np.log10(times.max() * 1.01 + 1e-4), 30)
+        b.hist(times, bins=bins, color="#4c72b0", label=counted(len(times), "job"))
+    else:                                               # (an interrupted batch before any job ended)
+        b.text(0.5, 0.5, "no job ended", ha="center", va="center", transform=b.transAxes, fontsize=8)
     b.set_xscale("log")
     b.xaxis.set_minor_formatter(_null_formatter())
     b.set_xlabel("time per job (s, wall clock in its worker)", fontsize=8)
     b.yaxis.set_major_locator(_whole_numbers())
     b.set_ylabel("jobs", fontsize=8)
     b.set_title("job times", fontsize=9)
-    b.legend(fontsize=7)
+    if len(times):
+        b.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
