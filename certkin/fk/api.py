@@ -469,7 +469,7 @@ def _touching(lo, hi):
     done, todo, work = [], [np.arange(n)], 0
     while todo:
         g = todo.pop()
-        if work > CUT_WORK * n * d:
+        if len(g) == 1 or work > CUT_WORK * n * d:
             done.append(g)
             continue
         for k in range(d):
