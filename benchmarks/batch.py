@@ -15,7 +15,9 @@ Methods, the same jobs and the same solve with the same options (default budgets
   written; the first call (compiling, building the model) is made before the clock starts; after
   ``certkin.keep_freed_memory()``, as the README advises for a loop of calls and as the batch's
   workers do (``--allocator default``: glibc's own thresholds, about 25 % slower on trajectories);
-- API + files: the same, also writing each job's JSON document and certificate (what a batch
+- API, one call (FK): every job's lengths in one ``forward_kinematics(robot, rows, independent=True)``
+  call, each row searched as if alone (the same answers), answers only;
+- API + files: the same as the first, also writing each job's JSON document and certificate (what a batch
   writes per job; the certificate's search tree is the same, the document without the job echo);
 - batch, W workers: ``certkin batch JOBS --out DIR --workers W``, the whole process from start-up
   to exit (imports, fork server, workers, every document and certificate written);
@@ -90,6 +92,16 @@ def api(robot, jobs, out: Path | None):
         if out is not None:
             r.certificate().write(out / f"{job['id']}.cert")
             write_json(out / f"{job['id']}.json", r.to_json())
+    return time.perf_counter() - w, time.process_time() - c
+
+
+def api_together(robot, jobs):
+    """Wall and CPU seconds of one API call over every FK job's lengths, each row searched as if
+    alone (``forward_kinematics(robot, rows, independent=True)``: the same answers as one call per
+    job), answers only."""
+    solve(robot, jobs[0])
+    w, c = time.perf_counter(), time.process_time()
+    forward_kinematics(robot, [job["lengths"].split(",") for job in jobs], independent=True)
     return time.perf_counter() - w, time.process_time() - c
 
 
@@ -251,6 +263,8 @@ def main():
             runs = {}
             for _ in range(args.repeat):
                 runs.setdefault("API, 1 process, answers only", []).append(api(robot, jobs, None))
+                if jobs[0]["command"] == "fk":
+                    runs.setdefault("API, one call, rows independent", []).append(api_together(robot, jobs))
                 if args.workers > 1:
                     runs.setdefault(f"API, {args.workers} processes at once", []).append(
                         api_parallel(robot, jobs, args.workers))

@@ -104,15 +104,24 @@ def run_chunk(work, tasks: list) -> tuple[list, float]:
     function that completes it: writes its files, gives its value) has the answers of consecutive
     tasks computed first, then completed together once ``HOLD_SECONDS`` of computing has passed or
     the chunk ends: the writing code then runs warm (about 0.7 ms less per small planar FK job).
-    What is held meanwhile is at most the answers of that much computing (a few MB)."""
+    What is held meanwhile is at most the answers of that much computing (a few MB).
+    A work function with ``prepare`` as well (``work.prepare(tasks)``: per task, None or what
+    ``phased(*task, early)`` takes instead of computing it) answers some tasks of the chunk together
+    first (``certkin.cli.batch.answer_together``); if it raises, each task is computed on its own."""
     t0, values, phased = time.perf_counter(), [None] * len(tasks), getattr(work, "phased", None)
+    early = [None] * len(tasks)
+    if phased is not None and getattr(work, "prepare", None) is not None:
+        try:
+            early = work.prepare(tasks)
+        except Exception:
+            pass
     held, since = [], time.perf_counter()
     for k, task in enumerate(tasks):
         try:
             if phased is None:
                 values[k] = work(*task)
             else:
-                held.append((k, phased(*task)))
+                held.append((k, phased(*task) if early[k] is None else phased(*task, early[k])))
         except (Exception, SystemExit) as exc:
             values[k] = _raised(exc)
         if held and (k == len(tasks) - 1 or time.perf_counter() - since >= HOLD_SECONDS):

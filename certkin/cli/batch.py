@@ -22,8 +22,8 @@ import time
 
 from ..batch import PENDING, read_jobs, run_batch
 from ..batch.jobs import located, shown
-from ..batch.results import ERROR, SUMMARY, answer_sha256, certificate_path, done, file_facts, provenance, row, \
-    write_document, write_error
+from ..batch.results import ERROR, SUMMARY, answer_sha256, certificate_path, document_path, done, file_facts, \
+    provenance, row, write_document, write_error
 from ..display import printable
 from ..errors import InputError, RobotFileError, clip
 from ..robots import load_robot, robot_from_dict
@@ -226,10 +226,13 @@ def run_job(job: dict, out: str) -> dict:
     return answer_job(job, out)()
 
 
-def answer_job(job: dict, out: str):
+def answer_job(job: dict, out: str, early=None):
     """``run_job`` in two phases (``run_job.phased``, see ``certkin.batch.local.run_chunk``): the job's
-    answer computed now; returned, a function that writes its files and gives its summary row."""
+    answer computed now (or taken from ``early``: (answer, seconds, CPU seconds) that ``answer_together``
+    computed); returned, a function that writes its files and gives its summary row."""
     t0, c0 = time.perf_counter(), time.process_time()
+    if early is not None:                   # (its share of the time of the search it was answered in)
+        t0, c0 = t0 - early[1], c0 - early[2]
     try:
         module, args = parse_job(job)           # (first: a job the command refuses is never taken as done)
     except Exception as exc:
@@ -243,7 +246,7 @@ def answer_job(job: dict, out: str):
         path = certificate_path(out, job["id"])
         args.certificate = str(path)         # as ``--certificate``: a search keeps what its certificate needs
         robot, fingerprint = robot_of(job)
-        answer = module.compute(args, robot)
+        answer = early[0] if early is not None else module.compute(args, robot)
     except Exception as exc:
         return partial(write_error, out, job, ERROR, _message(exc), time.perf_counter() - t0)
     seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
@@ -266,7 +269,40 @@ def answer_job(job: dict, out: str):
     return finish
 
 
+def answer_together(tasks: list) -> list:
+    """Before the jobs of a chunk run one by one (``run_job.prepare``, see ``certkin.batch.local.run_chunk``):
+    its ``fk`` jobs that differ only in their leg lengths are answered together
+    (``certkin.cli.fk.compute_together``: each answer the one its job alone gets, certificate included,
+    in a fraction of the time).  Per task, (answer, seconds, CPU seconds) or None: that job is answered
+    alone (and any job when anything here fails)."""
+    early, groups = [None] * len(tasks), {}
+    for k, (job, out) in enumerate(tasks):
+        if job.get("command") != "fk" or document_path(out, job["id"]).exists():
+            continue                        # (a job answered before is checked, not answered again)
+        try:
+            module, args = parse_job(job)
+            robot, _ = robot_of(job)
+        except Exception:
+            continue
+        same = repr(sorted((k, v) for k, v in vars(args).items() if k not in ("lengths", "robot")))
+        groups.setdefault((out, id(robot), same), []).append((k, args, robot, module))
+    for members in groups.values():
+        if len(members) < 2:
+            continue
+        t0, c0 = time.perf_counter(), time.process_time()
+        try:
+            answers = members[0][3].compute_together([args for _, args, _, _ in members], members[0][2])
+        except Exception:
+            continue
+        seconds, cpu = (time.perf_counter() - t0) / len(members), (time.process_time() - c0) / len(members)
+        for (k, _, _, _), answer in zip(members, answers):
+            if answer is not None:
+                early[k] = (answer, seconds, cpu)
+    return early
+
+
 run_job.phased = answer_job
+run_job.prepare = answer_together
 
 
 def _message(exc: Exception) -> str:

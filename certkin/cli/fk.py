@@ -1,6 +1,7 @@
 """``certkin fk``: every real assembly mode for given leg lengths, each proved unique."""
 from __future__ import annotations
 
+from dataclasses import replace
 import importlib.util
 import os
 from pathlib import Path
@@ -9,9 +10,10 @@ import sys
 from .. import display
 from ..certificates import fk_certificate
 from ..engine import budgets
+from ..errors import InputError
 from ..fk import forward_kinematics
 from ..robots import load_robot
-from ..robots.poses import parse_pose
+from ..robots.poses import length_enclosures, parse_pose
 from .common import (Answer, add_budget, add_outputs, budget, check_outputs, options, progress, refuse, report_writer,
                      run_answer, with_angles)
 
@@ -44,9 +46,48 @@ def compute(args, robot=None) -> Answer:
         result = forward_kinematics(robot, args.lengths, domain=args.domain, budget=budget(args),
                                     progress=progress(args.progress), track=args.track,
                                     record=bool(getattr(args, "certificate", None)))
+    return _answer(args, robot, result)
+
+
+def _answer(args, robot, result) -> Answer:
     return Answer(robot, result, result.to_json(), lambda: describe(robot, result),
                   lambda: fk_certificate(result),
                   lambda path, cert: report_writer("fk_report")(robot, result, path, cert, budget(args)))
+
+
+def compute_together(args_list, robot) -> list:
+    """The answers of several ``certkin fk`` queries that differ only in ``--lengths`` (exact
+    decimals, no ``--track``), searched together as independent instances (``forward_kinematics(...,
+    independent=True)``): each answer is the one ``compute`` gives, certificate included, unless the
+    seconds or memory ran out.  A query whose answer is not that one (its lengths refused, its search
+    stopped by the seconds or memory, or its record handed to files) is None: the caller computes it
+    alone.  The seconds of an answer: its share of the search."""
+    out, rows, members = [None] * len(args_list), [], []
+    with options(OPTIONS):
+        robot = with_angles(robot, args_list[0].angles)
+        for k, args in enumerate(args_list):
+            try:
+                _, texts, many = length_enclosures(robot, args.lengths)
+            except InputError:
+                continue                    # (its own computation gives the error)
+            if not many and args.track is None and not any(":" in t for t in texts[0]):
+                rows.append(texts[0])
+                members.append(k)
+        if len(members) < 2:
+            return out
+        first = args_list[members[0]]
+        group = replace(budget(first), max_seconds=min(args_list[k].max_seconds for k in members))
+        results = forward_kinematics(robot, rows, domain=first.domain, budget=group, independent=True, record=True)
+    for k, r in zip(members, results):
+        if r.tree is not None and (r.tree.record_sink or not r.tree.complete_record or _stopped_early(r)):
+            continue
+        out[k] = _answer(args_list[k], robot, r)
+    return out
+
+
+def _stopped_early(result) -> bool:
+    """Whether a search left boxes of this result undecided for want of seconds or memory (or Ctrl-C)."""
+    return result.tree.stopped_by not in (None, "boxes") and not result.complete
 
 
 def run(args):

@@ -41,7 +41,7 @@ from .tracking import track_one, track_rows
 @quiet
 def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None, progress=None, track=None, *,
                        max_boxes=None, max_seconds=None, min_width=None, max_memory=None, record: bool | str = False,
-                       record_limit: int | None = None):
+                       record_limit: int | None = None, independent: bool = False):
     """All real FK postures for the leg lengths ``lengths``.
 
     ``robot``: a robot or a robot file's path.  The budget: ``budget`` or the keywords
@@ -60,7 +60,11 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     each closed part to a temporary file (``certificates.segments``), or keeps it in memory with
     ``record="whole"``; without ``record`` it forgets its excluded leaves and ``fk_certificate``
     runs it again with ``record``.  ``progress``: None or a callable ``progress(boxes, frontier)``
-    (else ``InputError``).
+    (else ``InputError``).  ``independent`` (2-D ``lengths``): each row is searched as if alone, with the
+    budget of one instance (``max_boxes`` each; the seconds and memory are shared): a row's answer and
+    its box count are then those of its own call, unless the seconds or memory ran out (the rows are
+    still decided together, a batch at a time: about as fast as the default, which shares its
+    bisection among the rows and gives a row's answer that depends on the others).
     """
     progress = progress_callback(progress)
     robot = as_robot(robot)
@@ -74,7 +78,7 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     rho, texts, batch_input = length_enclosures(robot, lengths)
     M = len(texts)
     budget = make_budget({**budgets.FORWARD_KINEMATICS, "max_boxes": max(budgets.FORWARD_KINEMATICS["max_boxes"],
-                                                                         budgets.FK_BOXES_PER_INSTANCE * M)},
+                                                                         budgets.FK_BOXES_PER_INSTANCE * (1 if independent else M))},
                          budget, **keywords)
     L = sqr(rho)
     if track is not None and not batch_input:
@@ -91,14 +95,19 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     limit = None if record == "whole" else budgets.FK_RECORD_NODES if record_limit is None else record_limit
     searched = replace(budget, max_memory=max(1, int(SEARCH_SHARE * budget.max_memory)))
     res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], searched, progress,
-                           limit, record_sink(system.n, FKProblem.reasons) if record and limit is not None else None) if len(idx) else None
+                           limit, record_sink(system.n, FKProblem.reasons) if record and limit is not None else None,
+                           independent=bool(independent)) if len(idx) else None
     out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter)
+    if independent and res is not None:       # each row's boxes decided, as its own call counts them
+        for k, i in enumerate(idx):
+            out[i].boxes = int(res.boxes_per_root[k])
     again = {}
     for k, r in enumerate(out):
         r.user_domain = domain is not None
         r.domain_text = None if domain is None else _domain_text(domain)
         if res is not None and (not res.tree.complete_record or res.tree.record_sink):   # for a certificate
-            r.recorded = lambda whole=False, k=k: _again(robot, lengths, domain, budget, record_limit, k, whole, again)
+            r.recorded = lambda whole=False, k=k: _again(robot, lengths, domain, budget, record_limit, k, whole, again,
+                                                         independent)
     seconds = time.perf_counter() - t0
     for r in out:
         r.seconds = seconds / M
@@ -108,11 +117,11 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     return out
 
 
-def _again(robot, lengths, domain, budget, record_limit, k, whole, cache):
+def _again(robot, lengths, domain, budget, record_limit, k, whole, cache, independent=False):
     """The k-th result of the same query, its search tree streamed (or kept ``whole``), searched once."""
     if whole not in cache:
         cache[whole] = forward_kinematics(robot, lengths, domain=domain, budget=budget, record="whole" if whole else True,
-                                          record_limit=record_limit)
+                                          record_limit=record_limit, independent=independent)
     out = cache[whole]
     return out[k] if isinstance(out, list) else out
 

@@ -68,9 +68,12 @@ SPREAD_INFLATE = 2.0     # uncertain lengths: ε-inflation once every side is wi
 GIVE_UP_WIDTH = 2.0 ** -8  # and the box is within Newton's reach (``newton_reach`` below 1) or this narrow (scaled)
 
 
-def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None, record_limit=None, record_sink=None):
+def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None, record_limit=None, record_sink=None,
+                     independent: bool = False):
     """One engine search over the domains [lo, hi] (M, n) of M instances, squared leg lengths L
-    (M, legs): the engine's ``SearchResult`` (its tree holds one root per instance).
+    (M, legs): the engine's ``SearchResult`` (its tree holds one root per instance).  ``independent``:
+    each instance is searched as if alone (the engine's ``independent``; ``FKProblem`` decides a box
+    from that box and its instance only), ``budget.max_boxes`` each.
 
     Sides are scaled by the domain's extent; position sides count ``POSITION_SCALE`` times less, so
     the rotation is bisected first (the position follows from it); a quaternion's components are
@@ -80,18 +83,20 @@ def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None,
     and the position follows it with a lever arm that grows with the workspace (fitted on the
     seed 002, main gauche, MEL and micro-manipulator robots: main gauche at home 2.09 M -> 0.92 M
     boxes, the others within ±2 % or fewer).  Heuristics only: any scale is sound."""
-    scale = np.max(hi - lo, axis=0)
+    scale = hi - lo if independent else np.max(hi - lo, axis=0)     # (each instance's own, or the widest)
     scale = np.where(scale > 0, scale, 1.0)
+    p = system.n_pos
     if system.kind == "gough-stewart":
         b = float(np.max(np.sqrt(np.sum(system.b.mid() ** 2, axis=1))))
-        scale[:system.n_pos] = POSITION_GEOMETRIC * np.sqrt(scale[:system.n_pos] * max(b, 1e-300))
+        scale[..., :p] = POSITION_GEOMETRIC * np.sqrt(scale[..., :p] * max(b, 1e-300))
     else:
-        scale[:system.n_pos] *= POSITION_SCALE
+        scale[..., :p] *= POSITION_SCALE
     if system.kind != "planar-3rpr":
-        scale[system.n_pos:] = 2.0
+        scale[..., p:] = 2.0
     problem = FKProblem(system, L, scale, slopes=system.kind != "planar-3rpr")
-    return search(problem, lo, hi, scale=scale, budget=budget, batch=max(8192, 256 * len(lo)), progress=progress,
-                  initial_splits=INITIAL_SPLITS, record_limit=record_limit, record_sink=record_sink)
+    return search(problem, lo, hi, scale=scale, budget=budget, batch=max(8192, 256 * (1 if independent else len(lo))),
+                  progress=progress, initial_splits=INITIAL_SPLITS, record_limit=record_limit, record_sink=record_sink,
+                  independent=independent)
 
 
 def newton_reach(C, J: Interval):
@@ -164,8 +169,9 @@ class FKProblem:
         self.bytes_per_box = 16384 if slopes else 4096
         self.L = L                          # (M, legs) squared leg lengths, one row per instance
         # leg-length ranges (not just the enclosure of a decimal): roots move with the lengths
-        self.uncertain = bool(np.any(L.hi - L.lo > 2.0 ** -40 * np.maximum(np.abs(L.hi), 1.0)))
-        self.scale = scale
+        self.uncertain_rows = np.any(L.hi - L.lo > 2.0 ** -40 * np.maximum(np.abs(L.hi), 1.0), axis=1)
+        self.uncertain = bool(self.uncertain_rows.any())
+        self.scale = scale                  # (n,), or (M, n): one row per instance
         self._stacked = None
 
     def _system(self, n_box):
@@ -174,6 +180,10 @@ class FKProblem:
         if self._stacked is None:
             self._stacked = for_batch(self.system, 0)
         return self._stacked
+
+    def _scales(self, roots):
+        """The scale of the unknowns of boxes of ``roots``: (n,), or one row per box."""
+        return self.scale[roots] if self.scale.ndim == 2 else self.scale
 
     def _L(self, roots):
         return Interval.from_bounds(self.L.lo[roots], self.L.hi[roots])
@@ -318,8 +328,9 @@ class FKProblem:
         lo, hi = b.lo, b.hi
         rest = np.nonzero(b.status == OPEN)[0]
         pn = system.n_pos
-        wide = np.max((hi[rest, pn:] - lo[rest, pn:]) / self.scale[pn:], axis=1) > KRAWCZYK_BELOW
+        wide = np.max((hi[rest, pn:] - lo[rest, pn:]) / self._scales(roots[rest])[..., pn:], axis=1) > KRAWCZYK_BELOW
         rest = rest[~wide]
+        sc = self._scales(roots[rest])
         lo2, hi2 = lo.copy(), hi.copy()
         if not len(rest):
             b.stages.append(((lo2, hi2), {}, self._stage_reasons(len(lo))))
@@ -335,7 +346,7 @@ class FKProblem:
         else:
             K, C, J = krawczyk_boxes(system, X, Lr, with_jacobian=True, rb=rb[rest], compact=True)
             empty = None
-            b.split[rest] = self._planar_split(system, J, rlo, rhi)
+            b.split[rest] = self._planar_split(system, J, rlo, rhi, sc)
         done, keep, nlo, nhi, kept = self._round(system, b, rest, X, Lr, K, C, empty, J)
         k = rest[keep]
         lo2[k], hi2[k] = nlo[keep], nhi[keep]
@@ -343,9 +354,9 @@ class FKProblem:
         kmask[k] = True
         b.stages.append(((lo2, hi2), {"C": (kmask, C[keep].astype(np.float32))},
                          self._stage_reasons(len(lo), k[kept[keep]])))
-        self._again(system, b, k[shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN], lo2, hi2)
+        self._again(system, b, k[shrink(rlo[keep], rhi[keep], nlo[keep], nhi[keep]) >= AGAIN], lo2, hi2, roots)
         flo, fhi = b.stages[-1][0][0][rest], b.stages[-1][0][1][rest]   # after the last Krawczyk round
-        width = np.max((fhi - flo) / self.scale, axis=1)
+        width = np.max((fhi - flo) / sc, axis=1)
         # small boxes still open, contracted or not (a box HC4 made a sliver around a root is proved
         # only by inflation: K of a sliver rarely fits inside it), inflated from their last contraction
         # (from the box before it, a root next to a singular one was left a cluster at the resolution)
@@ -355,7 +366,8 @@ class FKProblem:
             radL = np.zeros(rlo.shape)
             radL[:, :system.legs] = 0.5 * (Lr.hi - Lr.lo)
             within = np.all(rhi - rlo <= SPREAD_INFLATE * np.einsum("nij,nj->ni", np.abs(C), radL), axis=1)
-            within &= (newton_reach(C, J) < 1.0) | (np.max((rhi - rlo) / self.scale, axis=1) <= GIVE_UP_WIDTH)
+            within &= (newton_reach(C, J) < 1.0) | (np.max((rhi - rlo) / sc, axis=1) <= GIVE_UP_WIDTH)
+            within &= self.uncertain_rows[roots[rest]]
             small |= ~done & ~keep & within
         if small.any():      # small open boxes: ε-inflation around a Newton iterate
             sm = rest[small]
@@ -368,7 +380,7 @@ class FKProblem:
             b.C_rows[sm[proved]] = Cs[proved]
             b.C_mask[sm[proved]] = True
 
-    def _planar_split(self, system, J, rlo, rhi):
+    def _planar_split(self, system, J, rlo, rhi, sc):
         """Planar: bisect where the equations vary most, the largest sum_i |J_ij| w_j ("smear",
         Kearfott 1996), among the rotation unknowns (HC4 and Gauss-Seidel then narrow the position)
         unless the position is much wider (scaled) than the rotation.  (Spatial robots take the
@@ -377,7 +389,7 @@ class FKProblem:
         smear = np.where(np.isfinite(smear), smear, np.inf)
         pn = system.n_pos
         if pn:
-            scaled = (rhi - rlo) / self.scale
+            scaled = (rhi - rlo) / sc
             rot_first = np.max(scaled[:, :pn], axis=1) <= ROTATION_FIRST * np.max(scaled[:, pn:], axis=1)
             smear[:, :pn] = np.where(rot_first[:, None], -1.0, smear[:, :pn])
         return np.argmax(smear, axis=1)
@@ -420,14 +432,19 @@ class FKProblem:
         keep = ~done & np.all(nlo <= nhi, axis=1) & (shrink(X.lo, X.hi, nlo, nhi) >= SHRINK)
         return done, keep, nlo, nhi, kept
 
-    def _again(self, system, b: _Batch, strong, lo, hi):
+    def _again(self, system, b: _Batch, strong, lo, hi, roots):
         """Boxes that Krawczyk shrank by ``AGAIN`` or more (near a root: quadratic convergence) get up
         to ``AGAIN_STEPS`` more rounds, each on the box the round before contracted: empty, unique,
         or a further contraction (when they are many, or most of the open boxes: an evaluation
-        costs about as much for a few boxes as for a hundred, a round of bisection much more)."""
+        costs about as much for a few boxes as for a hundred, a round of bisection much more).
+        Counted per root (instance), so that an instance's boxes are decided as if it were alone."""
+        _, inst = np.unique(roots, return_inverse=True)
+        m = int(inst.max()) + 1 if len(inst) else 0
         for _ in range(AGAIN_STEPS):
-            if not len(strong) or (len(strong) < AGAIN_MIN
-                                   and AGAIN_SHARE * len(strong) < np.count_nonzero(b.status == OPEN)):
+            many = np.bincount(inst[strong], minlength=m)
+            still = np.bincount(inst[b.status == OPEN], minlength=m)
+            strong = strong[((many >= AGAIN_MIN) | (AGAIN_SHARE * many >= still))[inst[strong]]]
+            if not len(strong):
                 break
             X = Interval.from_bounds(lo[strong], hi[strong])
             L = Interval.from_bounds(b.L.lo[strong], b.L.hi[strong])
@@ -465,7 +482,7 @@ class FKProblem:
         would reach a root of another box.  Not so with uncertain lengths: the iterate (the root for
         the middle lengths) may then lie outside X's box, within the root's spread."""
         system = self._system(len(lo))
-        L = self._L(roots)
+        L, sc, unc = self._L(roots), self._scales(roots), self.uncertain_rows[roots]
         x = 0.5 * (lo + hi)
         J = system.jacobian(Interval.from_bounds(lo, hi))
         C, _ = linalg.float_inverse(J.mid())
@@ -473,25 +490,26 @@ class FKProblem:
             for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
                 f = system.equations(Interval.from_bounds(x, x.copy()), L)
                 x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
-            lost = ~np.all(np.isfinite(x), axis=1) | np.any(np.abs(x - 0.5 * (lo + hi)) > 1e3 * (hi - lo + self.scale), axis=1)
-            if within is not None and not self.uncertain:
-                lost |= np.any((x < within[0]) | (x > within[1]), axis=1)
+            lost = ~np.all(np.isfinite(x), axis=1) | np.any(np.abs(x - 0.5 * (lo + hi)) > 1e3 * (hi - lo + sc), axis=1)
+            if within is not None:
+                lost |= ~unc & np.any((x < within[0]) | (x > within[1]), axis=1)
             x[lost] = 0.5 * (lo[lost] + hi[lost])
             f = system.equations(Interval.from_bounds(x, x.copy()), L)
         spread = np.einsum("nij,nj->ni", np.abs(C), 0.5 * (f.hi - f.lo))
-        base = np.maximum(np.abs(x - 0.5 * (lo + hi)), hi - lo) + 1e-12 * self.scale
-        best = None
-        for factor in ((3.0, 2.0) if self.uncertain else (0.0,)):
-            r = np.maximum(base, factor * spread)
-            slo, shi = np.minimum(lo, x - r), np.maximum(hi, x + r)
+        base = np.maximum(np.abs(x - 0.5 * (lo + hi)), hi - lo) + 1e-12 * sc
+        N, n = lo.shape
+        best = [np.zeros(N, dtype=bool), lo.copy(), hi.copy(), np.zeros((N, n, n))]
+        # exact lengths: r = base; uncertain: 3 times the spread, then 2 times where that failed
+        for factor, rows in ((0.0, ~unc), (3.0, unc), (2.0, unc)):
+            rows = np.nonzero(rows & ~best[0])[0]
+            if not len(rows):
+                continue
+            r = np.maximum(base[rows], factor * spread[rows])
+            slo, shi = np.minimum(lo[rows], x[rows] - r), np.maximum(hi[rows], x[rows] + r)
             with np.errstate(all="ignore"):    # a non-finite image proves nothing: the test fails
-                K, Cs = krawczyk_boxes(system, Interval.from_bounds(slo, shi), L, compact=True)
+                K, Cs = krawczyk_boxes(system, Interval.from_bounds(slo, shi),
+                                       Interval.from_bounds(L.lo[rows], L.hi[rows]), compact=True)
                 ok = unique_in(K, slo, shi)
-            if best is None:
-                best = [ok, slo, shi, Cs]
-            else:                           # the rows the wider box did not prove
-                use = ~best[0] & ok
-                best[0] = best[0] | ok
-                for old, new in zip(best[1:], (slo, shi, Cs)):
-                    old[use] = new[use]
+            use = rows[ok]
+            best[0][use], best[1][use], best[2][use], best[3][use] = True, slo[ok], shi[ok], Cs[ok]
         return tuple(best)

@@ -261,14 +261,16 @@ def root_boxes(system, star_lo, star_hi, L: Interval, newton_steps: int = 6):
     x = 0.5 * star_lo + 0.5 * star_hi
     with np.errstate(all="ignore"):
         size = np.maximum(np.abs(star_hi - star_lo), 1e-300)
-        for _ in range(newton_steps):
+        going = np.ones(N, dtype=bool)          # rows not converged yet (each row on its own: its guess
+        for _ in range(newton_steps):           # does not depend on the other rows)
             f, J = system.float_system(x, L2)
             ok = np.all(np.isfinite(J), axis=(1, 2)) & (np.abs(np.linalg.det(J)) > 0)
             step = np.linalg.solve(np.where(ok[:, None, None], J, np.eye(n)), f[..., None])[..., 0]
-            step = np.where(ok[:, None] & np.isfinite(step), step, 0.0)
+            step = np.where((going & ok)[:, None] & np.isfinite(step), step, 0.0)
             x = x - step
             # converged (a guess: the proof is below): steps at the rounding level of x or of X*'s width
-            if np.all(np.abs(step) <= 2.0 ** -40 * np.maximum(size, np.abs(x))):
+            going &= ~np.all(np.abs(step) <= 2.0 ** -40 * np.maximum(size, np.abs(x)), axis=1)
+            if not going.any():
                 break
         f, J = system.float_system(x, L2)
         C, failed = linalg.float_inverse(J)

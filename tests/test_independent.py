@@ -1,0 +1,194 @@
+"""Instances searched together as if each were alone (``forward_kinematics(..., independent=True)``)
+and FK jobs of a batch chunk answered together: every answer, its box count and its certificate's
+bytes are those of the instance or job alone.
+
+The reference is the instance searched on its own, by the same code: these tests check that the
+batch-level choices of the search (how many times few open boxes are halved, when Krawczyk runs
+again, the scale of the unknowns, when Newton's guesses stop) are made per instance.  Each answer's
+certificate is re-checked by the independent checker.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+from certfile import checked
+from proofs.checker import check_file
+from certkin import load_robot
+from certkin.batch.local import run_chunk
+from certkin.batch.results import untimed
+from certkin.cli import batch as cli_batch
+from certkin.cli import fk as cli_fk
+from certkin.cli.batch import run_job
+from certkin.cli.common import write_certificate
+from certkin.fk import forward_kinematics
+from test_fk import EXAMPLES, SIX_MODES, planar
+from test_fk_families import pose_lengths, random_poses
+
+PLANAR = EXAMPLES / "seed003-planar-example-2.toml"
+
+
+def _grid(n, seed=0):
+    """n leg-length rows around the seed 003 example 2 design (the batch benchmark's grid)."""
+    rng = np.random.default_rng(seed)
+    lo, hi = np.array([28.5, 13.2, 40.0]), np.array([29.5, 14.1, 41.0])
+    return [[f"{v:.3f}" for v in lo + rng.uniform(0, 1, 3) * (hi - lo)] for _ in range(n)]
+
+
+def _document(result):
+    doc = result.to_json()
+    doc["stats"].pop("seconds")
+    return doc
+
+
+def _certificate_bytes(result, path):
+    write_certificate(path, result.certificate())
+    return path.read_bytes()
+
+
+def assert_each_as_alone(robot, rows, tmp_path, **options):
+    """Each row searched together with the others: the answer of the row alone, and its certificate's
+    bytes; the certificates re-checked."""
+    together = forward_kinematics(robot, rows, independent=True, **options)
+    assert len(together) == len(rows)
+    for k, (row, b) in enumerate(zip(rows, together)):
+        a = forward_kinematics(robot, row, **options)
+        assert _document(b) == _document(a), (k, row)
+        assert b.boxes == a.boxes > 0
+        assert _certificate_bytes(b, tmp_path / "b.cert") == _certificate_bytes(a, tmp_path / "a.cert"), (k, row)
+        if a.complete:
+            checked(b)
+    return together
+
+
+def test_planar_rows_searched_together_get_their_own_answers(tmp_path):
+    robot = load_robot(PLANAR)
+    together = assert_each_as_alone(robot, _grid(12), tmp_path)
+    assert all(r.complete for r in together)
+    assert {len(r.solutions) for r in together} >= {4, 6}     # rows of different mode counts
+
+
+def test_symmetric_robot_with_its_mode_on_every_split_plane_searched_with_others(tmp_path):
+    """Issue 16's planar case: the mode x = 5, y = 5, phi = 0 lies on split planes; with two rows
+    whose modes do not, in one search."""
+    mp.mp.dps = 40
+    base, plat = [(0, 0), (10, 0), (3, 10)], [(0, 0), (4, 0), (2, 2)]
+    robot = planar(base, plat)
+    home = [mp.nstr(mp.sqrt(50), 25), mp.nstr(mp.sqrt(26), 25), "5"]
+    rows = [home, pose_lengths(robot, [5.01, 5.0, 0.0]), pose_lengths(robot, [4.0, 6.0, 0.3])]
+    together = assert_each_as_alone(robot, rows, tmp_path)
+    first = together[0]
+    assert first.complete
+    at_home = [s for s in first.solutions
+               if all(s["pose"][n].lo <= v <= s["pose"][n].hi for n, v in (("x", 5), ("y", 5), ("phi", 0)))]
+    assert len(at_home) == 1, "the mode at (5, 5, phi = 0) is proved unique"
+
+
+def test_six_mode_designs_and_the_spherical_example_at_random_poses(tmp_path):
+    base, plat, lengths = SIX_MODES[1]
+    robot = planar(base, plat)
+    rows = [lengths] + [pose_lengths(robot, p) for p in ([4.0, 9.0, 0.5], [7.0, 12.0, -0.3], [0.0, 0.0, 0.0])]
+    assert_each_as_alone(robot, rows, tmp_path)
+    spherical = load_robot(EXAMPLES / "seed003-spherical-example-1.toml")
+    rows = [pose_lengths(spherical, spherical.home_box().mid())] + \
+        [pose_lengths(spherical, p) for p in random_poses(spherical, 3, seed=2)]
+    assert_each_as_alone(spherical, rows, tmp_path)
+
+
+def test_each_row_has_its_own_box_budget(tmp_path):
+    """A box budget too small to finish: each row stops where it would alone (incomplete, the same
+    undecided regions, the same boxes counted)."""
+    robot = load_robot(PLANAR)
+    together = assert_each_as_alone(robot, _grid(4, seed=3), tmp_path, max_boxes=150)
+    assert not any(r.complete for r in together)
+    assert [r.boxes for r in together] == [150] * 4
+    assert all(r.unresolved for r in together)
+
+
+def test_rows_with_length_ranges_beside_exact_rows(tmp_path):
+    """An uncertain row does not change how the exact rows beside it are searched, nor the reverse."""
+    robot = load_robot(PLANAR)
+    exact = _grid(2, seed=7)
+    ranged = [f"{float(v) - 0.001:.4f}:{float(v) + 0.001:.4f}" for v in exact[0]]
+    assert_each_as_alone(robot, [exact[0], ranged, exact[1]], tmp_path)
+
+
+# ----- batch chunks ------------------------------------------------------------------------------
+def _jobs(rows, **options):
+    return [{"id": f"fk-{k:03d}", "command": "fk", "robot": str(PLANAR), "lengths": ",".join(r), **options}
+            for k, r in enumerate(rows)]
+
+
+def _files(out, jobs):
+    docs = {j["id"]: untimed(json.loads((out / f"{j['id']}.json").read_text())) for j in jobs}
+    certs = {j["id"]: hashlib.sha256((out / f"{j['id']}.cert").read_bytes()).hexdigest()
+             for j in jobs if (out / f"{j['id']}.cert").exists()}
+    return docs, certs
+
+
+def test_a_chunk_answers_its_fk_jobs_together_with_each_job_own_files(tmp_path, monkeypatch):
+    """A chunk of FK jobs (one with another budget, one with bad lengths, one trajectory-free robot
+    error) gives the files each job alone gives; the jobs that differ only in lengths were answered
+    in one search."""
+    jobs = _jobs(_grid(6, seed=11))
+    jobs[2]["max_boxes"] = 200                       # another budget: answered in a group of its own
+    jobs.append({"id": "bad", "command": "fk", "robot": str(PLANAR), "lengths": "1,2"})
+    searches = []
+    original = cli_fk.compute_together
+
+    def counted(args_list, robot):
+        searches.append(len(args_list))
+        return original(args_list, robot)
+    monkeypatch.setattr(cli_fk, "compute_together", counted)
+    alone, together = tmp_path / "alone", tmp_path / "together"
+    alone.mkdir(), together.mkdir()
+    for job in jobs:
+        run_job(job, str(alone))
+    values, _ = run_chunk(run_job, [(job, str(together)) for job in jobs])
+    assert searches == [6]                           # the 5 alike and "bad" (refused there, answered alone)
+    assert [v["verdict"] for v in values] == ["complete"] * 2 + ["incomplete"] + ["complete"] * 3 + ["error"]
+    assert _files(together, jobs) == _files(alone, jobs)
+    for job in jobs[:-1]:
+        report = check_file(str(together / f"{job['id']}.cert"))
+        assert report.ok, report.step
+
+
+def test_a_chunk_whose_grouping_fails_answers_each_job_alone(tmp_path, monkeypatch):
+    jobs = _jobs(_grid(3, seed=13))
+
+    def broken(args_list, robot):
+        raise RuntimeError("grouping failed")
+    monkeypatch.setattr(cli_fk, "compute_together", broken)
+    values, _ = run_chunk(run_job, [(job, str(tmp_path)) for job in jobs])
+    assert [v["verdict"] for v in values] == ["complete"] * 3
+    for job in jobs:
+        assert (tmp_path / f"{job['id']}.cert").exists()
+
+
+def test_a_job_answered_before_is_not_searched_again_in_a_group(tmp_path, monkeypatch):
+    jobs = _jobs(_grid(3, seed=17))
+    run_job(jobs[0], str(tmp_path))
+    seen = []
+    original = cli_fk.compute_together
+    monkeypatch.setattr(cli_fk, "compute_together", lambda a, r: seen.append(len(a)) or original(a, r))
+    values, _ = run_chunk(run_job, [(job, str(tmp_path)) for job in jobs])
+    assert seen == [2]
+    assert [v["verdict"] for v in values] == ["complete"] * 3
+
+
+@pytest.fixture(autouse=True)
+def _no_held_robots():
+    yield
+    cli_batch._ROBOTS.clear()
+
+
+def test_a_gough_stewart_robot_at_home_and_near_it_rows_together(tmp_path):
+    """The spatial search (slope steps, per-instance position scale from each instance's domain)."""
+    robot = load_robot(EXAMPLES / "seed000-mel-tsukuba.toml")
+    rows = [pose_lengths(robot, robot.home_box().mid())] + [pose_lengths(robot, p) for p in random_poses(robot, 2, seed=1)]
+    together = assert_each_as_alone(robot, rows, tmp_path)
+    assert all(r.complete and r.solutions for r in together)
