@@ -192,3 +192,29 @@ def test_a_gough_stewart_robot_at_home_and_near_it_rows_together(tmp_path):
     rows = [pose_lengths(robot, robot.home_box().mid())] + [pose_lengths(robot, p) for p in random_poses(robot, 2, seed=1)]
     together = assert_each_as_alone(robot, rows, tmp_path)
     assert all(r.complete and r.solutions for r in together)
+
+
+def test_a_group_search_has_the_seconds_of_its_jobs_and_no_more(tmp_path, monkeypatch):
+    """20 jobs of 0.002 s each (a planar job alone takes about 10 times that): the search of the group
+    has 0.04 s; the jobs it did not finish are answered as they stand, incomplete because the seconds
+    ran out, and none is searched again alone (its seconds are spent)."""
+    jobs = _jobs(_grid(20, seed=19), max_seconds=0.002)
+    alone = []
+    monkeypatch.setattr(cli_fk, "compute", lambda args, robot=None: alone.append(args))
+    values, _ = run_chunk(run_job, [(job, str(tmp_path)) for job in jobs])
+    assert alone == []
+    assert {v["verdict"] for v in values} <= {"complete", "incomplete"} and "incomplete" in {v["verdict"] for v in values}
+    for job, value in zip(jobs, values):
+        doc = json.loads((tmp_path / f"{job['id']}.json").read_text())
+        if value["verdict"] == "incomplete":
+            assert "time budget" in doc["message"] and doc["unresolved"]
+        else:
+            assert doc["solutions"] == forward_kinematics(load_robot(PLANAR), job["lengths"]).to_json()["solutions"]
+        assert check_file(str(tmp_path / f"{job['id']}.cert")).ok
+
+
+def test_jobs_of_a_roomy_budget_searched_together_are_all_answered(tmp_path):
+    """The same 20 jobs with 0.03 s each (0.6 s for the group's search): every job complete."""
+    jobs = _jobs(_grid(20, seed=19), max_seconds=0.03)
+    values, _ = run_chunk(run_job, [(job, str(tmp_path)) for job in jobs])
+    assert [v["verdict"] for v in values] == ["complete"] * 20

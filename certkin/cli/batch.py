@@ -228,8 +228,9 @@ def run_job(job: dict, out: str) -> dict:
 
 def answer_job(job: dict, out: str, early=None):
     """``run_job`` in two phases (``run_job.phased``, see ``certkin.batch.local.run_chunk``): the job's
-    answer computed now (or taken from ``early``: (answer, seconds, CPU seconds) that ``answer_together``
-    computed); returned, a function that writes its files and gives its summary row."""
+    answer computed now, or taken from ``early``: (answer, seconds, CPU seconds) that ``answer_together``
+    computed (answer None: a search with other jobs did not answer it, its seconds come off the job's
+    ``max_seconds``); returned, a function that writes its files and gives its summary row."""
     t0, c0 = time.perf_counter(), time.process_time()
     if early is not None:                   # (its share of the time of the search it was answered in)
         t0, c0 = t0 - early[1], c0 - early[2]
@@ -246,7 +247,9 @@ def answer_job(job: dict, out: str, early=None):
         path = certificate_path(out, job["id"])
         args.certificate = str(path)         # as ``--certificate``: a search keeps what its certificate needs
         robot, fingerprint = robot_of(job)
-        answer = early[0] if early is not None else module.compute(args, robot)
+        if early is not None and early[0] is None:
+            args.max_seconds = max(MIN_SECONDS, args.max_seconds - early[1])
+        answer = early[0] if early is not None and early[0] is not None else module.compute(args, robot)
     except Exception as exc:
         return partial(write_error, out, job, ERROR, _message(exc), time.perf_counter() - t0)
     seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
@@ -273,8 +276,10 @@ def answer_together(tasks: list) -> list:
     """Before the jobs of a chunk run one by one (``run_job.prepare``, see ``certkin.batch.local.run_chunk``):
     its ``fk`` jobs that differ only in their leg lengths are answered together
     (``certkin.cli.fk.compute_together``: each answer the one its job alone gets, certificate included,
-    in a fraction of the time).  Per task, (answer, seconds, CPU seconds) or None: that job is answered
-    alone (and any job when anything here fails)."""
+    in a fraction of the time).  Per task, (answer, seconds, CPU seconds), None: that job is answered
+    alone (and any job when anything here fails), or (None, seconds, CPU seconds): it was searched with
+    others for its share of that search, without its answer (the memory ran out, its record went to
+    files): it is answered alone in what is left of its ``max_seconds`` (at least ``MIN_SECONDS``)."""
     early, groups = [None] * len(tasks), {}
     for k, (job, out) in enumerate(tasks):
         if job.get("command") != "fk" or document_path(out, job["id"]).exists():
@@ -291,16 +296,19 @@ def answer_together(tasks: list) -> list:
             continue
         t0, c0 = time.perf_counter(), time.process_time()
         try:
-            answers = members[0][3].compute_together([args for _, args, _, _ in members], members[0][2])
+            answers, searched = members[0][3].compute_together([args for _, args, _, _ in members], members[0][2])
         except Exception:
             continue
-        seconds, cpu = (time.perf_counter() - t0) / len(members), (time.process_time() - c0) / len(members)
-        for (k, _, _, _), answer in zip(members, answers):
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        for (k, _, _, _), answer, tried in zip(members, answers, searched):
             if answer is not None:
-                early[k] = (answer, seconds, cpu)
+                early[k] = (answer, wall / len(members), cpu / len(members))
+            elif tried:
+                early[k] = (None, wall / len(members), 0.0)
     return early
 
 
+MIN_SECONDS = 0.001      # a job's seconds left after a search with others, at least (a budget is positive)
 run_job.phased = answer_job
 run_job.prepare = answer_together
 

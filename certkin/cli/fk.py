@@ -55,14 +55,17 @@ def _answer(args, robot, result) -> Answer:
                   lambda path, cert: report_writer("fk_report")(robot, result, path, cert, budget(args)))
 
 
-def compute_together(args_list, robot) -> list:
+def compute_together(args_list, robot) -> tuple[list, list]:
     """The answers of several ``certkin fk`` queries that differ only in ``--lengths`` (exact
     decimals, no ``--track``), searched together as independent instances (``forward_kinematics(...,
     independent=True)``): each answer is the one ``compute`` gives, certificate included, unless the
-    seconds or memory ran out.  A query whose answer is not that one (its lengths refused, its search
-    stopped by the seconds or memory, or its record handed to files) is None: the caller computes it
-    alone.  The seconds of an answer: its share of the search."""
-    out, rows, members = [None] * len(args_list), [], []
+    seconds or memory ran out.  The search has the seconds of all the queries (their ``--max-seconds``
+    each, the smallest); when they run out, the queries it did not finish are answered as they stand
+    (incomplete: the seconds ran out, as alone).  A query it did not answer (its lengths refused, its
+    search stopped by the memory, its record handed to files) is None: the caller computes it alone.
+    The seconds of a query: its share of the search.  Returns (the answers, whether each query was
+    searched)."""
+    out, searched, rows, members = [None] * len(args_list), [False] * len(args_list), [], []
     with options(OPTIONS):
         robot = with_angles(robot, args_list[0].angles)
         for k, args in enumerate(args_list):
@@ -74,20 +77,21 @@ def compute_together(args_list, robot) -> list:
                 rows.append(texts[0])
                 members.append(k)
         if len(members) < 2:
-            return out
+            return out, searched
         first = args_list[members[0]]
-        group = replace(budget(first), max_seconds=min(args_list[k].max_seconds for k in members))
+        group = replace(budget(first), max_seconds=len(members) * min(args_list[k].max_seconds for k in members))
         results = forward_kinematics(robot, rows, domain=first.domain, budget=group, independent=True, record=True)
     for k, r in zip(members, results):
-        if r.tree is not None and (r.tree.record_sink or not r.tree.complete_record or _stopped_early(r)):
+        searched[k] = True
+        if r.tree is not None and (r.tree.record_sink or not r.tree.complete_record or _out_of_memory(r)):
             continue
         out[k] = _answer(args_list[k], robot, r)
-    return out
+    return out, searched
 
 
-def _stopped_early(result) -> bool:
-    """Whether a search left boxes of this result undecided for want of seconds or memory (or Ctrl-C)."""
-    return result.tree.stopped_by not in (None, "boxes") and not result.complete
+def _out_of_memory(result) -> bool:
+    """Whether a search left boxes of this result undecided for want of memory."""
+    return result.tree.stopped_by == "memory" and not result.complete
 
 
 def run(args):
