@@ -164,7 +164,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
         dec = problem.decide(blo, bhi, store.root[ids])
         per_box = (time.perf_counter() - t_batch) / len(ids)
         processed += len(ids)
-        per_root += np.bincount(store.root[ids], minlength=m)
+        _count(per_root, store.root[ids])
         ids, blo, bhi, open_ = _record(store, evidence, dec, ids, blo, bhi, finished)
         oids, olo, ohi = ids[open_], blo[open_], bhi[open_]
         if len(oids):
@@ -192,6 +192,14 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     tree.segment_roots, tree.record_sink = (segment, record_sink) if compacted and record_sink else (None, None)
     tree.stopped_by = stopped or ("boxes" if out_of_boxes else None)
     return SearchResult(tree, processed, time.perf_counter() - t0, exhausted or out_of_boxes, per_root)
+
+
+def _count(per_root, roots) -> None:
+    """``per_root[r]`` += how many of ``roots`` are r (one pass over ``roots`` when the roots are many)."""
+    if len(per_root) > 64 * len(roots):
+        np.add.at(per_root, roots, 1)
+    else:
+        per_root += np.bincount(roots, minlength=len(per_root))
 
 
 def _initial(store, roots, lo, hi, scale, min_width, initial_splits):
