@@ -1073,3 +1073,31 @@ def test_the_campaign_picture_draws_no_job_time_when_no_job_ended(tmp_path, monk
     rows[0].update(verdict="complete", seconds=0.5)
     plot_campaign({"counts": {"fk complete": 1, "fk pending": 2}, "results": rows}, tmp_path / "b.png")
     assert [t.get_text() for t in drawn[-1].axes[1].get_legend().get_texts()] == ["1 job"]
+
+
+def test_a_batch_resumed_from_another_directory_keeps_its_answers(tmp_path, monkeypatch, capsys):
+    """Jobs naming their robot by a relative path, answered from one directory; the same batch run
+    from another directory (where the path leads nowhere) is refused, exit code 2, naming the job and
+    the file, and every answer stays as it was.  From the first directory it resumes."""
+    first = tmp_path / "first"
+    first.mkdir()
+    (first / "robot.toml").write_bytes(Path(PLANAR).read_bytes())
+    jobs = first / "jobs.jsonl"
+    jobs.write_text("".join(dumps({"id": f"j{k}", "command": "fk", "robot": "robot.toml",
+                                   "lengths": f"29,13.{k},40.5"}) + "\n" for k in range(3)))
+    out = tmp_path / "out"
+    monkeypatch.chdir(first)
+    assert main(["batch", str(jobs), "--out", str(out), "--workers", "1"]) == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir() if p.suffix in (".json", ".cert") and p.name != "summary.json"}
+    assert len(before) == 6
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    capsys.readouterr()
+    assert exit_code(["batch", str(jobs), "--out", str(out), "--workers", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "job j0" in err and "robot.toml not found" in err and "Traceback" not in err
+    assert {p.name: p.read_bytes() for p in out.iterdir() if p.name in before} == before
+    monkeypatch.chdir(first)
+    assert main(["batch", str(jobs), "--out", str(out), "--workers", "1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["resumed"] == 3

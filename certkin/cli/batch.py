@@ -364,6 +364,31 @@ def _check(args, jobs) -> None:
     if ours or args.report is not None and os.path.realpath(args.report) == source:
         raise InputError(str(args.jobs), "", "the batch would overwrite its own jobs file (a result or the "
                                              "report has its name): move it or give another --out")
+    _answers_kept(args, jobs)
+
+
+def _answers_kept(args, jobs) -> None:
+    """Refuse a run that would replace a job's answer in ``--out`` by an error only because the job's robot
+    file is not found from here (relative paths are read from the working directory: a batch resumed
+    from another directory)."""
+    exists = {}
+    for job in jobs:
+        robot = job.get("robot")
+        if not isinstance(robot, str) or not robot or "id" not in job:
+            continue
+        if robot not in exists:
+            exists[robot] = os.path.exists(robot)
+        if exists[robot]:
+            continue
+        try:
+            document = json.loads(document_path(args.out, job["id"]).read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue
+        if isinstance(document, dict) and document.get("status") != ERROR:
+            raise InputError(str(args.jobs), f"job {job['id']}", f"robot file {robot} not found from "
+                             f"{os.getcwd()}, and {args.out} holds this job's answer: the run would replace it by "
+                             "an error (relative paths are read from the working directory: run from the directory "
+                             "of the first run)")
 
 
 def run(args):
