@@ -218,3 +218,25 @@ def test_jobs_of_a_roomy_budget_searched_together_are_all_answered(tmp_path):
     jobs = _jobs(_grid(20, seed=19), max_seconds=0.03)
     values, _ = run_chunk(run_job, [(job, str(tmp_path)) for job in jobs])
     assert [v["verdict"] for v in values] == ["complete"] * 20
+
+
+def test_a_row_out_of_its_boxes_says_so_when_the_seconds_of_the_others_run_out():
+    """Two rows with 500 boxes each; the seconds run out after the fourth batch (its progress call
+    sleeps them away): by then both rows have spent their own 500 boxes, the box budget stopped them
+    as it stops each row alone, and their messages say so (not "the time budget")."""
+    import time
+    robot = load_robot(PLANAR)
+    grid = _grid(6, seed=5)
+    rows = [grid[0], grid[4]]                        # 500 boxes: after 3 batches, after 4 (of 4, of 5)
+    calls = []
+
+    def slow(boxes, frontier):
+        calls.append(boxes)
+        if len(calls) == 4:
+            time.sleep(1.0)
+    together = forward_kinematics(robot, rows, independent=True, max_boxes=500, max_seconds=1.0, progress=slow)
+    for row, b in zip(rows, together):
+        a = forward_kinematics(robot, row, max_boxes=500)
+        assert b.boxes == a.boxes == 500
+        assert "box budget" in a.message
+        assert b.message == a.message

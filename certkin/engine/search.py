@@ -191,6 +191,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows, complete_record=not compacted or bool(record_sink))
     tree.segment_roots, tree.record_sink = (segment, record_sink) if compacted and record_sink else (None, None)
     tree.stopped_by = stopped or ("boxes" if out_of_boxes else None)
+    tree.spent = per_root >= budget.max_boxes if independent else None     # (whatever stopped the others)
     return SearchResult(tree, processed, time.perf_counter() - t0, exhausted or out_of_boxes, per_root)
 
 

@@ -183,6 +183,7 @@ class Tree:
         self.evidence = evidence
         self.evidence_rows = evidence_rows
         self.stopped_by = None                   # what stopped the search early (``search._stopped``), if anything
+        self.spent = None                        # (``independent``) per root: its own box budget stopped it
 
     @classmethod
     def view(cls, store: Store, reasons, evidence: Evidence) -> "Tree":

@@ -194,7 +194,7 @@ def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
         r.cluster_leaves = und_sorted[mine][at_limit[mine]]
         pending = [(tree.lo[j], tree.hi[j]) for j in und_sorted[mine][~at_limit[mine]]]
         if np.any(tree.reason[und_sorted[mine]] == BUDGET):
-            r.message = budget_message(tree.stopped_by)
+            r.message = budget_message("boxes" if tree.spent is not None and tree.spent[k] else tree.stopped_by)
         _merge(r, system, proved[sel], (slo[sel], shi[sel], star_C[sel]), rlo[sel], rhi[sel], rC[sel], lo[i], hi[i],
                pending)
         pendings.append(pending)
