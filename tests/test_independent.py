@@ -240,3 +240,48 @@ def test_a_row_out_of_its_boxes_says_so_when_the_seconds_of_the_others_run_out()
         assert b.boxes == a.boxes == 500
         assert "box budget" in a.message
         assert b.message == a.message
+
+
+# ----- the engine --------------------------------------------------------------------------------
+class _Spheres:
+    """A toy problem: the points of the sphere |x - c_k| = r_k in root k's box (boxes that miss it
+    excluded, narrow boxes that meet it proved); a box decided from that box and its root only."""
+    reasons = ("outside", "meets")
+
+    def __init__(self, c, r):
+        self.c, self.r = np.asarray(c, dtype=float), np.asarray(r, dtype=float)
+
+    def decide(self, lo, hi, roots):
+        from certkin.engine.search import EXCLUDED, OPEN, PROVED, Decisions
+        c, r = self.c[roots], self.r[roots]
+        a, b = lo - c, hi - c
+        near = np.where((a <= 0) & (b >= 0), 0.0, np.minimum(a * a, b * b)).sum(axis=1)
+        far = np.maximum(a * a, b * b).sum(axis=1)
+        out = (near > r * r) | (far < r * r)
+        found = ~out & (np.max(hi - lo, axis=1) < 0.1 * r)
+        return Decisions(np.where(out, EXCLUDED, np.where(found, PROVED, OPEN)).astype(np.int8), found.astype(int))
+
+
+def _subtree(tree, k):
+    """Root k's nodes in the order they were made: boxes, kinds, reasons, links (as local indices)."""
+    ids = np.nonzero(tree.root == k)[0]
+    local = np.full(len(tree.root) + 1, -1)
+    local[ids] = np.arange(len(ids))
+    return [tree.lo[ids].tobytes(), tree.hi[ids].tobytes(), tree.kind[ids].tobytes(), tree.reason[ids].tobytes(),
+            local[tree.parent[ids]].tobytes(), local[tree.first_child[ids]].tobytes(), tree.split_dim[ids].tobytes()]
+
+
+def test_engine_roots_of_different_extents_without_a_scale_each_as_alone():
+    """Without ``scale``, a root alone has its own extent as the scale: so it has searched together."""
+    from certkin.engine.budgets import Budget
+    from certkin.engine.search import search
+    rng = np.random.default_rng(0)
+    c, r = rng.uniform(-1, 1, (4, 3)), rng.uniform(0.3, 1.0, 4)
+    lo = -2.0 * rng.uniform(0.5, 1.5, (4, 3))
+    hi = 2.0 * rng.uniform(0.5, 1.5, (4, 3))
+    budget = Budget(min_width=1e-2)
+    together = search(_Spheres(c, r), lo, hi, budget=budget, independent=True)
+    for k in range(4):
+        alone = search(_Spheres(c[k:k + 1], r[k:k + 1]), lo[k:k + 1], hi[k:k + 1], budget=budget)
+        assert _subtree(together.tree, k) == _subtree(alone.tree, 0), k
+        assert together.boxes_per_root[k] == alone.boxes

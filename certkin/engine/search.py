@@ -112,7 +112,8 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     at ``roots`` and returns its *continued* leaves (the nodes still held) in its order: the next
     segment's roots.  The tree returned is the last segment (``tree.segment_roots``, ``tree.record_sink``).
     ``record_sink.kept(name, kind, reason)``, if any: which evidence rows are recorded at all.
-    ``scale``: (d,), or (M, d) one row per root.
+    ``scale``: (d,), or (M, d) one row per root (default: the extent of the first root's box; with
+    ``independent``, of each root's box).
     ``independent``: each root is searched as if alone (its own stack, batches of up to ``batch`` of its
     boxes, ``min_batch`` counted on its boxes, ``budget.max_boxes`` its own); the batches of several
     roots are decided together, whole, in one call of up to about ``batch`` boxes.  With a problem
@@ -124,8 +125,8 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     lo = np.atleast_2d(np.asarray(lo, dtype=np.float64))
     hi = np.atleast_2d(np.asarray(hi, dtype=np.float64))
     m, d = lo.shape
-    if scale is None:
-        scale = np.where(hi[0] > lo[0], hi[0] - lo[0], 1.0)
+    if scale is None:                       # (the first root's extent; ``independent``: each root's own)
+        scale = np.where(hi > lo, hi - lo, 1.0) if independent else np.where(hi[0] > lo[0], hi[0] - lo[0], 1.0)
     scale = np.asarray(scale, dtype=np.float64)
     store, compacted = Store(d, max(1024, 4 * m), m), False
     evidence = _evidence(store, record_sink)
