@@ -285,3 +285,19 @@ def test_engine_roots_of_different_extents_without_a_scale_each_as_alone():
         alone = search(_Spheres(c[k:k + 1], r[k:k + 1]), lo[k:k + 1], hi[k:k + 1], budget=budget)
         assert _subtree(together.tree, k) == _subtree(alone.tree, 0), k
         assert together.boxes_per_root[k] == alone.boxes
+
+
+def test_a_chunk_of_jobs_whose_memory_bounds_their_batches_gives_each_job_own_files(tmp_path):
+    """Spherical jobs with 4 MiB: alone, the memory left shortens some of a job's batches (it does not
+    run out); searched together their batches would be whole: such jobs are answered alone."""
+    robot = load_robot(EXAMPLES / "seed003-spherical-example-1.toml")
+    rows = [pose_lengths(robot, robot.home_box().mid())] + [pose_lengths(robot, p) for p in random_poses(robot, 2, seed=2)]
+    jobs = [{"id": f"fk-{k:03d}", "command": "fk", "robot": str(EXAMPLES / "seed003-spherical-example-1.toml"),
+             "lengths": ",".join(map(str, r)), "max_memory": "4MiB"} for k, r in enumerate(rows)]
+    alone, together = tmp_path / "alone", tmp_path / "together"
+    alone.mkdir(), together.mkdir()
+    for job in jobs:
+        run_job(job, str(alone))
+    values, _ = run_chunk(run_job, [(job, str(together)) for job in jobs])
+    assert [v["verdict"] for v in values] == ["complete"] * 3
+    assert _files(together, jobs) == _files(alone, jobs)

@@ -62,9 +62,9 @@ def compute_together(args_list, robot) -> tuple[list, list]:
     seconds or memory ran out.  The search has the seconds of all the queries (their ``--max-seconds``
     each, the smallest); when they run out, the queries it did not finish are answered as they stand
     (incomplete: the seconds ran out, as alone).  A query it did not answer (its lengths refused, its
-    search stopped by the memory, its record handed to files) is None: the caller computes it alone.
-    The seconds of a query: its share of the search.  Returns (the answers, whether each query was
-    searched)."""
+    search stopped by the memory or, alone, perhaps shortened by it, its record handed to files) is
+    None: the caller computes it alone.  The seconds of a query: its share of the search.  Returns
+    (the answers, whether each query was searched)."""
     out, searched, rows, members = [None] * len(args_list), [False] * len(args_list), [], []
     with options(OPTIONS):
         robot = with_angles(robot, args_list[0].angles)
@@ -90,8 +90,10 @@ def compute_together(args_list, robot) -> tuple[list, list]:
 
 
 def _out_of_memory(result) -> bool:
-    """Whether a search left boxes of this result undecided for want of memory."""
-    return result.tree.stopped_by == "memory" and not result.complete
+    """Whether a search left boxes of this result undecided for want of memory, or the memory may have
+    shortened a batch of its instance searched alone (its answer could then be another)."""
+    tree = result.tree
+    return tree.stopped_by == "memory" and not result.complete or tree.pressed is not None and tree.pressed[result.node]
 
 
 def run(args):

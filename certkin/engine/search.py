@@ -119,7 +119,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     roots are decided together, whole, in one call of up to about ``batch`` boxes.  With a problem
     whose decisions about a root's boxes depend only on those boxes, each root's subtree (and its
     count in ``SearchResult.boxes_per_root``) is then the one a search of that root alone makes,
-    unless the seconds or memory ran out.
+    unless the seconds or memory ran out or may have shortened a batch of it (``tree.pressed``).
     """
     budget = budget or Budget()
     lo = np.atleast_2d(np.asarray(lo, dtype=np.float64))
@@ -133,7 +133,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     roots = segment = store.add(lo, hi, np.arange(m), np.full(m, -1))
     lanes = _Lanes(store, _initial(store, roots, lo, hi, scale, budget.min_width, initial_splits), m, independent)
     finished = np.zeros(m, dtype=bool)
-    per_root = np.zeros(m, dtype=np.int64)  # boxes decided, per root
+    per_root, pressed = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=bool)  # boxes decided; ``_pressed``
     processed = 0
     t0 = time.perf_counter()
     per_box = 0.0                           # seconds per box of the last batch
@@ -149,9 +149,9 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
         size = _batch_size(batch, per_box, left, 1 << 62 if independent else budget.max_boxes - processed,
                            room // work if work else None)
         ids, over = lanes.pop(size, batch, budget.max_boxes - per_root)
-        if len(over):                       # roots whose own box budget ran out (``independent``)
-            store.kind[over], store.reason[over] = UNDECIDED, BUDGET
-            out_of_boxes = True
+        store.kind[over], store.reason[over] = UNDECIDED, BUDGET    # roots whose own box budget ran out
+        out_of_boxes |= len(over) > 0
+        pressed |= _pressed(store, ids, room, budget.max_memory, work, m) if independent else False
         done = finished[store.root[ids]]
         if done.any():
             store.kind[ids[done]] = UNDECIDED
@@ -192,7 +192,7 @@ def search(problem, lo, hi, scale=None, budget: Budget | None = None, batch: int
     tree = Tree(store, m, getattr(problem, "reasons", ()), ev, rows, complete_record=not compacted or bool(record_sink))
     tree.segment_roots, tree.record_sink = (segment, record_sink) if compacted and record_sink else (None, None)
     tree.stopped_by = stopped or ("boxes" if out_of_boxes else None)
-    tree.spent = per_root >= budget.max_boxes if independent else None     # (whatever stopped the others)
+    tree.spent, tree.pressed = (per_root >= budget.max_boxes, pressed) if independent else (None, None)
     return SearchResult(tree, processed, time.perf_counter() - t0, exhausted or out_of_boxes, per_root)
 
 
@@ -233,6 +233,18 @@ def _record(store, evidence, dec, ids, blo, bhi, finished):
     store.kind[ids[stop]] = UNDECIDED
     store.reason[ids[stop]] = NOT_NEEDED
     return ids, blo, bhi, ~decided & ~stop
+
+
+def _pressed(store, ids, room, max_memory, work, m):
+    """The roots of ``ids`` (a batch of ``independent`` lanes) whose batch a search of that root alone
+    may have shortened or not made for want of memory.  That search holds at most 1.5 times the
+    memory held here plus 1536 nodes: its nodes and evidence are among those here, and its columns
+    hold at most 1.5 times its nodes (they grow by half) or 1024."""
+    if not work or not len(ids):
+        return False
+    alone = max_memory - 1.5 * (max_memory - room) - 1536 * store.nbytes() / len(store.root)
+    n = np.bincount(store.root[ids], minlength=m)
+    return (n > 0) & (alone < np.maximum(n, MIN_BATCH) * work)
 
 
 def _stopped(budget: Budget, processed: int, left: float, room: int, work: int) -> str | None:

@@ -184,6 +184,8 @@ class Tree:
         self.evidence_rows = evidence_rows
         self.stopped_by = None                   # what stopped the search early (``search._stopped``), if anything
         self.spent = None                        # (``independent``) per root: its own box budget stopped it
+        self.pressed = None                      # (``independent``) per root: the memory may have shortened
+                                                 # a batch of that root searched alone (``search._pressed``)
 
     @classmethod
     def view(cls, store: Store, reasons, evidence: Evidence) -> "Tree":
