@@ -2,7 +2,9 @@
 and FK jobs of a batch chunk answered together: every answer, its box count and its certificate's
 bytes are those of the instance or job alone.
 
-The reference is the instance searched on its own, by the same code: these tests check that the
+(Not byte for byte when a search's record is streamed to files, ``record_limit``: the certificate of
+a row searched together is then built from the search run again; ``certkin batch`` answers such jobs
+alone.)  The reference is the instance searched on its own, by the same code: these tests check that the
 batch-level choices of the search (how many times few open boxes are halved, when Krawczyk runs
 again, the scale of the unknowns, when Newton's guesses stop) are made per instance.  Each answer's
 certificate is re-checked by the independent checker.
