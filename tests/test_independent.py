@@ -27,6 +27,7 @@ from certkin.cli import batch as cli_batch
 from certkin.cli import fk as cli_fk
 from certkin.cli.batch import run_job
 from certkin.cli.common import write_certificate
+from certkin.engine import budgets
 from certkin.fk import forward_kinematics
 from test_fk import EXAMPLES, SIX_MODES, planar
 from test_fk_families import pose_lengths, random_poses
@@ -303,3 +304,21 @@ def test_a_chunk_of_jobs_whose_memory_bounds_their_batches_gives_each_job_own_fi
     values, _ = run_chunk(run_job, [(job, str(together)) for job in jobs])
     assert [v["verdict"] for v in values] == ["complete"] * 3
     assert _files(together, jobs) == _files(alone, jobs)
+
+
+def test_jobs_whose_record_alone_goes_to_files_are_answered_alone(tmp_path, monkeypatch):
+    """With a record limit of 1250 nodes, a planar job of more nodes alone hands its record to files
+    (its certificate built from them); searched together it would not: such jobs are answered alone,
+    the others together, and every job's files are its own."""
+    monkeypatch.setattr(budgets, "FK_RECORD_NODES", 1250)
+    jobs = _jobs(_grid(8, seed=23))
+    alone_dir, together_dir = tmp_path / "alone", tmp_path / "together"
+    alone_dir.mkdir(), together_dir.mkdir()
+    for job in jobs:
+        run_job(job, str(alone_dir))
+    computed = []
+    original = cli_fk.compute
+    monkeypatch.setattr(cli_fk, "compute", lambda args, robot=None: computed.append(args.lengths) or original(args, robot))
+    run_chunk(run_job, [(job, str(together_dir)) for job in jobs])
+    assert 0 < len(computed) < len(jobs)            # some alone (more than 1250 nodes), some together
+    assert _files(together_dir, jobs) == _files(alone_dir, jobs)

@@ -62,7 +62,8 @@ def compute_together(args_list, robot) -> tuple[list, list]:
     seconds or memory ran out.  The search has the seconds of all the queries (their ``--max-seconds``
     each, the smallest); when they run out, the queries it did not finish are answered as they stand
     (incomplete: the seconds ran out, as alone).  A query it did not answer (its lengths refused, its
-    search stopped by the memory or, alone, perhaps shortened by it, its record handed to files) is
+    search stopped by the memory or, alone, perhaps shortened by it, its record handed to files, alone
+    or together: the search has the record room of all the queries) is
     None: the caller computes it alone.  The seconds of a query: its share of the search.  Returns
     (the answers, whether each query was searched)."""
     out, searched, rows, members = [None] * len(args_list), [False] * len(args_list), [], []
@@ -80,13 +81,22 @@ def compute_together(args_list, robot) -> tuple[list, list]:
             return out, searched
         first = args_list[members[0]]
         group = replace(budget(first), max_seconds=len(members) * min(args_list[k].max_seconds for k in members))
-        results = forward_kinematics(robot, rows, domain=first.domain, budget=group, independent=True, record=True)
+        limit = len(members) * budgets.FK_RECORD_NODES      # (a query's own: ``_streamed_alone``)
+        results = forward_kinematics(robot, rows, domain=first.domain, budget=group, independent=True, record=True,
+                                     record_limit=limit)
     for k, r in zip(members, results):
         searched[k] = True
-        if r.tree is not None and (r.tree.record_sink or not r.tree.complete_record or _out_of_memory(r)):
+        if r.tree is not None and (r.tree.record_sink or not r.tree.complete_record or _out_of_memory(r)
+                                   or _streamed_alone(r)):
             continue
         out[k] = _answer(args_list[k], robot, r)
     return out, searched
+
+
+def _streamed_alone(result) -> bool:
+    """Whether the search of this instance alone would have handed its record to files (more nodes than
+    ``budgets.FK_RECORD_NODES``): its certificate is then built from those files, other bytes."""
+    return bool(result.tree.nodes_per_root()[result.node] > budgets.FK_RECORD_NODES)
 
 
 def _out_of_memory(result) -> bool:
