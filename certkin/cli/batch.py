@@ -289,7 +289,7 @@ def answer_together(tasks: list) -> list:
             robot, _ = robot_of(job)
         except Exception:
             continue
-        same = repr(sorted((k, v) for k, v in vars(args).items() if k not in ("lengths", "robot")))
+        same = repr(sorted((name, value) for name, value in vars(args).items() if name not in ("lengths", "robot")))
         groups.setdefault((out, id(robot), same), []).append((k, args, robot, module))
     for members in groups.values():
         if len(members) < 2:
