@@ -123,6 +123,19 @@ def test_a_budget_is_checked_when_made_and_fixed_afterwards():
     assert dataclasses.replace(b, max_boxes=20).max_boxes == 20
 
 
+def test_a_box_budget_past_int64_is_no_limit_in_every_solver():
+    """max_boxes=10**20 crashed every search (OverflowError: the engine counts boxes in int64)."""
+    assert certkin.Budget(max_boxes=10 ** 20).max_boxes == 2 ** 53
+    r = certkin.forward_kinematics(R2, L, max_boxes=10 ** 20)
+    assert r.complete and len(r.solutions) == 6
+    assert proofs.check(r.certificate()).ok
+    cell = certkin.certify_singularity_free(R2, "x=0:1,y=0:1,phi=0:0.1", max_boxes=1e20)
+    assert cell.status == "singularity-free" and proofs.check(cell.certificate()).ok
+    path = certkin.verify_trajectory(MEL, "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0", max_boxes=1e20)
+    assert path.status == "infeasible"
+    assert proofs.check(path.certificate()).ok
+
+
 def test_wrong_types_are_input_errors_naming_the_parameter():
     """Each of these raised TypeError, ValueError or numpy's errors (the README: bad values raise
     certkin.InputError naming the parameter)."""

@@ -22,6 +22,7 @@ from ..errors import InputError, shown
 
 GiB = 2 ** 30
 MAX_MEMORY = 2 * GiB                        # default memory ceiling (bytes)
+MAX_BOXES = 2 ** 53                         # a larger box budget is this one (no search decides as many)
 
 
 @dataclass(frozen=True)
@@ -42,6 +43,7 @@ class Budget:
         for name, check in (("max_boxes", positive_integer), ("max_memory", positive_integer),
                             ("min_width", positive_number)):
             object.__setattr__(self, name, check(getattr(self, name), name))
+        object.__setattr__(self, "max_boxes", min(self.max_boxes, MAX_BOXES))    # (the searches count in int64)
         object.__setattr__(self, "max_seconds", positive_number(self.max_seconds, "max_seconds", infinite=True))
 
     def within(self, seconds_left: float) -> Budget:
