@@ -1077,8 +1077,9 @@ def test_the_campaign_picture_draws_no_job_time_when_no_job_ended(tmp_path, monk
 
 def test_a_batch_resumed_from_another_directory_keeps_its_answers(tmp_path, monkeypatch, capsys):
     """Jobs naming their robot by a relative path, answered from one directory; the same batch run
-    from another directory (where the path leads nowhere) is refused, exit code 2, naming the job and
-    the file, and every answer stays as it was.  From the first directory it resumes."""
+    from another directory (where the path leads nowhere), or with a directory where the file was, is
+    refused, exit code 2, naming the job and the file, and every answer stays as it was.  From the first
+    directory, with the file back, it resumes."""
     first = tmp_path / "first"
     first.mkdir()
     (first / "robot.toml").write_bytes(Path(PLANAR).read_bytes())
@@ -1099,5 +1100,12 @@ def test_a_batch_resumed_from_another_directory_keeps_its_answers(tmp_path, monk
     assert "job j0" in err and "robot.toml not found" in err and "Traceback" not in err
     assert {p.name: p.read_bytes() for p in out.iterdir() if p.name in before} == before
     monkeypatch.chdir(first)
+    (first / "robot.toml").rename(first / "kept.toml")      # a directory where the robot file was: refused too
+    (first / "robot.toml").mkdir()
+    assert exit_code(["batch", str(jobs), "--out", str(out), "--workers", "1"]) == 2
+    assert "robot.toml not found" in capsys.readouterr().err
+    assert {p.name: p.read_bytes() for p in out.iterdir() if p.name in before} == before
+    (first / "robot.toml").rmdir()
+    (first / "kept.toml").rename(first / "robot.toml")
     assert main(["batch", str(jobs), "--out", str(out), "--workers", "1", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["resumed"] == 3

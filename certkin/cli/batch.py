@@ -370,14 +370,14 @@ def _check(args, jobs) -> None:
 def _answers_kept(args, jobs) -> None:
     """Refuse a run that would replace a job's answer in ``--out`` by an error only because the job's robot
     file is not found from here (relative paths are read from the working directory: a batch resumed
-    from another directory)."""
+    from another directory), or is no longer a file (a directory in its place)."""
     exists = {}
     for job in jobs:
         robot = job.get("robot")
         if not isinstance(robot, str) or not robot or "id" not in job:
             continue
         if robot not in exists:
-            exists[robot] = os.path.exists(robot)
+            exists[robot] = os.path.isfile(robot)
         if exists[robot]:
             continue
         try:
@@ -386,7 +386,7 @@ def _answers_kept(args, jobs) -> None:
             continue
         if isinstance(document, dict) and document.get("status") != ERROR:
             raise InputError(str(args.jobs), f"job {job['id']}", f"robot file {robot} not found from "
-                             f"{os.getcwd()}, and {args.out} holds this job's answer: the run would replace it by "
+                             f"{os.getcwd()} (or not a file), and {args.out} holds this job's answer: the run would replace it by "
                              "an error (relative paths are read from the working directory: run from the directory "
                              "of the first run)")
 
