@@ -1,8 +1,7 @@
 """python -m proofs CERT [--robot ROBOT.toml] [--json] [--progress] (the same as ``certkin check``).
 
-Prints the robot (name, geometry SHA-256), the question, what was proved and
-``OK: ...`` — or ``REJECTED: <the failing step>``.  Exit code 0 valid,
-1 checked and rejected, 2 unreadable (one line on stderr, no traceback).
+Prints the robot (name, geometry SHA-256), the question, what was proved and ``OK: ...`` — or ``REJECTED:
+<the failing step>``.  Exit code 0 valid, 1 rejected, 2 unreadable (one line on stderr, no traceback).
 """
 from __future__ import annotations
 

@@ -77,7 +77,6 @@ class Iv:
     def copy(self):
         return Iv(np.array(self.lo, copy=True), np.array(self.hi, copy=True))
 
-    # ----- arithmetic -------------------------------------------------------------
     def __neg__(self):
         return Iv(-self.hi, -self.lo)
 
@@ -132,7 +131,6 @@ class Iv:
     def sum(self, axis=-1):
         return Iv(*_sum_bounds(self.lo, self.hi, axis))
 
-    # ----- set operations and predicates ------------------------------------------
     def meet(self, o):
         """Intersection (``empty()`` where it is empty)."""
         return Iv(np.maximum(self.lo, o.lo), np.minimum(self.hi, o.hi))
@@ -197,7 +195,6 @@ def pmatvec(P, b: Iv) -> Iv:
     return Iv(r.lo[..., 0], r.hi[..., 0])
 
 
-# ----- sine and cosine ----------------------------------------------------------------
 # π ∈ [PI_A, PI_B] (rationals 2⁻²⁰⁰ apart, from mpmath's rigorous interval π); π/2 = H + M + T with
 # H of 30 significant bits (k·H is exact for |k| < 2²³), M = fl(π/2 − H) and T ∈ [T̲, T̄] tiny
 def _pi_bounds():

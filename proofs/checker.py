@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import sys
 import tomllib
 from decimal import Decimal
@@ -53,7 +54,7 @@ def _check(cert, robot_file, report):
         raise Rejected("certificate: expected a JSON object")
     if h.get("format") != FORMAT:
         raise Rejected(f"format: expected {json.dumps(FORMAT)}, got {json.dumps(h.get('format'), default=str):.60}")
-    if h.get("version") == 1:
+    if h.get("version") == 1 and h["version"] is not True:
         raise Rejected("version: version 1 certificates (one JSON document) are no longer checked; "
                        "solve again with --certificate to write version 2")
     if type(h.get("version")) is not int or h["version"] != 2:
@@ -125,6 +126,8 @@ class UnreadableRobot(Unreadable):      # the robot file given to confirm the ge
 def read_robot(path) -> dict:
     """A robot file (TOML, decimals read exactly); raises ``UnreadableRobot``."""
     try:
+        if os.path.exists(path) and not (os.path.isfile(path) or os.path.isdir(path)):     # (a FIFO would block)
+            raise OSError(0, "not a regular file (a device, a pipe or a socket)")
         with open(path, "rb") as fh:
             raw = fh.read(MAX_ROBOT + 1)          # /dev/zero or a huge file: never read whole
         data = tomllib.loads(raw.decode("utf-8"), parse_float=Decimal) if len(raw) <= MAX_ROBOT else {}
@@ -165,7 +168,11 @@ def run(path, robot=None, as_json=False, progress=False) -> int:
     if progress:                                  # the bar completed (also for a certificate without trees)
         print(f"\r[{'#' * 40}] checked" + " " * 20, file=sys.stderr)
         _bar.shown = -1
-    print(json.dumps(report.to_json(), indent=1) if as_json else "\n".join(report.lines()))
+    try:
+        print(json.dumps(report.to_json(), indent=1) if as_json else "\n".join(report.lines()), flush=True)
+    except BrokenPipeError:                       # the reader of stdout went away (`| head`): quiet, exit 141
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
     return 0 if report.ok else 1
 
 

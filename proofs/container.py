@@ -127,7 +127,7 @@ def _member(archive, member, size, each=None) -> bytes:
 
 def _json(text, where):
     try:
-        value = json.loads(text, parse_constant=_no_constant)
+        value = json.loads(text, parse_constant=_no_constant, object_pairs_hook=_object)
     except RecursionError:
         raise Unreadable(f"{where}: JSON nested too deeply") from None
     except (ValueError, UnicodeDecodeError) as exc:
@@ -141,6 +141,12 @@ def _no_constant(name):
     raise ValueError(f"invalid JSON constant {name}")
 
 
+def _object(pairs):        # a JSON object's keys all differ (which of two values a reader keeps is not agreed)
+    if len(set(keys := [k for k, _ in pairs])) < len(keys):
+        raise ValueError(f"the key {next(k for k in keys if keys.count(k) > 1)!r} is repeated in one object")
+    return dict(pairs)
+
+
 def read(path) -> Certificate:
     """Open a certificate file (a ZIP archive; a JSON document is read for its version); raises ``Unreadable``."""
     if os.path.exists(path) and not (os.path.isfile(path) or os.path.isdir(path)):     # (a FIFO would block)
@@ -148,6 +154,8 @@ def read(path) -> Certificate:
     try:
         with open(path, "rb") as fh:
             magic = fh.read(4)
+            text = b"" if magic.startswith(b"PK") else magic + fh.read(MAX_JSON - 3)
+            end = (fh.seek(max(fh.seek(0, 2) - 22, 0)), fh.read(22))[1]     # a ZIP's end record, if nothing follows
     except OSError as exc:
         raise Unreadable(f"cannot open: {exc.strerror or exc}") from None
     if magic.startswith(b"PK"):
@@ -160,17 +168,14 @@ def read(path) -> Certificate:
                 raise Unreadable("header.json is too large")
             with archive.open(first) as fh:
                 text = fh.read(MAX_HEADER + 1)
+            if end[:4] != b"PK\x05\x06" or end[20:] != b"\0\0":
+                raise Unreadable("the file goes on after the archive's end record (or the archive has a comment)")
         except (zipfile.BadZipFile, zlib.error, OSError, EOFError, ValueError, RuntimeError) as exc:
             raise Unreadable(f"not a readable ZIP archive ({exc})") from None
         header = _json(text, "header.json")
         if first.compress_type != zipfile.ZIP_STORED:
             raise Unreadable("header.json must be stored uncompressed")
         return Certificate(header, archive=archive)
-    try:
-        with open(path, "rb") as fh:
-            text = fh.read(MAX_JSON + 1)
-    except OSError as exc:
-        raise Unreadable(f"cannot read: {exc.strerror or exc}") from None
     if len(text) > MAX_JSON:
         raise Unreadable(f"not a ZIP archive (version 2), and a JSON document larger than {MAX_JSON >> 20} MiB "
                          "is not read (version 1 certificates are no longer checked)")

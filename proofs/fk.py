@@ -116,7 +116,7 @@ def _read_claim(system, cert, raw, where):
     cl.L = Iv([Iv.const(a * a).lo for a, _ in qs], [Iv.const(b * b).hi for _, b in qs])
     cl.rho_q = [b for _, b in qs]
     cl.complete = raw.get("complete")
-    if cl.complete not in (True, False):
+    if type(cl.complete) is not bool:             # (1 == True: a number is not a claim of completeness)
         raise Rejected(f"{where}.complete: expected true or false")
     cl.regions = (np.zeros((0, system.n, 2)),) * 2 + (np.zeros((0, system.n, system.n)),) * 2
     cl.clusters, cl.solutions, cl.tree = np.zeros((0, system.n, 2)), 0, False

@@ -75,7 +75,6 @@ class System:
         if self.planar:          # d(R b)_k/d(c, s): constants
             self.dconst = {(0, 0): self.b[0], (0, 1): -self.b[1], (1, 0): self.b[1], (1, 1): self.b[0]}
 
-    # ----- R b_i -------------------------------------------------------------------
     def rotation(self, z):
         """The entries R_kj over the boxes (lists of Iv), z: the unknowns (Iv of any one shape)."""
         if self.planar:
@@ -113,7 +112,6 @@ class System:
         out = [rb[k].meet(_sum([rbc[k]] + [D[k, r] * d[r][:, None] for r in range(4)])) for k in range(3)]
         return (out, rbc, D, d) if parts else out
 
-    # ----- equations, Jacobian, slopes ------------------------------------------------
     def e(self, z, rb):
         """e_ik = (R b_i − a_i)_k + p_k, each (N, legs)."""
         col = lambda v: Iv(v.lo[:, None], v.hi[:, None])  # noqa: E731
@@ -149,7 +147,6 @@ class System:
         D = self.drot([(v + x) * 0.5 for v, x in zip(z, zc)])
         return self._matrix([u + v for u, v in zip(ex, ec)], D, [v + x for v, x in zip(z[self.p:], zc[self.p:])])
 
-    # ----- operators ---------------------------------------------------------------------
     def _at_mid(self, lo, hi, L):
         c = mid(lo, hi)
         return c, self.values([Iv(c[:, k]) for k in range(self.n)], L)

@@ -150,7 +150,6 @@ def _le(a, b, x, where, flip=False):
     return inside(a, -np.inf, x, where) if not flip else inside(b, x, np.inf, where)
 
 
-# ----- the rules, on batches ----------------------------------------------------------
 def _rule(robot, code, lo, hi, s, flags):
     """Per box: s (proved), −s (refuted: det has the other sign there) or 0 (undecided)."""
     if code == 0:

@@ -150,7 +150,6 @@ class Geometry:
             self.instances.append(Instance("interference", (i + 1, j + 1), "", (i, j, r == 0, Iv.const(r * r), w0)))
 
 
-# ----- the path, over batches of t-intervals ---------------------------------------------
 class Spans:
     """t-intervals [lo, hi] of segments ``seg`` (arrays (N,)) of a path with pose P + t D."""
 
@@ -340,7 +339,6 @@ def _stack(values):
               np.stack([np.broadcast_to(v.hi, values[0].lo.shape) for v in values], -1))
 
 
-# ----- claims -------------------------------------------------------------------------------
 def check(cert, report) -> None:
     h = cert.header
     model = header_model(h, MODELS, lambda m: m.kind, "pose", lambda m: m.pose)

@@ -108,3 +108,75 @@ def test_messages_speak_json_and_plain_words(cli, tmp_path):
     run = cli("check", "{tmp}/c.cert", "--robot", "{tmp}/none.toml")
     unreadable(run, "none.toml")
     assert "No such file or directory" in run.err and "Errno" not in run.err
+
+
+def test_a_pipe_given_as_the_robot_file_is_unreadable_at_once(cli, tmp_path):
+    """``--robot`` a named pipe: the checker waited for a writer forever (the certificate was refused at once)."""
+    import os
+    import signal
+
+    def hung(*_):
+        raise AssertionError("the check waits for a writer of the pipe")
+    assert cli("singular", R2, "--box", "x=-20:-10,y=20:30,phi=0:0.3", "--certificate", "{tmp}/c.cert").code == 0
+    os.mkfifo(tmp_path / "pipe.toml")
+    previous = signal.signal(signal.SIGALRM, hung)
+    signal.alarm(30)
+    try:
+        run = cli("check", "{tmp}/c.cert", "--robot", "{tmp}/pipe.toml")
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    unreadable(run, "pipe.toml")
+    assert "robot file" in run.err and "not a regular file" in run.err
+
+
+def test_bytes_after_the_archive_and_repeated_keys_are_unreadable(cli, tmp_path):
+    """A certificate with bytes appended after its archive checked OK (its file hash then covered bytes
+    nobody checked); a header with a key given twice checked OK too (Python keeps the last value, another
+    reader may keep the first): both are not certificates, exit 2."""
+    import zipfile
+    assert cli("singular", R2, "--box", "x=-20:-10,y=20:30,phi=0:0.3", "--certificate", "{tmp}/c.cert").code == 0
+    raw = (tmp_path / "c.cert").read_bytes()
+    (tmp_path / "tail.cert").write_bytes(raw + b"garbage")
+    run = cli("check", "{tmp}/tail.cert")
+    unreadable(run, "tail.cert")
+    assert "after the archive's end" in run.err
+    with zipfile.ZipFile(tmp_path / "c.cert") as z, zipfile.ZipFile(tmp_path / "twice.cert", "w") as out:
+        for info in z.infolist():
+            data = z.read(info)
+            if info.filename == "header.json":
+                data = b'{"problem": "forward-kinematics", ' + data[1:]      # (the header's own problem comes later)
+            out.writestr(info, data)
+    run = cli("check", "{tmp}/twice.cert")
+    unreadable(run, "twice.cert")
+    assert "'problem' is repeated" in run.err
+
+
+def test_a_number_is_not_a_claim_of_completeness(cli, tmp_path):
+    """``"complete": 1`` in an FK claim was taken for true (and shown "complete: proved"); ``"version":
+    true`` was answered as a version 1 certificate."""
+    assert cli("fk", R2, "--lengths", "28.99,13.66,40.53", "--certificate", "{tmp}/f.cert").code == 0
+    for field, value, words in (("complete", 1, "complete: expected true or false"),
+                                ("version", True, "unknown version true")):
+        cert = Doc(tmp_path / "f.cert")
+        (cert.claim() if field == "complete" else cert.header)[field] = value
+        cert.write(tmp_path / "t.cert")
+        run = cli("check", "{tmp}/t.cert")
+        assert run.code == 1 and words in run.out and "Traceback" not in run.err, (run.out, run.err)
+
+
+def test_python_m_proofs_exits_quietly_when_its_reader_goes_away(tmp_path):
+    """``python -m proofs CERT | head -c 10`` with a long account: a BrokenPipeError traceback; now exit
+    141 (as ``certkin check``), nothing on stderr."""
+    import subprocess
+    import sys
+    from certkin import forward_kinematics
+    cert = Doc(forward_kinematics(R2, "28.99,13.66,40.53").certificate())
+    cert.header["robot"]["name"] = "x" * 1_000_000
+    cert.robot_edited().write(tmp_path / "long.cert")
+    p = subprocess.Popen([sys.executable, "-m", "proofs", str(tmp_path / "long.cert")], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE)
+    assert p.stdout.read(10) == b"robot: xxx"
+    p.stdout.close()
+    err = p.stderr.read().decode()
+    assert p.wait(timeout=120) == 141 and err == "", err
