@@ -176,7 +176,7 @@ def read(path) -> Certificate:
         if first.compress_type != zipfile.ZIP_STORED:
             raise Unreadable("header.json must be stored uncompressed")
         return Certificate(header, archive=archive)
-    if len(text) > MAX_JSON:
-        raise Unreadable(f"not a ZIP archive (version 2), and a JSON document larger than {MAX_JSON >> 20} MiB "
-                         "is not read (version 1 certificates are no longer checked)")
-    return Certificate(_json(text, "certificate"))
+    if len(text) > MAX_JSON or (document := _json(text, "certificate")).get("version") != 1:
+        raise Unreadable(f"not a ZIP archive (a certificate of version 2 is one; a JSON document of at most "
+                         f"{MAX_JSON >> 20} MiB is read only to say that version 1 certificates are no longer checked)")
+    return Certificate(document)

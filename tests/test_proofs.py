@@ -356,6 +356,11 @@ def test_cli_exit_codes(planar, tmp_path):
     r = _run(old)
     assert r.returncode == 1 and "REJECTED: version: version 1 certificates" in r.stdout
 
+    header = tmp_path / "header.json"                 # a version 2 header outside its archive: no certificate
+    header.write_text(json.dumps({"format": "certkin-certificate", "version": 2, "problem": "singularity"}))
+    r = _run(header)
+    assert r.returncode == 2 and r.stdout == "" and "not a ZIP archive" in r.stderr and r.stderr.count("\n") == 1, r
+
     broken = tmp_path / "broken.json"
     broken.write_text('{"format": ')
     nan = tmp_path / "nan.json"
