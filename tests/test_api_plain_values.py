@@ -136,6 +136,15 @@ def test_a_box_budget_past_int64_is_no_limit_in_every_solver():
     assert proofs.check(path.certificate()).ok
 
 
+def test_a_record_limit_is_a_positive_integer():
+    """record_limit=0, -1 or 2.5 were taken as they came (a limit the search compared node counts with)."""
+    for bad in (0, -1, 2.5, "5", True):
+        with pytest.raises(certkin.InputError, match="^record_limit: expected a positive integer"):
+            certkin.forward_kinematics(R2, L, record=True, record_limit=bad)
+    r = certkin.forward_kinematics(R2, L, record=True, record_limit=3)     # (a tiny limit: its tree in segments)
+    assert r.complete and proofs.check(r.certificate()).ok
+
+
 def test_wrong_types_are_input_errors_naming_the_parameter():
     """Each of these raised TypeError, ValueError or numpy's errors (the README: bad values raise
     certkin.InputError naming the parameter)."""

@@ -25,7 +25,7 @@ from intervals import Interval, sqr
 from .. import display
 from ..engine import BUDGET, PROVED, RESOLUTION, UNDECIDED, Budget, budgets
 from ..certificates.fk import record_sink
-from ..engine.budgets import make_budget, progress_callback
+from ..engine.budgets import make_budget, positive_integer, progress_callback
 from ..errors import InputError
 from ..quiet import quiet
 from ..robots import as_robot
@@ -56,7 +56,7 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     sequence, tracked one after another from ``track`` (``track_sequence``).
     Each solution is proved unique in its box; ``complete`` means the rest of
     the domain is proved empty.  ``record``: keep the whole search tree however large (for a
-    certificate): a search past ``record_limit`` nodes (default ``budgets.FK_RECORD_NODES``) hands
+    certificate): a search past ``record_limit`` nodes (a positive integer, default ``budgets.FK_RECORD_NODES``) hands
     each closed part to a temporary file (``certificates.segments``), or keeps it in memory with
     ``record="whole"``; without ``record`` it forgets its excluded leaves and ``fk_certificate``
     runs it again with ``record``.  ``progress``: None or a callable ``progress(boxes, frontier)``
@@ -69,6 +69,8 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     others, never its soundness).
     """
     progress = progress_callback(progress)
+    if record_limit is not None:
+        record_limit = positive_integer(record_limit, "record_limit")
     robot = as_robot(robot)
     keywords = dict(max_boxes=max_boxes, max_seconds=max_seconds, min_width=min_width, max_memory=max_memory)
     if track is not None and domain is not None:      # (the tracked posture was returned outside the domain)
