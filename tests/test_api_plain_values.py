@@ -136,6 +136,18 @@ def test_a_box_budget_past_int64_is_no_limit_in_every_solver():
     assert proofs.check(path.certificate()).ok
 
 
+def test_many_rows_whose_answers_alone_exceed_the_time_budget_are_refused():
+    """20 000 rows with max_seconds=3 ran 37 s: the rows' answers are built after the search, about 1 ms
+    each.  Now that time is kept from the search's, and more rows than the budget can answer are refused."""
+    rows = np.tile([28.99, 13.66, 40.53], (2000, 1))
+    with pytest.raises(certkin.InputError, match="^max_seconds: 2000 rows of leg lengths take about 3 s"):
+        certkin.forward_kinematics(R2, rows, max_seconds=1)
+    done = certkin.forward_kinematics(R2, rows[:20], max_seconds=0.05)      # within the budget: answered
+    assert len(done) == 20 and all(not r.complete or len(r.solutions) == 6 for r in done)
+    one = certkin.forward_kinematics(R2, L, max_seconds=1e-9)               # one row: incomplete, never refused
+    assert not one.complete and proofs.check(one.certificate()).ok
+
+
 def test_a_record_limit_is_a_positive_integer():
     """record_limit=0, -1 or 2.5 were taken as they came (a limit the search compared node counts with)."""
     for bad in (0, -1, 2.5, "5", True):

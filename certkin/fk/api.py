@@ -66,8 +66,10 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     may have shortened a batch of its own call (``result.tree.pressed``).  The rows are still decided
     together, a batch at a time: a small planar row takes about 6 ms against 40 ms alone, and 3.7 ms
     with the default, which shares its bisection among the rows (a row's answer then depends on the
-    others, never its soundness).
+    others, never its soundness).  The rows' answers take ``ROW_SECONDS`` each after the search, kept
+    from its seconds: more rows than ``max_seconds`` can answer are refused (``InputError``).
     """
+    started = time.perf_counter()
     progress = progress_callback(progress)
     if record_limit is not None:
         record_limit = positive_integer(record_limit, "record_limit")
@@ -84,6 +86,11 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     budget = make_budget({**budgets.FORWARD_KINEMATICS, "max_boxes": max(budgets.FORWARD_KINEMATICS["max_boxes"],
                                                                          budgets.FK_BOXES_PER_INSTANCE * (1 if independent else M))},
                          budget, **keywords)
+    reserve = ROW_SECONDS * M                   # the rows' answers, after the search: kept from its seconds
+    if M > 1 and reserve > budget.max_seconds:  # (one row: a budget spent gives an incomplete answer)
+        raise InputError("max_seconds", "", f"{M} rows of leg lengths take about {reserve:.3g} s to answer after the "
+                                            f"search, more than the time budget ({budget.max_seconds:g} s): give more, "
+                                            "or fewer rows at a time")
     L = sqr(rho)
     if track is not None and not batch_input:
         result = track_one(robot, system, texts[0], L, track)     # seed 002 §4: the posture near the previous one
@@ -97,7 +104,8 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
     limit = None if record == "whole" else budgets.FK_RECORD_NODES if record_limit is None else record_limit
-    searched = replace(budget, max_memory=max(1, int(SEARCH_SHARE * budget.max_memory)))
+    searched = replace(budget.within(budget.max_seconds - (time.perf_counter() - started) - reserve),
+                       max_memory=max(1, int(SEARCH_SHARE * budget.max_memory)))
     res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], searched, progress,
                            limit, record_sink(system.n, FKProblem.reasons) if record and limit is not None else None,
                            independent=bool(independent)) if len(idx) else None
@@ -413,6 +421,9 @@ def _cluster_note(result) -> str:
             f"of postures: {why}{share}" + (f"; {twin_note}" if twin_note else ""))
 
 
+ROW_SECONDS = 1.5e-3          # to answer one row after the search (its poses, boxes and merging; measured: 0.7 to
+                              # 1.0 ms a planar row on a slow machine; a spatial row left incomplete groups its open
+                              # boxes into clusters on top, up to about 0.2 s)
 SEARCH_SHARE = 0.65           # of max_memory, for the search's record and working memory: the answer built
                               # from its leaves took up to 17 % of the budget more (2 000 unresolved regions)
 BUDGET_MESSAGE = "ran out before every region was decided"
