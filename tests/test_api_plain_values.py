@@ -13,6 +13,7 @@ import proofs
 ROBOTS = Path(__file__).resolve().parents[1] / "examples" / "robots"
 R2 = str(ROBOTS / "seed003-planar-example-2.toml")
 MEL = str(ROBOTS / "seed000-mel-tsukuba.toml")
+MICRO = str(ROBOTS / "seed004-micro-manipulator.toml")
 L = "28.99,13.66,40.53"
 
 
@@ -146,6 +147,31 @@ def test_many_rows_whose_answers_alone_exceed_the_time_budget_are_refused():
     assert len(done) == 20 and all(not r.complete or len(r.solutions) == 6 for r in done)
     one = certkin.forward_kinematics(R2, L, max_seconds=1e-9)               # one row: incomplete, never refused
     assert not one.complete and proofs.check(one.certificate()).ok
+
+
+def test_a_0_d_array_as_a_pose_or_a_height_range_is_an_input_error():
+    """np.array(1.0) as a pose raised TypeError (iteration over a 0-d array), as a z range too."""
+    from certkin.singularity import largest_free_box
+    from certkin.workspace.volume import workspace_volume
+    z0 = np.array(1.0)
+    for call, parameter in ((lambda: certkin.verify_trajectory(R2, z0, [2, 3, 0.1]), "start"),
+                            (lambda: certkin.forward_kinematics(R2, L, track=z0), "track"),
+                            (lambda: certkin.plan(R2, z0, [2, 3, 0.1]), "start"),
+                            (lambda: largest_free_box(R2, z0), "pose"),
+                            (lambda: certkin.verify_trajectory(R2, np.zeros((1, 3)), [2, 3, 0.1]), "start"),
+                            (lambda: workspace_volume(MICRO, "0,0,0", z0, 5), "z_range"),
+                            (lambda: workspace_volume(MICRO, "0,0,0", 5, 5), "z_range")):
+        with pytest.raises(certkin.InputError) as exc:
+            call()
+        assert exc.value.source == parameter
+
+
+def test_a_robot_changed_after_it_was_read_to_hold_nan_is_an_input_error():
+    """A loaded robot's point set to NaN raised a bare ValueError naming nothing."""
+    robot = certkin.load_robot(R2)
+    robot.base[0] = ("nan", "4.34")
+    with pytest.raises(certkin.InputError, match=r"^robot: base\[0\]: not a finite number"):
+        certkin.forward_kinematics(robot, L)
 
 
 def test_a_record_limit_is_a_positive_integer():

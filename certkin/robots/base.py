@@ -24,6 +24,7 @@ import numpy as np
 from intervals import Interval, linalg, sqrt
 from intervals.autodiff import Dual
 
+from ..errors import InputError
 from . import models
 from .poses import parse_number
 
@@ -78,7 +79,15 @@ class Robot:
 
     @cached_property
     def parameters(self) -> list[Interval]:
-        return [Interval(t) for t in self.geometry_texts()]
+        out = []
+        for name, points in (("base", self.base), ("platform", self.platform)):
+            for i, point in enumerate(points):
+                try:
+                    out += [Interval(t) for t in point]
+                except (ValueError, TypeError) as exc:   # (a robot changed after it was read: its points unchecked)
+                    raise InputError("robot", f"{name}[{i}]", f"{exc}: a robot's points are exact decimals (change "
+                                                             "the robot file and read it again)") from None
+        return out
 
     def to_dict(self) -> dict:
         """The exact robot data (for certificates and reports)."""

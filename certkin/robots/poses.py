@@ -250,6 +250,9 @@ def parse_pose(text, robot, parameter="pose") -> tuple[Interval, list[str]]:
     if not isinstance(text, (str, list, tuple, dict, np.ndarray)):
         raise InputError(parameter, "", f"expected a pose (a text, a sequence of values or a mapping), got "
                                         f"{'nothing' if text is None else type(text).__name__}")
+    if isinstance(text, np.ndarray) and text.ndim != 1:
+        raise InputError(parameter, "", f"expected a pose (one value per pose variable), got an array of shape "
+                                        f"{text.shape}")
     names = robot.pose_names
     if isinstance(text, dict):
         parts = _named_values(text.items(), names, parameter)
@@ -557,9 +560,9 @@ def parse_height_range(value, parameter="z_range"):
         if len(parts) != 2:
             raise InputError(parameter, "z", f"expected lo:hi, got {shown(value)}")
     else:
-        parts = list(value)
+        parts = list(value) if isinstance(value, (list, tuple)) or getattr(value, "ndim", 0) == 1 else []
         if len(parts) != 2:
-            raise InputError(parameter, "z", "expected (lo, hi)")
+            raise InputError(parameter, "z", "expected lo:hi or a pair (lo, hi)")
     (a, ta), (b, tb) = parse_height(parts[0], parameter, "z"), parse_height(parts[1], parameter, "z")
     if not Fraction(ta) < Fraction(tb):
         raise InputError(parameter, "z", f"lower bound {clip(ta)} must be below upper bound {clip(tb)}")
