@@ -174,11 +174,15 @@ def test_a_robot_changed_after_it_was_read_to_hold_nan_is_an_input_error():
         certkin.forward_kinematics(robot, L)
 
 
-def test_a_record_limit_is_a_positive_integer():
-    """record_limit=0, -1 or 2.5 were taken as they came (a limit the search compared node counts with)."""
+def test_a_record_limit_is_a_positive_integer_and_record_and_independent_are_flags():
+    """record_limit=0, -1 or 2.5 were taken as they came (a limit the search compared node counts with);
+    record="banana" and independent="yes" too."""
     for bad in (0, -1, 2.5, "5", True):
         with pytest.raises(certkin.InputError, match="^record_limit: expected a positive integer"):
             certkin.forward_kinematics(R2, L, record=True, record_limit=bad)
+    for keyword, bad in (("record", "banana"), ("record", 1), ("independent", "yes"), ("independent", 1)):
+        with pytest.raises(certkin.InputError, match=f"^{keyword}: expected True"):
+            certkin.forward_kinematics(R2, L, **{keyword: bad})
     r = certkin.forward_kinematics(R2, L, record=True, record_limit=3)     # (a tiny limit: its tree in segments)
     assert r.complete and proofs.check(r.certificate()).ok
 

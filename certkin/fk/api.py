@@ -26,7 +26,7 @@ from .. import display
 from ..engine import BUDGET, PROVED, RESOLUTION, UNDECIDED, Budget, budgets
 from ..certificates.fk import record_sink
 from ..engine.budgets import make_budget, positive_integer, progress_callback
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..quiet import quiet
 from ..robots import as_robot
 from ..robots.poses import MAX_MAGNITUDE, length_enclosures, parse_box
@@ -73,6 +73,10 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     progress = progress_callback(progress)
     if record_limit is not None:
         record_limit = positive_integer(record_limit, "record_limit")
+    if not (record is True or record is False or isinstance(record, str) and record == "whole"):
+        raise InputError("record", "", f"expected True, False or \"whole\", got {shown(record)}")
+    if not isinstance(independent, (bool, np.bool_)):
+        raise InputError("independent", "", f"expected True or False, got {shown(independent)}")
     robot = as_robot(robot)
     keywords = dict(max_boxes=max_boxes, max_seconds=max_seconds, min_width=min_width, max_memory=max_memory)
     if track is not None and domain is not None:      # (the tracked posture was returned outside the domain)
