@@ -25,7 +25,7 @@ class InputError(ValueError):
         self.field = field
         self.problem = problem
         where = f"{source}: " if source else ""
-        where += f"{clip(str(field))}: " if field else ""
+        where += f"{clip(str(field))}: " if field and field != source else ""     # (not "z: z: ...")
         super().__init__(where + problem)
 
 

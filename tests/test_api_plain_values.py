@@ -164,6 +164,11 @@ def test_a_0_d_array_as_a_pose_or_a_height_range_is_an_input_error():
         with pytest.raises(certkin.InputError) as exc:
             call()
         assert exc.value.source == parameter
+    from certkin.workspace.section import workspace_section      # a 0-d array as a number is its value
+    assert workspace_section(MICRO, "0,0,0", np.array(20005.0), max_seconds=5).status == "non-empty"
+    with pytest.raises(certkin.InputError, match="^z: not a plain decimal") as exc:     # (was "z: z: ...")
+        workspace_section(MICRO, "0,0,0", "abc")
+    assert exc.value.field == "z"
 
 
 def test_a_robot_changed_after_it_was_read_to_hold_nan_is_an_input_error():

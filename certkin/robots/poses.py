@@ -489,7 +489,10 @@ def float_length_rows(robot, lengths):
 
 # ----------------------------------------------------------------- orientations and heights
 def decimal_text(value):
-    """A float becomes its exact decimal expansion (never the decimal it was printed from)."""
+    """A float becomes its exact decimal expansion (never the decimal it was printed from); a 0-d array
+    its value."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
     if isinstance(value, (float, np.floating)):
         if not math.isfinite(value):
             return repr(float(value))
