@@ -380,7 +380,8 @@ def parse_lengths(robot, lengths, parameter="lengths"):
         raise InputError(parameter, "", "no set of leg lengths (an empty array)")
     if arr.ndim != 2:
         raise InputError(parameter, "", f"expected {robot.n_legs} leg lengths, or one row of {robot.n_legs} per instance "
-                                        f"(a 2-D array), got an array of shape {arr.shape}")
+                                        f"(a 2-D array), got " + (f"a value of type {type(lengths).__name__}" if arr.ndim == 0
+                                                                  else f"an array of shape {arr.shape}"))
     if arr.shape[1] != robot.n_legs:
         raise InputError(parameter, "", f"expected {robot.n_legs} leg lengths per instance")
     rows, texts = [], []
