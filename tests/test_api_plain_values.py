@@ -124,6 +124,20 @@ def test_a_budget_is_checked_when_made_and_fixed_afterwards():
     assert dataclasses.replace(b, max_boxes=20).max_boxes == 20
 
 
+def test_a_memory_budget_past_the_machine_is_refused_as_on_the_command_line():
+    """max_memory=2**50 was taken by the API (the command line refused it): a search could then grow
+    until the system killed the process instead of answering ``undecided``."""
+    from certkin.engine.budgets import PHYSICAL
+    if PHYSICAL is None:
+        pytest.skip("this system does not say how much memory it has")
+    with pytest.raises(certkin.InputError, match="^max_memory: .* more than this machine's memory"):
+        certkin.forward_kinematics(R2, L, max_memory=PHYSICAL + 1)
+    with pytest.raises(certkin.InputError, match="^max_memory: "):
+        certkin.Budget(max_memory=2 ** 50)
+    assert certkin.Budget().max_memory == min(2 ** 31, PHYSICAL)
+    assert certkin.Budget(max_memory=PHYSICAL).max_memory == PHYSICAL
+
+
 def test_a_box_budget_past_int64_is_no_limit_in_every_solver():
     """max_boxes=10**20 crashed every search (OverflowError: the engine counts boxes in int64)."""
     assert certkin.Budget(max_boxes=10 ** 20).max_boxes == 2 ** 53

@@ -21,7 +21,7 @@ from typing import Callable
 
 from ..certificates.writing import atomic_path, replaced_file
 from ..engine import Budget, interrupt
-from ..engine.budgets import MAX_MEMORY, positive_integer, positive_number
+from ..engine.budgets import MAX_MEMORY, PHYSICAL, positive_integer, positive_number
 from .. import display
 from ..errors import InputError, shown
 from ..plots.figure import pyplot
@@ -163,19 +163,10 @@ def _memory(text):
         raise refused from None
     if not 2 ** 20 <= size <= 2 ** 50:
         raise refused
-    physical = physical_memory()
-    if physical is not None and size > physical:
+    if PHYSICAL is not None and size > PHYSICAL:
         raise InputError("", "", f"{shown(text)} is more than this machine's memory "
-                                 f"({display.size_bound(physical, up=False)})")
+                                 f"({display.size_bound(PHYSICAL, up=False)})")
     return int(size)
-
-
-def physical_memory() -> int | None:
-    """Bytes of memory of this machine (None where the system does not say)."""
-    try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    except (ValueError, OSError, AttributeError):
-        return None
 
 
 memory = _typed(_memory)

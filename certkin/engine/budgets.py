@@ -9,19 +9,31 @@ workspace's ``min_width`` is relative to the size of the section (``workspace.pa
 of searches it runs; loading a robot's model comes on top.  ``max_memory`` bounds what the
 solvers allocate for their records (the search tree, the cells of a classification): a search
 that reaches it stops with ``undecided``, and work that would need more is refused before it
-starts.  Every value is checked: a bad one raises ``InputError`` naming the parameter (so is a
+starts; it may not exceed this machine's memory (the default is 2 GiB, or the machine's memory if less).  Every value is checked: a bad one raises ``InputError`` naming the parameter (so is a
 ``progress`` that is neither None nor callable: ``progress_callback``).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
 import math
+import os
 import time
 
 from ..errors import InputError, shown
 
 GiB = 2 ** 30
-MAX_MEMORY = 2 * GiB                        # default memory ceiling (bytes)
+
+
+def physical_memory() -> int | None:
+    """Bytes of memory of this machine (None where the system does not say)."""
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+PHYSICAL = physical_memory()
+MAX_MEMORY = min(2 * GiB, PHYSICAL or 2 * GiB)      # default memory ceiling (bytes)
 MAX_BOXES = 2 ** 53                         # a larger box budget is this one (no search decides as many)
 
 
@@ -44,6 +56,9 @@ class Budget:
                             ("min_width", positive_number)):
             object.__setattr__(self, name, check(getattr(self, name), name))
         object.__setattr__(self, "max_boxes", min(self.max_boxes, MAX_BOXES))    # (the searches count in int64)
+        if PHYSICAL is not None and self.max_memory > PHYSICAL:
+            raise InputError("max_memory", "", f"{self.max_memory} bytes is more than this machine's memory "
+                                               f"({PHYSICAL} bytes)")
         object.__setattr__(self, "max_seconds", positive_number(self.max_seconds, "max_seconds", infinite=True))
 
     def within(self, seconds_left: float) -> Budget:
