@@ -601,6 +601,22 @@ def test_the_memory_ceiling_bounds_the_whole_call_not_only_the_search():
     assert extra <= 96 * 2 ** 20 * 1.1, extra
 
 
+def test_a_path_that_stays_at_one_pose_is_decided_without_bisecting_t():
+    """Start = goal at a singular pose bisected t until the box budget ran out (200 000 boxes, 6 to 10 s)
+    for the ``undecided`` that the first evaluation already gave: every sub-interval has that pose."""
+    robot = robot_from_dict(SINGULAR_EVERYWHERE)
+    r = verify_trajectory(robot, "19.1,21.1,0", "19.1,21.1,0")
+    assert r.status == "undecided" and not r.stats["budget_exhausted"] and r.stats["boxes"] <= 64
+    assert r.to_json()["undecided"] == [{"s": [0.0, 1.0], "segment": 0, "t": [0.0, 1.0]}]
+    assert checked(r).ok
+    away = verify_trajectory(robot, "19.1,21.1,0.5", "19.1,21.1,0.5")    # (not singular: phi is not 0)
+    assert away.status == "feasible" and away.stats["boxes"] <= 64 and checked(away).ok
+    both = verify_trajectory(robot, "19.1,21.1,0.5", "19.1,21.1,0.5", waypoints=["19.1,21.1,0", "19.1,21.1,0"])
+    assert both.status == "undecided" and both.stats["boxes"] < 1000
+    [(lo, hi)] = [u["s"] for u in both.to_json()["undecided"]]     # (the still segment, s in [1, 2], and
+    assert 1 - 1e-8 < lo <= 1 and 2 <= hi < 2 + 1e-8                  # the ends of its neighbours, down to min_width)
+
+
 def test_a_polyline_too_long_for_the_memory_ceiling_is_refused_before_it_starts():
     """Each segment with a moving orientation holds its polynomials: 300 segments took 2.8 GB under a
     256 MiB ceiling; now the call is refused at once, naming max_memory and what it would need."""

@@ -19,6 +19,10 @@ than the tolerance.  Verdicts:
   instant where it may fail;
 - ``undecided``: neither could be proved within the budget (the t-ranges left
   are listed).
+
+A segment whose pose does not move (start = goal, or repeated waypoints) is not bisected past its
+first evaluation: every sub-interval has the same pose, so an unknown constraint there stays unknown
+(an undecided leaf, nothing claimed) instead of spending the box budget.
 """
 from __future__ import annotations
 
@@ -30,7 +34,7 @@ import numpy as np
 from intervals import Interval
 from intervals.rounding import down, sum_bounds, up
 
-from ..engine import EXCLUDED, OPEN, PROVED, Budget, Decisions, budgets, interrupt, search
+from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, budgets, interrupt, search
 from ..engine.budgets import Clock, make_budget, positive_number, progress_callback
 from ..display import counted, size_bound
 from ..errors import InputError
@@ -63,7 +67,8 @@ PATH_SECONDS = 250e-6        # per path and constraint: to conclude a path's ans
 class TrajectoryProblem:
     """Decides t-intervals of many segments at once (roots = pieces of segments)."""
 
-    reasons = ("every constraint decided on the interval",)
+    reasons = ("every constraint decided on the interval",
+               "the pose is the same at every instant of the segment: splitting t decides nothing more")
 
     def __init__(self, constraints: Constraints, P0, D, piece_segment, segment_path, n_paths, rtol=MARGIN_RTOL,
                  min_width=1e-9, linear=False, clock=None):
@@ -71,6 +76,7 @@ class TrajectoryProblem:
         ``complete`` is false when it ran out first (the problem must then not be searched)."""
         self.c = constraints
         self.P0, self.D = P0, D
+        self.still = np.all((D.lo == 0) & (D.hi == 0), axis=1)     # segments whose pose does not move
         self.piece_segment = piece_segment
         self.segment_path = segment_path
         self.best = np.full((n_paths, constraints.K), np.inf)
@@ -125,9 +131,11 @@ class TrajectoryProblem:
         else:
             with np.errstate(invalid="ignore"):
                 refine = (state == SATISFIED) & self.refine_cols & (mlo < best - (self.rtol * np.abs(best) + 1e-12))
-        unknown = (state == UNKNOWN).any(axis=1) | refine.any(axis=1)
-        status = np.where(unknown, OPEN, np.where((state == VIOLATED).any(axis=1), EXCLUDED, PROVED)).astype(np.int8)
-        return Decisions(status=status, reason=np.zeros(len(lo), dtype=np.int64),
+        still = self.still[seg]          # (a still segment's states are those of every sub-interval)
+        unknown = (state == UNKNOWN).any(axis=1)
+        status = np.where((unknown | refine.any(axis=1)) & ~still, OPEN,
+                          np.where(unknown, UNDECIDED, np.where((state == VIOLATED).any(axis=1), EXCLUDED, PROVED)))
+        return Decisions(status=status.astype(np.int8), reason=(unknown & still).astype(np.int64),
                          evidence={"state": state, "mlo": mlo, "mhi": mhi}, split_at=self._cuts(lo, hi, seg, state, refine),
                          keep_narrow_evidence=True)
 
