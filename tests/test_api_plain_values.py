@@ -138,6 +138,32 @@ def test_a_memory_budget_past_the_machine_is_refused_as_on_the_command_line():
     assert certkin.Budget(max_memory=PHYSICAL).max_memory == PHYSICAL
 
 
+def test_an_incomplete_spatial_answer_describes_its_open_boxes_within_the_time_budget(monkeypatch):
+    """Cut by its time budget, a spatial FK search then described up to 2000 unresolved regions (their
+    poses and platform points), 0.3 to 0.5 s past max_seconds on a slow machine.  A share of the seconds
+    is now kept for them, and with little time left they are fewer and larger; every open leaf of the
+    search still lies in one of them."""
+    import time
+    import certkin.fk.api as api
+    robot = certkin.load_robot(ROBOTS / "dietmaier-6-6-40.toml")
+    lengths = "1,0.645275,1.086284,1.503439,1.281933,0.771071"
+    certkin.forward_kinematics(robot, lengths, max_boxes=1000)             # (the kernels loaded first)
+    t0 = time.perf_counter()
+    r = certkin.forward_kinematics(robot, lengths, max_seconds=1.0)
+    assert not r.complete and r.message.startswith("the time budget ran out")
+    assert time.perf_counter() - t0 < 1.25 and 16 <= len(r.unresolved) <= 2000
+    monkeypatch.setattr(api, "UNRESOLVED_SECONDS", 1e6)                    # as if no time were left for them
+    r = certkin.forward_kinematics(robot, lengths, max_boxes=5000, record="whole")
+    assert len(r.unresolved) == api.MIN_UNRESOLVED
+    tree = r.tree
+    open_ = tree.leaves(kind=certkin.engine.UNDECIDED)
+    assert len(open_) > 1000
+    lo = np.stack([u["box"].lo for u in r.unresolved])
+    hi = np.stack([u["box"].hi for u in r.unresolved])
+    inside = np.all((lo[None] <= tree.lo[open_][:, None]) & (tree.hi[open_][:, None] <= hi[None]), axis=2)
+    assert inside.any(axis=1).all()
+
+
 def test_a_box_budget_past_int64_is_no_limit_in_every_solver():
     """max_boxes=10**20 crashed every search (OverflowError: the engine counts boxes in int64)."""
     assert certkin.Budget(max_boxes=10 ** 20).max_boxes == 2 ** 53

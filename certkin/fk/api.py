@@ -16,6 +16,7 @@ box lies inside the domain or outside it: every posture is then in a solution bo
 from __future__ import annotations
 
 from dataclasses import replace
+import math
 import time
 
 import numpy as np
@@ -31,7 +32,7 @@ from ..quiet import quiet
 from ..robots import as_robot
 from ..robots.poses import MAX_MAGNITUDE, length_enclosures, parse_box
 from .angles import in_ranges
-from .result import FKResult, robot_pose
+from .result import FKResult, described
 from .search import FKProblem, search_instances
 from .step import root_boxes
 from .system import fk_system
@@ -67,7 +68,9 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     together, a batch at a time: a small planar row takes about 6 ms against 40 ms alone, and 3.7 ms
     with the default, which shares its bisection among the rows (a row's answer then depends on the
     others, never its soundness).  The rows' answers take ``ROW_SECONDS`` each after the search, kept
-    from its seconds: more rows than ``max_seconds`` can answer are refused (``InputError``).
+    from its seconds: more rows than ``max_seconds`` can answer are refused (``InputError``).  The
+    unresolved regions of an incomplete answer are described in a share of the seconds kept too
+    (``UNRESOLVED_SHARE``): with little time left, fewer and larger ones (at least ``MIN_UNRESOLVED``).
     """
     started = time.perf_counter()
     progress = progress_callback(progress)
@@ -108,12 +111,13 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
     limit = None if record == "whole" else budgets.FK_RECORD_NODES if record_limit is None else record_limit
+    reserve += min(UNRESOLVED_SHARE * budget.max_seconds, MAX_UNRESOLVED * UNRESOLVED_SECONDS)   # (if incomplete)
     searched = replace(budget.within(budget.max_seconds - (time.perf_counter() - started) - reserve),
                        max_memory=max(1, int(SEARCH_SHARE * budget.max_memory)))
     res = search_instances(system, Interval.from_bounds(L.lo[idx], L.hi[idx]), lo[idx], hi[idx], searched, progress,
                            limit, record_sink(system.n, FKProblem.reasons) if record and limit is not None else None,
                            independent=bool(independent)) if len(idx) else None
-    out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter)
+    out = _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter, started + budget.max_seconds)
     if independent and res is not None:       # each row's boxes decided, as its own call counts them
         for k, i in enumerate(idx):
             out[i].boxes = int(res.boxes_per_root[k])
@@ -171,8 +175,9 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
     return results
 
 
-def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
-    """Results per instance from the search tree (solutions merged, undecided boxes clustered)."""
+def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter, deadline=math.inf):
+    """Results per instance from the search tree (solutions merged, undecided boxes clustered; the
+    later the ``deadline`` is near, as ``time.perf_counter()``, the fewer and larger the unresolved regions)."""
     M = len(texts)
     results = [FKResult(robot, system, texts[i], (lo[i], hi[i]), user_domain=angle_filter is not None) for i in range(M)]
     for i in np.nonzero(~feasible)[0]:
@@ -208,7 +213,8 @@ def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
         sel = by_root[starts[k]:starts[k + 1]]
         mine = slice(und_starts[k], und_starts[k + 1])
         r.cluster_leaves = und_sorted[mine][at_limit[mine]]
-        pending = [(tree.lo[j], tree.hi[j]) for j in und_sorted[mine][~at_limit[mine]]]
+        open_ = und_sorted[mine][~at_limit[mine]]
+        pending = list(zip(tree.lo[open_], tree.hi[open_]))
         if np.any(tree.reason[und_sorted[mine]] == BUDGET):
             r.message = budget_message("boxes" if tree.spent is not None and tree.spent[k] else tree.stopped_by)
         _merge(r, system, proved[sel], (slo[sel], shi[sel], star_C[sel]), rlo[sel], rhi[sel], rC[sel], lo[i], hi[i],
@@ -225,7 +231,7 @@ def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter):
         computed = [({name: v[first[k]:first[k + 1]] for name, v in poses.items()}, pts[first[k]:first[k + 1]])
                     for k in range(len(idx))]
     for k, i in enumerate(idx):
-        _finish(results[i], system, pendings[k], angle_filter, computed[k])
+        _finish(results[i], system, pendings[k], angle_filter, computed[k], deadline)
     return results
 
 
@@ -325,21 +331,21 @@ def leaf_box(result, leaf):
     return result.tree.lo[leaf], result.tree.hi[leaf]
 
 
-def _finish(result, system, pending, angle_filter, computed=None):
+def _finish(result, system, pending, angle_filter, computed=None, deadline=math.inf):
     """Poses and platform points of the solutions; undecided boxes clustered; the angle filter.
 
-    ``computed``: (poses, points) of the solution boxes, if already evaluated (batched)."""
+    ``computed``: (poses, points) of the solution boxes, if already evaluated (batched).  The open
+    boxes become at most ``MAX_UNRESOLVED`` regions, fewer when ``deadline`` leaves less than
+    ``UNRESOLVED_SECONDS`` each (never fewer than ``MIN_UNRESOLVED``): every box still lies in one."""
     result.all_solutions = list(result.solutions)
     if result.solutions:
         if computed is None:
             R = Interval.from_bounds(np.stack([s["box"].lo for s in result.solutions]),
                               np.stack([s["box"].hi for s in result.solutions]))
             computed = system.pose(R), system.points(R)
-        poses, pts = computed
         kept, edge = [], 0
-        for j, s in enumerate(result.solutions):
-            s["pose"] = robot_pose(result.robot, {k: v[j] for k, v in poses.items()})
-            s["platform_points"] = [[pts[j, i, c] for c in range(pts.shape[2])] for i in range(pts.shape[1])]
+        for s, told in zip(result.solutions, described(result.robot, *computed)):
+            s.update(told)
             verdict = in_ranges(s["pose"], angle_filter)
             if verdict is True:
                 kept.append(s)
@@ -357,14 +363,12 @@ def _finish(result, system, pending, angle_filter, computed=None):
                               + ", so not proved inside or outside them: widen the ranges to decide")
     _cluster_leaves(result, system)
     if pending:
-        hull = _clusters(np.array([p[0] for p in pending]), np.array([p[1] for p in pending]))
+        room = (deadline - time.perf_counter()) / UNRESOLVED_SECONDS
+        limit = int(min(MAX_UNRESOLVED, max(MIN_UNRESOLVED, room)))
+        hull = _clusters(np.array([p[0] for p in pending]), np.array([p[1] for p in pending]), limit)
         B = Interval.from_bounds(np.stack([h[0] for h in hull]), np.stack([h[1] for h in hull]))
-        poses = system.pose(B)
-        pts = system.points(B)
-        for j in range(len(hull)):
-            result.unresolved.append({"box": B[j], "pose": robot_pose(result.robot, {k: v[j] for k, v in poses.items()}),
-                                      "platform_points": [[pts[j, i, c] for c in range(pts.shape[2])]
-                                                          for i in range(pts.shape[1])]})
+        result.unresolved.extend({"box": B[j], **told}
+                                 for j, told in enumerate(described(result.robot, system.pose(B), system.points(B))))
         result.complete = False
         if len(result.clusters) > 1 and (not result.message or result.message.endswith(BUDGET_MESSAGE)):
             ranges = any(":" in t for t in result.lengths)
@@ -430,6 +434,11 @@ ROW_SECONDS = 1.5e-3          # to answer one row after the search (its poses, b
                               # boxes into clusters on top, up to about 0.2 s)
 SEARCH_SHARE = 0.65           # of max_memory, for the search's record and working memory: the answer built
                               # from its leaves took up to 17 % of the budget more (2 000 unresolved regions)
+MAX_UNRESOLVED = 2000        # unresolved regions of one answer at most (its open boxes grouped: ``_clusters``)
+MIN_UNRESOLVED = 16          # ... and at least, however little time is left
+UNRESOLVED_SECONDS = 100e-6  # to describe one unresolved region (its pose and platform points; measured: 75 us on
+                             # a slow machine); with the time budget nearly spent, fewer and larger regions
+UNRESOLVED_SHARE = 0.1       # of max_seconds kept from the search for them (at most MAX_UNRESOLVED of them)
 BUDGET_MESSAGE = "ran out before every region was decided"
 BUDGETS = {"boxes": "the box budget", "seconds": "the time budget", "memory": "the memory budget"}
 MAX_GROUPS = 2000             # groups of cluster leaves at most (``_touching``)
@@ -465,13 +474,9 @@ def _cluster_leaves(result, system):
             kept.append(s)
     result.solutions = kept
     B = Interval.from_bounds(np.stack([h[0] for h in hulls]), np.stack([h[1] for h in hulls]))
-    poses, pts = system.pose(B), system.points(B)
-    for c, g in enumerate(groups):
+    for c, (g, told) in enumerate(zip(groups, described(result.robot, system.pose(B), system.points(B)))):
         result.cluster_of.update((int(j), c) for j in leaves[g])
-        result.clusters.append({"status": "cluster", "box": B[c], "leaves": int(len(g)),
-                                "pose": robot_pose(result.robot, {k: v[c] for k, v in poses.items()}),
-                                "platform_points": [[pts[c, i, k] for k in range(pts.shape[2])]
-                                                    for i in range(pts.shape[1])]})
+        result.clusters.append({"status": "cluster", "box": B[c], "leaves": int(len(g)), **told})
         extent = B.hi[c] - B.lo[c]
         span = np.max(extent / np.maximum(np.max(width[g], axis=0), 1e-300))
         if len(g) >= 100 and span > CONTINUUM and np.max(extent / np.maximum(dhi - dlo, 1e-300)) > CONTINUUM_EXTENT:
@@ -560,7 +565,7 @@ def _every_variable(spec, robot):
     return spec
 
 
-def _clusters(lo, hi, limit: int = 2000):
+def _clusters(lo, hi, limit: int = MAX_UNRESOLVED):
     """Group boxes that touch or overlap (union-find); returns the hull of each group.
 
     Beyond ``limit`` boxes (a search stopped by its budget) the boxes are

@@ -44,7 +44,7 @@ from intervals import Interval, linalg, sqr
 from intervals.rounding import enclose_plain
 
 from ..robots.poses import float_length_rows, parse_lengths, parse_pose
-from .result import FKResult, robot_pose
+from .result import FKResult, described
 from .stacked import StackedFKSystem
 from .step import unique_in
 from .system import fk_system
@@ -334,15 +334,12 @@ def _tracked_results(robot, system, texts, proofs: Proofs, rows):
         pts = proofs.points[rows]
     else:
         pts = system.points(X)
-    legs, dim = pts.shape[1], pts.shape[2]
     out = []
-    for j, k in enumerate(rows):
+    for k, told in zip(rows, described(robot, poses, pts)):
         res = FKResult(robot, system, texts[k], (proofs.blo[k], proofs.bhi[k]), tracked=True, complete=False,
                        message=TRACKED_MESSAGE)
         res.solutions.append({"status": "unique", "box": Interval.from_bounds(proofs.rlo[k], proofs.rhi[k]),
-                              "C": proofs.rC[k],
-                              "pose": robot_pose(robot, {name: v[j] for name, v in poses.items()}),
-                              "platform_points": [[pts[j, i, c] for c in range(dim)] for i in range(legs)]})
+                              "C": proofs.rC[k], **told})
         res.all_solutions = list(res.solutions)
         res.track_C = proofs.bC[k]
         out.append(res)
