@@ -68,13 +68,8 @@ import sympy as sp
 from sympy import QQ
 from sympy.polys.rings import ring
 
-ROOT = Path(__file__).resolve().parents[1]
-EXAMPLES = ROOT / "examples" / "robots"
-ROBOTS = {   # name: (robot file, leg lengths)
-    "seed002": (EXAMPLES / "seed002-general-6-6-24-solutions.toml", "1.093,2.280,2.031,2.524,3.136,1.845"),
-    "dietmaier": (EXAMPLES / "dietmaier-6-6-40.toml", "1,0.645275,1.086284,1.503439,1.281933,0.771071"),
-}
-QUADS = list(itertools.combinations(range(6), 4))     # the 15 quadruples of legs
+from fk_cayley_menger import QUADS, ROBOTS      # (the robots, lengths and quadruples of that study)
+
 DEG = 8                                               # degree of CM·|q|^8 in each chart variable
 N1 = DEG + 1
 U = 2.0 ** -53                                        # unit roundoff
@@ -572,8 +567,6 @@ def run(name, wmins, rounded_too, stage_two=True, per_box=False, max_left=4_000_
             groups = clusters_across_charts(lefts, wmin)
             holding = []
             for g in groups:
-                qs = np.concatenate([chart_to_quaternion((lefts[k][0][idx] + lefts[k][1][idx]) / 2, k)
-                                     for k, idx in g])
                 lo = np.concatenate([lefts[k][0][idx] for k, idx in g])
                 hi = np.concatenate([lefts[k][1][idx] for k, idx in g])
                 n_in = 0
