@@ -401,7 +401,6 @@ def run(name, sample, cache=None):
         freq_order.append(p)
         left &= ~((masks >> p) & 1 == 1)
     freq_order = np.array(freq_order)
-    untestable = int(np.sum(masks == -2))
     print(f"  {len(splits)} split nodes ({np.sum(held[splits])} holding a posture), {decided.sum()} decided boxes; "
           f"all 15 polynomials at every split node: {t_all:.1f} s; pass {passing.mean():.3f}; "
           f"boxes excluded by each polynomial: {[int(c) for c in counts]}; greedy order {[int(p) for p in freq_order]}", flush=True)
