@@ -8,3 +8,9 @@ def pyplot():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     return plt
+
+
+def plain(text: str) -> str:
+    """``text`` drawn as written: matplotlib reads what lies between two '$' as mathematics (and
+    fails on bad TeX, ``$\\frac{$``), so every '$' is escaped (a robot's name is the user's text)."""
+    return str(text).replace("$", r"\$")

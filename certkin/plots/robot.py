@@ -10,7 +10,7 @@ import textwrap
 
 import numpy as np
 
-from .figure import pyplot
+from .figure import plain, pyplot
 
 MAX_POSES = 8
 UNIT = "length unit of the robot file"
@@ -40,7 +40,7 @@ def plot_robot(robot, poses, path, title: str = ""):
         ax = fig.add_subplot(rows, cols, k + 1, **({"projection": "3d"} if spatial else {}))
         B = platform_points(robot, pose) if pose is not None else None
         _draw(ax, A, B)
-        ax.set_title(label, fontsize=8)
+        ax.set_title(plain(label), fontsize=8)
         ax.set_xlabel(f"x ({UNIT})", fontsize=6)
         ax.set_ylabel(f"y ({UNIT})", fontsize=6)
         if spatial:
@@ -51,7 +51,7 @@ def plot_robot(robot, poses, path, title: str = ""):
     handles, labels = fig.axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=7)
     more = f" (first {MAX_POSES} of {len(poses)} poses)" if len(poses) > MAX_POSES else ""
-    fig.suptitle(textwrap.fill((title or robot.name) + more, int(width * 13)), fontsize=9)   # never clipped
+    fig.suptitle(textwrap.fill(plain((title or robot.name) + more), int(width * 13)), fontsize=9)   # never clipped
     fig.tight_layout(rect=(0, 0.06, 1, 0.95))
     fig.savefig(path, dpi=90)
     plt.close(fig)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..display import point
-from .figure import pyplot
+from .figure import plain, pyplot
 from .raster import draw_boxes
 
 COLOURS = {"free+": "#4c72b0", "free-": "#55a868", "singular": "#c44e52", "undecided": "#bbbbbb"}
@@ -101,7 +101,7 @@ def plot_cells(robot, results, path, max_slices: int = 6):
         notes.append("every cell: " + ", ".join(f"{names[i]} in [{point(lo[0, i])}, {point(hi[0, i])}]" for i in fixed))
     if len(slabs) < all_slabs:
         notes.append(f"{all_slabs} slices of {names[k]} in {len(slabs)} panels: each square its least favourable cell")
-    fig.suptitle(f"{robot.name}: certified cell classification" + (f"\n({'; '.join(notes)})" if notes else ""),
+    fig.suptitle(f"{plain(robot.name)}: certified cell classification" + (f"\n({'; '.join(notes)})" if notes else ""),
                  fontsize=10)
     fig.tight_layout(rect=(0, 0.05, 1, 0.96))
     fig.savefig(path, dpi=110)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .figure import pyplot
+from .figure import plain, pyplot
 
 UNITS = {"leg-length": "margin (length unit)", "interference": "clearance margin (length unit)",
          "joints": "margin (cosine / direction)", "singularity": "|det(A)| lower bound"}
@@ -47,7 +47,7 @@ def plot_margins(result, png):
                 y = L["mlo"][:, k]
             label = family if not inst.legs else f"{'-'.join(map(str, inst.legs))} {inst.detail or ''}".strip()
             ax.step(np.r_[s_lo[order], s_hi[order][-1:]], np.r_[y[order], y[order][-1:]], where="post", lw=1,
-                    label=label)
+                    label=plain(label))
         if family != "singularity":
             ax.axhline(0, color="black", lw=0.8)
         _shade(ax, result, family)
@@ -58,7 +58,7 @@ def plot_margins(result, png):
         ax.legend(handles, labels, fontsize=6, ncol=min(5, max(1, len(labels) // 3 + 1)), loc="upper right",
                   title="legs", title_fontsize=6)
     axes[-1, 0].set_xlabel("s = segment index + t (t in [0, 1] along each segment)", fontsize=8)
-    fig.suptitle(f"{result.robot.name}: certified margins along the path ({result.status})", fontsize=9)
+    fig.suptitle(f"{plain(result.robot.name)}: certified margins along the path ({result.status})", fontsize=9)
     fig.tight_layout(rect=(0, 0, 1, 0.97))
     fig.savefig(png, dpi=90)
     plt.close(fig)

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..display import lower, outward, upper
 from ..engine import EXCLUDED, PROVED, UNDECIDED
-from .figure import pyplot
+from .figure import plain, pyplot
 from .raster import draw_boxes
 
 COLOURS = {"inside": "#55a868", "boundary": "#f2c14e", "outside": "#e6e6e6", "arc": "#1f3b73"}
@@ -68,7 +68,7 @@ def plot_section(result, path):
     zpart = "" if result.z is None else f"z = {result.z}, "
     area = result.boundary.area
     exact = f"exact area {outward(float(area.lo), float(area.hi))}" if area is not None else "exact area undecided"
-    ax.set_title(f"{result.robot.name}\n{zpart}{orient}: {exact}\npaving: area between "
+    ax.set_title(f"{plain(result.robot.name)}\n{zpart}{orient}: {exact}\npaving: area between "
                  f"{lower(result.inner, 6)} and {upper(result.outer, 6)}", fontsize=9)
     legend = [Patch(color=COLOURS["inside"], label="inside"), Patch(color=COLOURS["boundary"], label="boundary"),
               Patch(color=COLOURS["outside"], label="outside"), Patch(color=COLOURS["arc"], label="exact arcs")]
@@ -89,7 +89,7 @@ def plot_volume(result, path):
     vin, vout = result.volume()
     ax.set_xlabel("z (length unit of the robot file)")
     ax.set_ylabel("section area (length unit squared)")
-    ax.set_title(f"{result.robot.name}: volume between {lower(vin, 6)} and {upper(vout, 6)}", fontsize=9)
+    ax.set_title(f"{plain(result.robot.name)}: volume between {lower(vin, 6)} and {upper(vout, 6)}", fontsize=9)
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
