@@ -177,6 +177,26 @@ def test_a_box_budget_past_int64_is_no_limit_in_every_solver():
     assert proofs.check(path.certificate()).ok
 
 
+def test_budgets_and_tolerances_past_the_floats_are_read_not_crashed():
+    """max_seconds=10**400, min_width=10**400, rtol=10**400 and max_memory=10**400 raised OverflowError
+    (float() of an int past the floats); rtol=b"1" was read as 1.0.  (A memory budget past this machine's
+    memory is refused.)"""
+    from fractions import Fraction
+    assert certkin.Budget(max_seconds=10 ** 400).max_seconds == float("inf")
+    assert certkin.Budget(max_seconds=Fraction(10 ** 400, 3)).max_seconds == float("inf")
+    with pytest.raises(certkin.InputError, match="^max_memory: .* more than this machine's memory"):
+        certkin.Budget(max_memory=10 ** 400)
+    for keyword, bad in (("min_width", 10 ** 400), ("max_seconds", -10 ** 400), ("min_width", -10 ** 400)):
+        with pytest.raises(certkin.InputError, match=f"^{keyword}: expected a positive"):
+            certkin.Budget(**{keyword: bad})
+    path = certkin.verify_trajectory(MEL, "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0",
+                                     max_seconds=10 ** 400)
+    assert path.status == "infeasible"
+    for bad in (10 ** 400, b"1"):
+        with pytest.raises(certkin.InputError, match="^rtol: expected a positive"):
+            certkin.verify_trajectories(MEL, [("-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0")], rtol=bad)
+
+
 def test_many_rows_whose_answers_alone_exceed_the_time_budget_are_refused():
     """20 000 rows with max_seconds=3 ran 37 s: the rows' answers are built after the search, about 1 ms
     each.  Now that time is kept from the search's, and more rows than the budget can answer are refused."""

@@ -35,6 +35,7 @@ def physical_memory() -> int | None:
 PHYSICAL = physical_memory()
 MAX_MEMORY = min(2 * GiB, PHYSICAL or 2 * GiB)      # default memory ceiling (bytes)
 MAX_BOXES = 2 ** 53                         # a larger box budget is this one (no search decides as many)
+MAX_BYTES = 2 ** 53                         # where the machine's memory is unknown, a larger memory budget is this one
 
 
 @dataclass(frozen=True)
@@ -59,6 +60,7 @@ class Budget:
         if PHYSICAL is not None and self.max_memory > PHYSICAL:
             raise InputError("max_memory", "", f"{self.max_memory} bytes is more than this machine's memory "
                                                f"({PHYSICAL} bytes)")
+        object.__setattr__(self, "max_memory", min(self.max_memory, MAX_BYTES))  # (and shares of it are floats)
         object.__setattr__(self, "max_seconds", positive_number(self.max_seconds, "max_seconds", infinite=True))
 
     def within(self, seconds_left: float) -> Budget:
@@ -85,12 +87,14 @@ def positive_integer(value, parameter: str, most: int | None = None) -> int:
 
 def positive_number(value, parameter: str, infinite: bool = False) -> float:
     """A number > 0 (finite unless ``infinite``); bools, nan and text are refused."""
-    if isinstance(value, bool) or isinstance(value, str) and not value.isascii():    # (float() reads '１' as 1)
-        raise InputError(parameter, "", f"expected a positive number, got {shown(value)}")
+    if isinstance(value, (bool, bytes, bytearray)) or isinstance(value, str) and not value.isascii():
+        raise InputError(parameter, "", f"expected a positive number, got {shown(value)}")  # (float() reads '１', b'1')
     try:
         x = float(value)
     except (TypeError, ValueError):
         raise InputError(parameter, "", f"expected a positive number, got {shown(value)}") from None
+    except OverflowError:               # an int or a Fraction past the floats: as large as a float gets
+        x = math.inf if value > 0 else -math.inf
     if math.isnan(x) or x <= 0 or (math.isinf(x) and not infinite):
         raise InputError(parameter, "", f"expected a positive{'' if infinite else ' finite'} number, got {shown(value)}")
     return x
