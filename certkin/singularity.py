@@ -304,8 +304,8 @@ def classify_cells(robot, box, n: int, budget: Budget | None = None, progress=No
                          min_width=min_width, max_memory=max_memory)
     clock = Clock(budget.max_seconds)
     n = positive_integer(n, "n")
-    if isinstance(box, tuple):
-        iv, texts = box
+    if isinstance(box, tuple) and len(box) == 2 and isinstance(box[0], Interval) and isinstance(box[1], dict):
+        iv, texts = box                     # (largest_free_box's cells: an enclosure and its exact texts)
         fixed = np.zeros(len(robot.pose_names), dtype=bool)
     else:
         iv, texts = parse_box(box, robot)

@@ -197,6 +197,14 @@ def test_budgets_and_tolerances_past_the_floats_are_read_not_crashed():
             certkin.verify_trajectories(MEL, [("-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0")], rtol=bad)
 
 
+def test_a_box_as_a_tuple_is_an_input_error():
+    """A box given as a tuple of ranges raised ValueError or AttributeError (it was taken for the
+    solver's own (enclosure, texts) pair)."""
+    for box in (((-20, -10), (20, 30), (0, 0.3)), ((-20, -10), (20, 30)), ("x=-20:-10", "y=20:30,phi=0:0.3")):
+        with pytest.raises(certkin.InputError, match="^box: expected"):
+            certkin.certify_singularity_free(R2, box)
+
+
 def test_many_rows_whose_answers_alone_exceed_the_time_budget_are_refused():
     """20 000 rows with max_seconds=3 ran 37 s: the rows' answers are built after the search, about 1 ms
     each.  Now that time is kept from the search's, and more rows than the budget can answer are refused."""
