@@ -205,6 +205,16 @@ def test_a_box_as_a_tuple_is_an_input_error():
             certkin.certify_singularity_free(R2, box)
 
 
+def test_a_number_given_as_a_list_of_three_huge_ints_is_an_input_error():
+    """A height or a pose value given as a list of three huge ints raised OverflowError (Decimal reads
+    a 3-tuple as sign, digits, exponent)."""
+    from certkin.workspace import workspace_section
+    with pytest.raises(certkin.InputError, match="^z: expected a number"):
+        workspace_section(MICRO, "0,0,0", [10 ** 400] * 3)
+    with pytest.raises(certkin.InputError, match="^start: x: expected a number"):
+        certkin.verify_trajectory(MEL, [[10 ** 400] * 3] * 6, "84,92,500,85deg,10deg,0")
+
+
 def test_many_rows_whose_answers_alone_exceed_the_time_budget_are_refused():
     """20 000 rows with max_seconds=3 ran 37 s: the rows' answers are built after the search, about 1 ms
     each.  Now that time is kept from the search's, and more rows than the budget can answer are refused."""

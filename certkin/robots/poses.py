@@ -193,7 +193,7 @@ def _not_a_number(value, text) -> str:
     """Why ``enclose`` refused a value: not finite (``nan``, ``inf``), or not a plain decimal (``0x10``, ``1/3``)."""
     try:
         finite = Decimal(text.strip() if isinstance(text, str) else text).is_finite()
-    except (InvalidOperation, ValueError, TypeError):
+    except (InvalidOperation, ValueError, TypeError, OverflowError):     # (Decimal([10**400] * 3): a tuple)
         finite = None
     if finite is False:
         return f"not a finite number: {shown(value)}"
