@@ -503,7 +503,7 @@ def _unit_box(scale, names) -> np.ndarray:
     for k, (name, part) in enumerate(zip(names, parts)):
         try:
             sc[k] = float(part.strip() if isinstance(part, str) else part)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             sc[k] = math.nan
         if not (math.isfinite(sc[k]) and 0 < sc[k] <= MAX_SCALE):
             raise InputError("scale", name, f"expected a positive number up to {MAX_SCALE:g}, got {shown(part)}")

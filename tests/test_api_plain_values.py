@@ -215,6 +215,13 @@ def test_a_number_given_as_a_list_of_three_huge_ints_is_an_input_error():
         certkin.verify_trajectory(MEL, [[10 ** 400] * 3] * 6, "84,92,500,85deg,10deg,0")
 
 
+def test_a_scale_past_the_floats_is_an_input_error():
+    """largest_free_box(scale=[10**400] * 3) raised OverflowError."""
+    from certkin.singularity import largest_free_box
+    with pytest.raises(certkin.InputError, match="^scale: x: expected a positive number"):
+        largest_free_box(R2, "10,10,0.4", scale=[10 ** 400] * 3)
+
+
 def test_many_rows_whose_answers_alone_exceed_the_time_budget_are_refused():
     """20 000 rows with max_seconds=3 ran 37 s: the rows' answers are built after the search, about 1 ms
     each.  Now that time is kept from the search's, and more rows than the budget can answer are refused."""
