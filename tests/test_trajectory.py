@@ -307,6 +307,17 @@ def test_polyline_reports_global_parameter(mel):
     checked(result)
 
 
+def test_a_search_down_to_the_floats_resolution_ends_within_its_time_budget(mel):
+    """min_width=1e-300 splits t down to one ulp where a margin crosses zero: thousands of leaves and
+    'may fail' ranges, each concluded after the search (once with Fractions, 80 us each: 2.4 s for a
+    2 s budget)."""
+    verify_trajectory(mel, START, GOAL, max_boxes=100)                  # (models built: not timed)
+    r = verify_trajectory(mel, START, GOAL, min_width=1e-300, max_seconds=2)
+    assert r.status == "infeasible" and len(r.violations) > 1000
+    assert r.stats["seconds"] < 2 * 1.12, r.stats
+    assert all(v["s"] == v["t"] for v in r.violations + r.undecided)      # (one segment: s = t; polylines above)
+
+
 # ----- parallel legs (seed 000 digest E11) ------------------------------------------------------------
 PARALLEL = {"name": "parallel legs", "kind": "gough-stewart",
             "base": [["0", "0", "0"], ["100", "0", "0"], ["200", "50", "0"], ["150", "150", "0"], ["0", "150", "0"],

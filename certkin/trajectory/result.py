@@ -4,7 +4,6 @@ fail (see ``trajectory.verify``)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from fractions import Fraction
 import math
 
 import numpy as np
@@ -101,8 +100,9 @@ def conclude(r: TrajectoryResult, best=None) -> None:
         r.margins.append(entry)
         if not open_cols[k]:
             continue
+        proved = np.concatenate([[0], np.cumsum(state[:, k] == VIOLATED)])    # (a run's: one subtraction)
         for a, b in _runs(state[:, k] != SATISFIED, s_lo, s_hi):
-            sure = bool((state[a:b + 1, k] == VIOLATED).any())
+            sure = bool(proved[b + 1] > proved[a])
             certain |= sure
             r.violations.append({**inst.to_json(), **_where(L, a, b), "certain": sure})
     if dcol is not None:
@@ -135,11 +135,15 @@ def conclude(r: TrajectoryResult, best=None) -> None:
 
 def _where(L, a, b) -> dict:
     """The t-range of leaves a..b: local t when in one segment, and the global s."""
-    s0 = float(L["segment"][a] + L["tlo"][a])      # k + t may round: widen outward by one ulp if so
-    s1 = float(L["segment"][b] + L["thi"][b])
-    if Fraction(s0) > Fraction(int(L["segment"][a])) + Fraction(float(L["tlo"][a])):
+    # k + t may round: widen outward by one ulp if so.  With k a whole number and 0 <= t <= 1 <= k
+    # (or k = 0), s - k is exact (Fast2Sum: Dekker 1971), so comparing it with t compares s with k + t
+    # exactly, as Fractions did at 80 us a range (a fine search has thousands, built after its budget).
+    k0, k1 = float(L["segment"][a]), float(L["segment"][b])
+    s0 = k0 + float(L["tlo"][a])
+    s1 = k1 + float(L["thi"][b])
+    if s0 - k0 > float(L["tlo"][a]):
         s0 = math.nextafter(s0, -math.inf)
-    if Fraction(s1) < Fraction(int(L["segment"][b])) + Fraction(float(L["thi"][b])):
+    if s1 - k1 < float(L["thi"][b]):
         s1 = math.nextafter(s1, math.inf)
     out = {"s": [s0, s1]}
     if L["segment"][a] == L["segment"][b]:
