@@ -34,3 +34,29 @@ def test_a_name_with_dollar_signs_is_drawn_as_text(cli, tmp_path, robot, argv):
     if argv[-1].endswith(".html"):
         page = Path(tmp_path, "p.html").read_text()
         assert "<b>bold</b>" not in page and "&lt;b&gt;bold&lt;/b&gt;" in page
+
+
+def test_thousands_of_ranges_are_shaded_as_their_union(monkeypatch, tmp_path):
+    """A search down to the floats' resolution (min_width=1e-300) leaves thousands of 'may fail'
+    ranges: each was one span (13 s to draw 6000, after the time budget).  Now each kind is shaded as
+    the union of its ranges, joined across gaps below a pixel, and still covers every range."""
+    pytest.importorskip("matplotlib")
+    from matplotlib.axes import Axes
+    import certkin
+    from certkin.plots import plot_margins
+    from certkin.plots.trajectory import SHADES
+    certkin.verify_trajectory(MEL, "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0", max_boxes=100)  # (warm)
+    r = certkin.verify_trajectory(MEL, "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0", min_width=1e-300,
+                                  max_seconds=2)
+    assert len(r.violations) > 500
+    spans, axvspan = [], Axes.axvspan
+
+    def counted(self, a, b, **kw):
+        spans.append((a, b, kw["color"]))
+        return axvspan(self, a, b, **kw)
+    monkeypatch.setattr(Axes, "axvspan", counted)
+    plot_margins(r, tmp_path / "m.png")
+    assert len(spans) < 200
+    for v in r.violations:
+        colour = SHADES[0 if v["certain"] else 1][1]
+        assert any(a <= v["s"][0] and v["s"][1] <= b for a, b, c in spans if c == colour), v
