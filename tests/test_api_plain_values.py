@@ -222,6 +222,17 @@ def test_a_scale_past_the_floats_is_an_input_error():
         largest_free_box(R2, "10,10,0.4", scale=[10 ** 400] * 3)
 
 
+def test_the_flags_of_trajectories_and_sections_are_true_or_false():
+    """indices="no" and exact="no" were taken as true; an array raised "truth value ... ambiguous"."""
+    from certkin.workspace import workspace_section
+    for bad in ("no", 0, np.array([1.0, 2.0]), None):
+        with pytest.raises(certkin.InputError, match="^indices: expected True or False"):
+            certkin.verify_trajectory(MEL, "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0", indices=bad)
+        with pytest.raises(certkin.InputError, match="^exact: expected True or False"):
+            workspace_section(MICRO, "0,0,0", "20005", exact=bad)
+    assert workspace_section(MICRO, "0,0,0", "20005", exact=np.bool_(False), min_width=0.05).area is None
+
+
 def test_many_rows_whose_answers_alone_exceed_the_time_budget_are_refused():
     """20 000 rows with max_seconds=3 ran 37 s: the rows' answers are built after the search, about 1 ms
     each.  Now that time is kept from the search's, and more rows than the budget can answer are refused."""

@@ -37,7 +37,7 @@ from intervals.rounding import down, sum_bounds, up
 from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, budgets, interrupt, search
 from ..engine.budgets import Clock, make_budget, positive_number, progress_callback
 from ..display import counted, size_bound
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..quiet import quiet
 from ..robots import as_robot
 from ..robots.poses import unmasked
@@ -246,6 +246,8 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
     ``refuse_slow`` is false (``plan``: its own clock decides).  ``progress``: None or a callable
     (else ``InputError``)."""
     progress = progress_callback(progress)
+    if not isinstance(indices, (bool, np.bool_)):
+        raise InputError("indices", "", f"expected True or False, got {shown(indices)}")
     robot = as_robot(robot)
     paths = [as_path(robot, p, k) for k, p in enumerate(_path_list(paths))]
     if not paths:

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 import time
 
+import numpy as np
 
 from intervals import Interval
 
@@ -17,7 +18,7 @@ from .. import display
 from ..certificates import section_certificate
 from ..engine import Budget, budgets
 from ..engine.budgets import make_budget, progress_callback
-from ..errors import InputError
+from ..errors import InputError, shown
 from ..quiet import quiet
 from ..robots import as_robot
 from ..robots.poses import parse_height, parse_orientation
@@ -118,6 +119,8 @@ def workspace_section(robot, orientation=None, z=None, *, budget: Budget | None 
     the domain.  ``progress``: None or a callable.  Raises ``InputError`` for bad input.
     """
     progress = progress_callback(progress)
+    if not isinstance(exact, (bool, np.bool_)):
+        raise InputError("exact", "", f"expected True or False, got {shown(exact)}")
     robot = as_robot(robot)
     check_robot(robot)
     angles, texts = parse_orientation(robot, orientation)
