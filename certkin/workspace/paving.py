@@ -22,6 +22,8 @@ from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Decisions, search
 from .annuli import Legs
 
 AREA_CHUNK = 1 << 18     # boxes whose areas are computed at once
+SCALE_SHARE = 0.25       # of the time, at most, for the first search (the scale only): once all of it, leaving
+                         # the answer's search nothing when a large box budget let the first one run on
 SEARCH_SHARE = 0.6       # of the time left and of the memory budget, for the paving's search: the rest is for
                          # its answer (areas, the certificate's tree, the JSON document), which grows with the boxes
 
@@ -130,7 +132,8 @@ def pave(legs, Z, lo, hi, budget, progress, floor=0.0):
     width = np.max(hi - lo, axis=0)
     scale = np.where(width > 0, width, 1.0)
     t0 = time.perf_counter()
-    first = search(problem, lo, hi, scale=scale, budget=replace(budget, min_width=1.0 / 64))
+    first = search(problem, lo, hi, scale=scale, budget=replace(budget.within(SCALE_SHARE * budget.max_seconds),
+                                                                 min_width=1.0 / 64))
     t = first.tree
     live = t.leaf_mask() & (t.kind != EXCLUDED)
     if live.any() and not first.exhausted:

@@ -81,3 +81,12 @@ def test_the_report_says_when_a_budget_stopped_the_paving(tmp_path):
     cut = workspace_section(robot, "0,0,0", "20005", max_boxes=200)
     assert workspace_verdict(cut).endswith("(certified bracket; a budget or Ctrl-C stopped the paving before its resolution).")
     assert "budget" not in workspace_verdict(workspace_section(robot, "0,0,0", "20005", min_width=0.05))
+
+
+def test_a_large_box_budget_leaves_the_volume_search_its_time():
+    """With 10 000 slabs and max_boxes=1e9 the first search (which only sets the resolution) ran until
+    the time budget was out, leaving the answer's search one batch: undecided, volume in [0, 3816],
+    where the default box budget gives a bracket [11.4, 3601]."""
+    from certkin.workspace import workspace_volume
+    v = workspace_volume(MICRO, "0,0,0", "20000:20010", slabs=10000, max_boxes=10 ** 9, max_seconds=3)
+    assert v.status == "non-empty" and v.to_json()["volume"]["inner"] > 5, v.to_json()["volume"]
