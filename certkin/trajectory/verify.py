@@ -58,8 +58,13 @@ PIECE_BATCH = 256    # boxes decided at once with a moving orientation (each hol
 PIECE_BYTES = 8 * 2 ** 10    # held per piece and constraint with a moving orientation, at most (the MEL robot,
                              # 22 constraints, 301 segments of 8 pieces: 0.45 GiB at the peak, 6.7 KiB each)
 SEED_POINTS = 128    # instants evaluated at once by ``seed_best`` (the clock is read between them)
+SEED_SHARE = 0.25    # of the time left, at most, for ``seed_best``: once all of it, and the search's first batch
+                     # came on top (3000 segments, max_seconds=5: 6.3 s)
 PIECE_SECONDS = 130e-6       # to build the polynomials of a piece and constraint before the search starts (the
                              # MEL robot: 121 segments of 16 pieces, 22 constraints, 5.5 s; 421 segments, 30 s)
+LINEAR_SECONDS = 50e-6       # per segment and constraint with a constant orientation: its polynomials, first cuts,
+                             # estimates and first evaluation, none of them stopped by the clock (the MEL robot, 22
+                             # constraints: 3000 segments, 4.0 s; 20 000 segments, 18.6 s, once for max_seconds=1)
 PATH_SECONDS = 250e-6        # per path and constraint: to conclude a path's answer from its leaves after the search
                              # (measured: the MEL robot, 22 constraints, 5 ms a path; the planar planning robot, 4, 1 ms)
 
@@ -288,9 +293,10 @@ def verify_trajectories(robot, paths, constraints=None, budget: Budget | None = 
                                            f"of at least {size_bound(need)} (their polynomials, held while the paths "
                                            f"are verified; {size_bound(budget.max_memory, up=False)} given): give more, "
                                            "or verify fewer segments at a time")
-    prepare = n_seg * pieces * cons.K * PIECE_SECONDS if linear is None else 0.0
+    prepare = n_seg * cons.K * (pieces * PIECE_SECONDS if linear is None else LINEAR_SECONDS)
     if refuse_slow and prepare > max(budget.max_seconds, 1.0):      # (built before the search: no clock stops it)
-        raise InputError("max_seconds", "", f"{n_seg} segments with a moving orientation take about {prepare:.3g} s to "
+        moving = " with a moving orientation" if linear is None else ""
+        raise InputError("max_seconds", "", f"{n_seg} segments{moving} take about {prepare:.3g} s to "
                                             f"prepare (their polynomials), more than the time budget "
                                             f"({budget.max_seconds:g} s): give more, or verify fewer segments at a time")
     lo = np.tile(edges[:-1], n_seg)[:, None]
@@ -329,7 +335,7 @@ def _solved(problem, lo, hi, budget, clock, progress, rtol, reserve=0.0):
                 np.full((n, K), -np.inf), np.full((n, K), np.inf)), 0, True
     lo, hi, piece_segment = problem.presplit(lo, hi, problem.piece_segment)
     problem.piece_segment = piece_segment
-    problem.seed_best(lo, hi, piece_segment, clock)
+    problem.seed_best(lo, hi, piece_segment, Clock(SEED_SHARE * max(clock.left() - reserve, 0.0)))
     searched = replace(budget.within(clock.left() - reserve), max_memory=max(1, int(budget.max_memory * SEARCH_SHARE)))
     batch = {"batch": PIECE_BATCH} if problem.pieces else {}    # moving orientation: about 0.4 MiB a box while decided
     found = search(problem, lo, hi, scale=np.ones(1), budget=searched, progress=progress, min_batch=64, max_rounds=5,

@@ -98,3 +98,27 @@ def test_a_single_segments_undecided_instants_are_placed_by_t_as_its_violations(
               "--max-boxes", "50")
     answered(run)
     assert "undecided for t in [" in run.out and " s in [" not in run.out and "s = k + t" not in run.out
+
+
+def _waypoints(n):
+    import random
+    rng = random.Random(2)
+    return [f"{rng.randint(-60, 80)},{rng.randint(-40, 90)},500,85deg,10deg,0" for _ in range(n)]
+
+
+def test_many_waypoints_stay_within_the_time_budget():
+    """2000 waypoints (constant orientation) with max_seconds=4 took 5.5 s: seeding the margins' targets
+    used the whole budget, then the search's first batch came on top; 20 000 waypoints with
+    max_seconds=1 took 19 s (their polynomials are built before the search, no clock stops them).
+    The first are answered within the budget, the second refused at once, naming max_seconds."""
+    import time
+    import certkin
+    robot = certkin.load_robot(MEL)
+    certkin.verify_trajectory(robot, A, B, max_boxes=100)                         # (models built: not timed)
+    r = certkin.verify_trajectory(robot, A, B, waypoints=_waypoints(2000), max_seconds=4)
+    assert r.stats["seconds"] < 4 * 1.25, r.stats                                # (was 5.5 s)
+    many = _waypoints(20000)
+    t0 = time.perf_counter()
+    with pytest.raises(certkin.InputError, match="^max_seconds: 20001 segments take about .* s to prepare"):
+        certkin.verify_trajectory(robot, A, B, waypoints=many, max_seconds=1)
+    assert time.perf_counter() - t0 < 10           # (reading the 20 000 poses: about 4 s)
