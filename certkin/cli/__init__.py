@@ -51,6 +51,11 @@ def build_parser(only: str | None = None):
 
 
 def main(argv=None):
+    if sys.stderr is None:                   # closed (`2>&-`): messages go nowhere, the exit code still tells
+        sys.stderr = open(os.devnull, "w")
+    if sys.stdout is None:                   # closed (`>&-`): once an AttributeError after the whole search
+        sys.stderr.write("certkin: error: standard output is closed: nowhere to print the answer\n")
+        return 2
     argv = join_negative_values(list(sys.argv[1:] if argv is None else argv))
     command = next((a for a in argv if not a.startswith("-")), None)
     parser = build_parser(command if command in COMMANDS else "")

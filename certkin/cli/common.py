@@ -87,12 +87,19 @@ def progress(enabled, what="boxes", extra="frontier"):
     if not enabled:
         return None
     from tqdm import tqdm                 # a bar only with --progress
-    bar = tqdm(desc=what, unit="", file=sys.stderr, leave=False)
+    try:
+        bars = [tqdm(desc=what, unit="", file=sys.stderr, leave=False)]
+    except (OSError, ValueError):         # stderr full or closed: the bar is a courtesy, never the answer's end
+        bars = []
 
     def update(done, value):
-        bar.n = done
-        bar.set_postfix({extra: value}, refresh=False)
-        bar.refresh()
+        for bar in bars:
+            try:
+                bar.n = done
+                bar.set_postfix({extra: value}, refresh=False)
+                bar.refresh()
+            except (OSError, ValueError):   # (once: an OSError of stderr ended the command, its answer unprinted)
+                bars.clear()
     return update
 
 
