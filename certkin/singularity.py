@@ -408,7 +408,8 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     ``result.boxes`` and ``result.seconds`` are those of the whole bisection (every box tried);
     ``result.bisection`` says how it went: ``tried`` (boxes tried), ``proved`` (s of the box returned),
     ``not_proved`` (the least s whose box was found singular, or left undecided by its box budget or the
-    resolution; None if none: the largest s lies between the two) and ``stopped``: None when the bisection ran
+    resolution; None if none: the largest s lies between the two), ``not_proved_status`` (that box's
+    status, ``singular`` or ``undecided``: then a larger box budget may prove a larger box) and ``stopped``: None when the bisection ran
     to its end, else ``"time budget"`` or ``"interrupted"`` (it stopped there: more time may prove a larger box).
     """
     progress = progress_callback(progress)
@@ -420,7 +421,7 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
     center, texts = parse_pose(pose, robot, "pose") if not isinstance(pose, Interval) else (pose, None)
     d = len(robot.pose_names)
     sc = _unit_box(scale, robot.pose_names)
-    tried, proved, boxes = 0, 0.0, 0
+    tried, proved, boxes, seen = 0, 0.0, 0, {}      # seen: each s tried, its box's status
     asked = {"pose": list(texts) if texts is not None else [float(v) for v in center.mid()], "scale": sc.tolist()}
 
     def attempt(s):
@@ -435,6 +436,7 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
             r = classify_cells(robot, (iv, _cell_texts(robot, lo, hi)), 1, budget.within(clock.left()))[0]
         r.scale_factor, r.around = s, asked
         tried += 1
+        seen[s] = r.status
         boxes += r.boxes
         if r.status == "singularity-free":
             proved = max(proved, s)
@@ -451,7 +453,8 @@ def largest_free_box(robot, pose, scale=None, budget: Budget | None = None, step
 
     def answer(r, bad=None, why=None):
         r.boxes, r.seconds = boxes, clock.elapsed()
-        r.bisection = {"tried": tried, "proved": proved, "not_proved": bad, "stopped": why}
+        r.bisection = {"tried": tried, "proved": proved, "not_proved": bad, "stopped": why,
+                       "not_proved_status": seen.get(bad)}    # singular: no larger box is free; undecided: budget
         return r
 
     best = attempt(0.0)

@@ -107,4 +107,7 @@ def describe(robot, r):
         line += (f"\n  {cause} while the box was grown: s = {display.lower(g['proved'], 9)} proved (rounded down) "
                  f"after {g['tried']} boxes tried"
                  f"{beyond}; a larger box may be proved with more time")
+    elif g and g.get("not_proved_status") == "undecided" and r.status == "singularity-free":
+        line += (f"\n  the box for s = {display.point(g['not_proved'])} was left undecided (its box budget, --max-boxes, "
+                 "or the resolution, --min-width, ran out): a larger box may be proved with a larger budget")
     return line

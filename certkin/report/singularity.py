@@ -21,6 +21,9 @@ def singularity_verdict(results) -> str:
                 cause = "the time budget ran out" if g["stopped"] == "time budget" else "Ctrl-C came"
                 cut = (f" The box was still being grown when {cause} (s = {lower(g['proved'], 9)} proved, rounded down, after "
                        f"{g['tried']} boxes tried): a larger box may be proved with more time.")
+            elif g and g.get("not_proved_status") == "undecided":      # a budget, not a singularity, stopped it
+                cut = (f" The next box tried (s = {point(g['not_proved'])}) was left undecided by its box budget or the "
+                       "resolution: a larger box may be proved with a larger budget.")
             return f"Singularity-free: det(A) {'>' if r.sign > 0 else '<'} 0 on the whole box.{cut}"
         if r.status == "singular":
             return "Singular: det(A) changes sign in the box (two poses of certified opposite signs)."

@@ -98,6 +98,19 @@ def test_around_shows_progress_and_prints_the_free_box_inward(cli):
     assert box["x"][0] <= float(printed[0]) <= float(printed[1]) <= box["x"][1]      # inside the proved box
 
 
+def test_around_says_when_a_box_budget_not_a_singularity_stopped_the_growth(cli, tmp_path):
+    """--max-boxes 1 gave a box 23 % smaller than the default's, presented like it (nothing said that the
+    next box tried was left undecided by its budget, not found singular)."""
+    run = cli(*S, "--around", "10,10,22.5deg", "--max-boxes", "1", "--report", "{tmp}/a.html")
+    answered(run, "singularity-free", "was left undecided (its box budget, --max-boxes")
+    assert "was left undecided by its box budget" in (tmp_path / "a.html").read_text()
+    doc = json.loads(cli(*S, "--around", "10,10,22.5deg", "--max-boxes", "1", "--json").out)
+    assert doc["bisection"]["not_proved_status"] == "undecided"
+    full = cli(*S, "--around", "10,10,22.5deg", "--json")
+    assert json.loads(full.out)["bisection"]["not_proved_status"] == "singular"
+    assert "left undecided" not in cli(*S, "--around", "10,10,22.5deg").out
+
+
 def test_an_around_report_asks_its_own_question_and_shows_the_free_box_inward(cli, tmp_path):
     """The report of --around asked whether det(A) vanishes on the box found, printed outward (wider
     than proved) beside the verdict, and spoke of a "decimal box given" that nobody gave."""
