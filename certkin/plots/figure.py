@@ -1,12 +1,16 @@
 """matplotlib (a core dependency: every report has its figures), imported where a figure is drawn."""
 from __future__ import annotations
 
+import logging
+
 
 def pyplot():
     """``matplotlib.pyplot`` with the non-interactive Agg backend."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    # (EPS and PS draw transparent shades opaque: matplotlib said so on stderr, a stray line after the answer)
+    logging.getLogger("matplotlib.backends.backend_ps").setLevel(logging.ERROR)
     return plt
 
 

@@ -60,3 +60,15 @@ def test_thousands_of_ranges_are_shaded_as_their_union(monkeypatch, tmp_path):
     for v in r.violations:
         colour = SHADES[0 if v["certain"] else 1][1]
         assert any(a <= v["s"][0] and v["s"][1] <= b for a, b, c in spans if c == colour), v
+
+
+@pytest.mark.parametrize("suffix", ["eps", "ps"])
+def test_a_postscript_picture_adds_nothing_to_stderr(tmp_path, suffix):
+    """matplotlib's PostScript backend logged 'does not support transparency' on stderr (in a process of
+    its own: pytest's log capture hides it in this one)."""
+    pytest.importorskip("matplotlib")
+    from conftest import limited
+    run = limited(["workspace", MICRO, "--z", "20005", "--min-width", "0.05", "--plot", f"{{tmp}}/p.{suffix}"],
+                  tmp_path)
+    answered(run, "section z = 20005")
+    assert run.err == "" and run.left == [f"p.{suffix}"]
