@@ -115,10 +115,12 @@ def test_many_waypoints_stay_within_the_time_budget():
     import certkin
     robot = certkin.load_robot(MEL)
     certkin.verify_trajectory(robot, A, B, max_boxes=100)                         # (models built: not timed)
+    c0 = time.process_time()
     r = certkin.verify_trajectory(robot, A, B, waypoints=_waypoints(2000), max_seconds=4)
-    assert r.stats["seconds"] < 4 * 1.25, r.stats                                # (was 5.5 s)
+    spent = time.process_time() - c0       # (CPU: on a loaded machine the work the clock cannot stop takes longer)
+    assert spent < 4 * 1.25, (spent, r.stats)                                     # (was 5.5 s)
     many = _waypoints(20000)
-    t0 = time.perf_counter()
+    c0 = time.process_time()
     with pytest.raises(certkin.InputError, match="^max_seconds: 20001 segments take about .* s to prepare"):
         certkin.verify_trajectory(robot, A, B, waypoints=many, max_seconds=1)
-    assert time.perf_counter() - t0 < 10           # (reading the 20 000 poses: about 4 s)
+    assert time.process_time() - c0 < 10           # (reading the 20 000 poses: about 4 s of CPU)
