@@ -2,6 +2,7 @@
 from pathlib import Path
 import re
 
+import numpy as np
 import pytest
 
 from conftest import MEL, MICRO, R2, answered
@@ -45,10 +46,11 @@ def test_thousands_of_ranges_are_shaded_as_their_union(monkeypatch, tmp_path):
     import certkin
     from certkin.plots import plot_margins
     from certkin.plots.trajectory import SHADES
-    certkin.verify_trajectory(MEL, "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0", max_boxes=100)  # (warm)
     r = certkin.verify_trajectory(MEL, "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0", min_width=1e-300,
-                                  max_seconds=2)
-    assert len(r.violations) > 500
+                                  max_boxes=5000)
+    first = r.violations[0]                        # (how many ranges a cut search leaves depends on when its
+    edges = np.linspace(0.2, 0.9, 6001)           # clock stops it: the ranges are made here, 6000 of them)
+    r.violations = [dict(first, s=[a, b], t=[a, b], certain=bool(k % 3)) for k, (a, b) in enumerate(zip(edges[:-1], edges[1:] - 1e-12))]
     spans, axvspan = [], Axes.axvspan
 
     def counted(self, a, b, **kw):
