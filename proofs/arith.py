@@ -1,20 +1,10 @@
 """Interval arithmetic on numpy arrays, with its own outward rounding (docs/soundness.md §12).
 
-An ``Iv`` holds two float64 arrays ``lo`` ≤ ``hi`` of any (broadcastable)
-shape: a batch of intervals.  Every operation returns an enclosure of the
-exact range of the operation over its operands:
-
-- ``dn``/``up`` turn a result computed in round-to-nearest into a lower / upper bound of the exact
-  value: x ∓ (φ|x| + 2⁻¹⁰²²), φ = u(1 + 2u), is ≤ pred(x), ≥ succ(x) (Rump, Zimmermann, Boldo &
-  Melquiond, BIT 2009, with a normal additive constant; §12);
-- sums along an axis and products of a float matrix with an interval
-  matrix use one float sum / matrix product and an a-priori bound of its
-  rounding error, valid for any order of summation (Higham 2002, §3.1);
-- ``sin``/``cos`` are our own: Cody-Waite reduction by π/2 and Taylor
-  polynomials with interval coefficients and a remainder bound.
-
-A NaN bound means "nothing known": every predicate that proves something
-(``> 0``, inside, disjoint, empty) is a comparison that is false on NaN, and
+An ``Iv`` holds two float64 arrays ``lo`` ≤ ``hi`` of any (broadcastable) shape: a batch of intervals.
+Every operation returns an enclosure of the exact range of the operation over its operands (§12 argues
+each: ``dn``/``up`` after round-to-nearest, a-priori error bounds for sums and float-by-interval matrix
+products, our own ``sin``/``cos``).  A NaN bound means "nothing known": every predicate that proves
+something (``> 0``, inside, disjoint, empty) is a comparison that is false on NaN, and
 ``np.minimum``/``np.maximum`` propagate NaN rather than drop it.
 """
 from __future__ import annotations

@@ -1,17 +1,10 @@
-"""Reading a certificate file: a ZIP archive (version 2); a JSON document is read only to refuse it
-(version 1, no longer checked).
+"""Reading a certificate file: a ZIP archive (version 2, docs/certificates.md "Version 2: the
+container"); a JSON document is read only to refuse it (version 1, no longer checked).
 
-Version 2 (docs/certificates.md): the first member ``header.json`` (UTF-8
-JSON, stored uncompressed), then one member per array ``<name>.bin``: the
-raw little-endian bytes of the array.  The header lists each array under
-``arrays`` with ``dtype``, ``shape`` and ``sha256`` (of the raw bytes), and
-``body_sha256``: the SHA-256 of the raw bytes of every array, concatenated in
-the order of ``arrays``.  A body array is read only when a step needs it
-and is then checked against its entry, so a flipped bit, a truncated member
-or an edited hash is rejected with the array named.
-
-``Unreadable`` (exit code 2) is raised only when the file is not a
-certificate at all; every other defect is ``Rejected`` (exit code 1).
+A body array is read only when a step needs it and is then checked against its header entry (dtype,
+shape, SHA-256), so a flipped bit, a truncated member or an edited hash is rejected with the array
+named.  ``Unreadable`` (exit code 2) is raised only when the file is not a certificate at all; every
+other defect is ``Rejected`` (exit code 1).
 """
 from __future__ import annotations
 

@@ -1,28 +1,11 @@
 """The forward-kinematics equations over batches of boxes, and the operators that prove things about them.
 
-The equations are rebuilt from the exact geometry and leg lengths (models
-``planar-3rpr-fk/1``, ``spherical-3dof-fk/1``, ``gough-stewart-fk/1``):
-
-- unknowns: the platform origin p (planar x, y; Gough x, y, z; none for
-  the spherical robot) and the rotation, (c, s) in the plane or a
-  quaternion (q0, q1, q2, q3) in space, with
-  R(q) = [[1 − 2(q2² + q3²), 2(q1 q2 − q0 q3), 2(q1 q3 + q0 q2)],
-          [2(q1 q2 + q0 q3), 1 − 2(q1² + q3²), 2(q2 q3 − q0 q1)],
-          [2(q1 q3 − q0 q2), 2(q2 q3 + q0 q1), 1 − 2(q1² + q2²)]],
-  R = [[c, −s], [s, c]] in the plane;
-- equations: leg i, Σ_k e_ik² − ρ_i² with e_i = p + R b_i − a_i (i = 1..legs),
-  then c² + s² − 1 or |q|² − 1 (ρ_i² an interval for length ranges);
-- position system: D p = g with, for i ≥ 2, D_i = 2((R b_i − R b_1) − (a_i − a_1)),
-  g_i = 2(a_i·R b_i − a_1·R b_1) − ((|a_i|² + |b_i|²) − (|a_1|² + |b_1|²)) + (ρ_i² − ρ_1²).
-
-R b_i over a box is the natural enclosure intersected, for a quaternion,
-with the centred form R b_i(c) + Σ_r ∂(R b_i)/∂q_r(Y)(q_r − c_r), c the float
-midpoint, Y ∋ (x + c)/2 (exact: R b_i is quadratic in q; docs/soundness.md §8).
-K(X) = c − C f(c) + (I − C J(X))(X − c) with c = fl(0.5 lo + 0.5 hi) (Krawczyk);
-slope matrices S(X, c), row i = Σ_k (e_ik(X) + e_ik(c)) [∂e_ik/∂p, ∂(R b_i)_k/∂r(Y)],
-norm row (r(X) + r(c)) (f(x) − f(c) = S (x − c)), give K_S and the
-Hansen-Sengupta sweep on (C S) y = −C f(c).  HC4 is the seven-step pass of
-docs/certificates.md (soundness: docs/soundness.md §8), in its fixed order.
+The equations (leg equations, norm equation, position system D p = g), the Krawczyk operator K(X), the
+slope matrices S(X, c), the Gauss-Seidel sweep and the HC4 pass (in its fixed order) are those of
+docs/certificates.md "Forward-kinematics claims", rebuilt from the exact geometry and leg lengths
+(models ``planar-3rpr-fk/1``, ``spherical-3dof-fk/1``, ``gough-stewart-fk/1``); their soundness is
+argued in docs/soundness.md §8.  R b_i over a box is the natural enclosure intersected, for a
+quaternion, with the centred form around the float midpoint (exact: R b_i is quadratic in q).
 """
 from __future__ import annotations
 

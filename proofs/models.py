@@ -1,25 +1,13 @@
-"""det(A) of each model (docs/certificates.md), over batches of boxes, with its gradient.
+"""det(A) of each model (docs/certificates.md "Models"), over batches of boxes, with its gradient.
 
-- ``planar-3rpr/1`` (x, y, phi): q_i = R(phi) p_i, u_i = (x, y) + q_i − b_i,
-  row i = [(y − b_iy) q_ix − (x − b_ix) q_iy, u_ix, u_iy].
-- ``spherical-3dof/1`` (phi1, phi2, phi3): Q = Rz(phi1) Ry(phi2) Rz(phi3),
-  row i = a_i × (Q b_i); ``spherical-3dof-tt/1`` (phi1, phi2, sigma):
-  Q = Rz(phi1) Ry(phi2) Rz(sigma − phi1).
-- ``gough-stewart/1`` (x, y, z, psi, theta, phi): R = Rz(psi) Rx(theta) Rz(phi),
-  l_i = (x, y, z) + R b_i − a_i, row i = [l_i, (R b_i) × l_i].
-
-Rz(a) = [[c, −s, 0], [s, c, 0], [0, 0, 1]], Ry = [[c, 0, s], [0, 1, 0], [−s, 0, c]],
-Rx = [[1, 0, 0], [0, c, −s], [0, s, c]].  The formulas use +, −, ×, sin and cos
-only, so the same code evaluates them on intervals (``arith.Iv``, one per
-box) and on ``Dual`` numbers (value and gradient enclosures: forward-mode
-differentiation, each operation applying the exact rule in interval
-arithmetic).  ``det`` is the Laplace expansion (minors memoised by their
-columns); ``det_interval`` intersects it, for n ≥ 4, with a preconditioned
-elimination (Rump, Acta Numerica 2010, §10): a float LU factorisation of
-the midpoint matrix gives a permutation P and a unit lower-triangular X
-whose diagonal is exactly 1, so det(X P M) = ±det(M); Y = X P M is enclosed
-and eliminated without pivoting, det Y being the product of the pivots
-when no pivot used as a divisor holds 0.
+The formulas use +, −, ×, sin and cos only, so the same code evaluates them on intervals (``arith.Iv``,
+one per box) and on ``Dual`` numbers (value and gradient enclosures: forward-mode differentiation, each
+operation applying the exact rule in interval arithmetic).  ``det`` is the Laplace expansion (minors
+memoised by their columns); ``det_interval`` intersects it, for n ≥ 4, with a preconditioned
+elimination (Rump, Acta Numerica 2010, §10): a float LU factorisation of the midpoint matrix gives a
+permutation P and a unit lower-triangular X whose diagonal is exactly 1, so det(X P M) = ±det(M);
+Y = X P M is enclosed and eliminated without pivoting, det Y being the product of the pivots when no
+pivot used as a divisor holds 0.
 """
 from __future__ import annotations
 

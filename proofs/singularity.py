@@ -1,24 +1,12 @@
-"""Singularity claims (``"problem": "singularity"``, docs/certificates.md).
+"""Singularity claims (``"problem": "singularity"``, docs/certificates.md "Singularity claims").
 
-- ``singularity-free`` with ``sign`` s: the claim's ``box`` is the root of a
-  tree whose leaves tile it (``tree``); every leaf's rule re-proves
-  sign(det A) = s on the leaf.  Rules (leaf codes): 0 ``natural`` (the
-  interval extension of det(A)); 1 ``centred`` (det(m) + Σ ∂det/∂x_i(X)
-  (X_i − m_i), m the float midpoint, or the natural enclosure that the
-  gradient pass gives); 2 ``monotone`` with flags f ∈ {−1, 0, 1}^d (one
-  ``tree.flags`` row): ∂det/∂x_i has sign f_i on the leaf for every f_i ≠ 0,
-  so the extremum of det lies on the face where each such x_i sits at the
-  bound minimising (s = 1) or maximising (s = −1) det, and the natural or
-  centred enclosure on that face has sign s.  When the checker's own
-  enclosure does not decide a leaf, it bisects it (up to ``MAX_DEPTH``
-  levels) and proves the rule on every piece; a rule proving −s refutes it.
-- ``singular``: two witness poses, inside the exact ``requested`` box (or
-  inside ``box`` when there is none), with det(A) proved > 0 and < 0: det
-  vanishes on the segment between them (intermediate value theorem).
+- ``singularity-free`` with ``sign`` s: the leaves of the claim's tree tile its ``box``, and every
+  leaf's rule (``RULES``; monotone: one ``tree.flags`` row) re-proves sign(det A) = s on the leaf.
+  When the checker's own enclosure does not decide a leaf, it bisects it (up to ``MAX_DEPTH`` levels)
+  and proves the rule on every piece; a rule proving −s refutes it.
+- ``singular``: two witness poses, inside ``box`` and the exact ``requested`` box, with det(A) proved
+  > 0 and < 0: det vanishes on the segment between them (intermediate value theorem).
 - ``undecided``: nothing is claimed.
-
-``requested`` (exact decimals, optional) must lie inside ``box``: a free
-claim then covers all of it.
 """
 from __future__ import annotations
 

@@ -1,37 +1,12 @@
-"""Trajectory claims (``"problem": "trajectory"``, docs/certificates.md).
+"""Trajectory claims (``"problem": "trajectory"``, docs/certificates.md "Trajectory claims").
 
-A claim is one path, a polyline of exact poses P_0 … P_n.  On segment k the pose is P_k + t (P_{k+1} − P_k),
-t ∈ [0, 1] (angles interpolated linearly).  Leg i is the segment [A_i, B_i], l_i = B_i − A_i: planar
-l_i = (x, y) + R(phi) p_i − b_i (z = 0); spherical l_i = Q b_i − a_i; Gough l_i = C + R b_i − a_i (R, Q of
-``models``).  The constraint instances are rebuilt from the robot's ``limits``, in this order (a claim lists
-a subsequence, each constraint's instances all or none): ``leg-length`` (ρ_min² ≤ |l_i|² ≤ ρ_max²), ``joints``
-(base then platform; per facet normal n: n·l_i ≥ 0 or −(R n)·l_i ≥ 0; per cone (axis a, half-angle α ≤ 90°):
-g = a·u ≥ 0 and g² − |a|² cos²α |l_i|² ≥ 0, u = l_i or −Rᵀ l_i), ``interference`` (pairs i < j: segment
-distance ≥ r_i + r_j), ``singularity`` (det(A) ≠ 0).
-
-Leaf states: ``+`` satisfied at every t of the leaf, ``-`` violated at every
-t (for ``singularity``: the sign of det A), ``?`` nothing.  The checker
-
-1. checks that the leaves of every segment tile [0, 1] exactly;
-2. re-proves every ``+``/``-`` on batches of t-intervals T: each quantity
-   g(t) is evaluated with forward differentiation in t and enclosed by
-   hull(g(lo), g(hi)) where dg/dt has one sign on T, else by
-   (g(m) + g'(T)(T − m)) ∩ g(T) (mean-value theorem); a leaf its enclosure
-   does not decide is bisected (up to ``MAX_DEPTH`` levels, ``MAX_PIECES``
-   pieces): a statement proved on pieces covering T holds on T.  An
-   enclosure proving the opposite refutes the claim at once;
-3. checks the verdict (``feasible``: only ``+`` and one det sign;
-   ``infeasible``: a ``-``, or both det signs; ``undecided``: nothing) and
-   the ``violations`` (per instance, their union covers every leaf not
-   ``+`` (``singularity``: every ``?``); one marked ``certain`` meets a
-   ``-`` leaf (``singularity``: a ``+`` and a ``-`` leaf)).
-
-Interference (docs/soundness.md §9): with u = l_i, v = l_j, w0 = A_i − A_j,
-Δ = |u×v|², proved ``+`` when E = (w0·(u×v))² − r²Δ > 0, or when the feet of
-the common perpendicular are outside [0, 1]² and every end point P of one
-leg is at distance ≥ r from the other leg [X, Y] (q = P − X, σ = Y − X,
-τ = q·σ: τ ≤ 0 and |q|² ≥ r², or τ ≥ |σ|² and |q − σ|² ≥ r², or |σ|² > 0
-and |q×σ|² − r²|σ|² ≥ 0); proved ``-`` by two points closer than r.
+A claim is one path, a polyline of exact poses; its constraint instances are rebuilt from the robot's
+``limits``, in the canonical order.  The checker checks that the leaves of every segment tile [0, 1]
+exactly; re-proves every ``+``/``-`` leaf state on batches of t-intervals, each quantity enclosed by
+monotonicity or the mean-value form (docs/soundness.md §9), a leaf its enclosure does not decide being
+bisected (up to ``MAX_DEPTH`` levels, ``MAX_PIECES`` pieces: a statement proved on pieces covering it
+holds on it) and an enclosure proving the opposite refuting the claim at once; then checks the verdict
+and the ``violations``.  Interference is proved by the tests of docs/certificates.md "Re-verification".
 """
 from __future__ import annotations
 
@@ -272,7 +247,7 @@ class Instance:
 
 def interference(sp, insts):
     """(proved >= r, proved < r) per span and instance (N, P) for the interference instances ``insts``,
-    every pair at once (the quantities of the module docstring, on arrays of pairs)."""
+    every pair at once (the quantities of docs/certificates.md "Re-verification", on arrays of pairs)."""
     I, J = [x.data[0] for x in insts], [x.data[1] for x in insts]
     zero = np.array([x.data[2] for x in insts])
     r2 = Iv(np.array([x.data[3].lo for x in insts]), np.array([x.data[3].hi for x in insts]))

@@ -1,20 +1,12 @@
-"""The search trees of a certificate, stored breadth-first as arrays (docs/certificates.md).
+"""The search trees of a certificate, stored breadth-first as arrays (docs/certificates.md "Search
+trees" and "Segments"; docs/soundness.md §13).
 
-One forest per certificate: its roots are the boxes of the claims that have a tree, in claim order
-(level 0).  Level k + 1 lists, in the order of level k, the children of its nodes: two for a split
-(lower part, then upper part), one for a contraction, none for a leaf.  ``tree.kind`` (uint8) is 0:
-split at the default point a + 0.4921875 (b − a) (the engine's, in round-to-nearest), 1: split at a
-stored cut (the next ``tree.cut``), 2: contraction, 3: leaf, 4: continued; ``tree.code`` the split
-dimension or the rule.  A cut lies strictly inside the side, so the children tile their parent, and
-the leaves each root.  A contraction's child is the next row of ``tree.box`` (uint64: the bits of its
-bounds XOR those of the parent's), inside its parent; its rule proves that it keeps every solution.
-Rules use a fixed number of evidence rows each, in node order (``Forest``'s tables); every row must
-be used.  A streamed tree has ``segments``: segment k >= 1 (arrays ``segment<k>/...``) is rooted at
-the continued leaves of segment k - 1, in order (``tree.roots`` must be their boxes); the last has
-none.  A continued leaf proves nothing by itself: its box is tiled by the next segment.
-
-``Forest.walk`` rebuilds each level's boxes with a few numpy operations and hands leaves and
-contractions to the problem in batches, grouped by rule.
+``Forest`` derives every node's box from the roots: a split's cut lies strictly inside the side, so
+its children tile their parent, and a contraction's child (the bits of its bounds XOR those of the
+parent's) lies inside its parent, so the leaves tile each root; every evidence row must be used.  A
+continued leaf proves nothing by itself: its box is tiled by the next segment, rooted at the continued
+leaves in order.  ``Forest.walk`` rebuilds each level's boxes with a few numpy operations and hands
+leaves and contractions to the problem in batches, grouped by rule.
 """
 from __future__ import annotations
 

@@ -1,27 +1,12 @@
-"""Workspace claims (``"problem": "workspace-section"`` / ``"workspace-volume"``, docs/certificates.md).
+"""Workspace claims (``"problem": "workspace-section"`` / ``"workspace-volume"``, docs/certificates.md
+"Workspace claims"; soundness: docs/soundness.md §11).
 
-Models ``gough-stewart-workspace/1`` (orientation psi, theta, phi;
-R = Rz(psi) Rx(theta) Rz(phi)) and ``planar-3rpr-workspace/1`` (orientation
-phi, z = 0): with u_i = a_i − R b_i, the point C = (X, Y, z) satisfies leg i
-when ρmin_i² ≤ (X − u_ix)² + (Y − u_iy)² + (z − u_iz)² ≤ ρmax_i²
-(``limits.leg_length``).  A claim is one section (``z``, an exact decimal)
-or one slab (``slab``: [lo, hi] floats, z ranging over it), with
-
-- ``domain`` holding every point of the section (every section of the
-  slab), re-proved from the outer disks D_i (centre u_i, radius²
-  ρmax_i² − (z − u_iz)², at its largest over a slab): the extremes of their
-  intersection are among the candidates (extreme points of each disk,
-  pairwise intersection points) not proved outside a disk
-  (docs/soundness.md §11), or ``"empty"``;
-- a tree (``tree.py``) whose leaves tile the domain: 0 ``inside`` (every
-  leg's ρ² over the box within its limits), 1 ``outside`` (leg k,
-  ``tree.index`` = k 1-based, disjoint from them), 2 ``boundary`` (nothing);
-- ``area``: ``inner`` ≤ the exact sum of the inside boxes' areas and
-  ``outer`` ≥ the exact sum over inside and boundary boxes (integers).
-
-A volume certificate's slabs are contiguous and cover ``requested.z``; its
-``volume`` bounds Σ (hi − lo) × those sums, exactly, the inner one with each
-slab's part of ``requested.z`` only.
+A claim is one section (``z``, an exact decimal) or one slab (``slab``: [lo, hi] floats).  Its
+``domain`` is re-proved to hold every point of the section (of every section of the slab) from the
+outer disks' candidate extreme points, or to be ``"empty"``; the leaves of its tree (0 ``inside``,
+1 ``outside``, 2 ``boundary``) tile the domain and every inside and outside leaf is re-proved; its
+``area`` (a volume certificate's ``volume``: Σ (hi − lo) × area over slabs covering ``requested.z``)
+must bracket the exact sums of the inside, and of the inside and boundary, boxes.
 """
 from __future__ import annotations
 
