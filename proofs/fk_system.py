@@ -130,27 +130,24 @@ class System:
         D = self.drot([(v + x) * 0.5 for v, x in zip(z, zc)])
         return self._matrix([u + v for u, v in zip(ex, ec)], D, [v + x for v, x in zip(z[self.p:], zc[self.p:])])
 
-    def _at_mid(self, lo, hi, L):
-        c = mid(lo, hi)
-        return c, self.values([Iv(c[:, k]) for k in range(self.n)], L)
+    def _at_mid(self, lo, hi, C, L, slope):
+        """(c, f(c), J(X) or S(X, c), C or, when None, the float inverse of the midpoint of that matrix)."""
+        c, z = mid(lo, hi), [Iv(lo[:, k], hi[:, k]) for k in range(self.n)]
+        fc = self.values([Iv(c[:, k]) for k in range(self.n)], L)
+        J = self.slope(z, c) if slope else self.jacobian(z)
+        return c, fc, J, float_inverse(J) if C is None else C
 
     def krawczyk(self, lo, hi, C, L, slope=False) -> Iv:
         """K(X) (or K_S with slope matrices: no uniqueness) for the boxes [lo, hi] (N, n), C (N, n, n)
         (None: the float32 inverse of the midpoint of J or S, ``float_inverse``)."""
-        z = [Iv(lo[:, k], hi[:, k]) for k in range(self.n)]
-        c, fc = self._at_mid(lo, hi, L)
-        J = self.slope(z, c) if slope else self.jacobian(z)
-        C = float_inverse(J) if C is None else C
+        c, fc, J, C = self._at_mid(lo, hi, C, L, slope)
         M = Iv(np.eye(self.n)) - pmatmul(C, J)
         dx = Iv(lo, hi) - c
         return (Iv(c) - pmatvec(C, fc)) + (M * Iv(dx.lo[:, None, :], dx.hi[:, None, :])).sum(-1)
 
     def slope_gauss_seidel(self, lo, hi, C, L):
         """The Hansen-Sengupta sweep with slopes: ((c + y) ∩ X as Iv (N, n), empty mask)."""
-        z = [Iv(lo[:, k], hi[:, k]) for k in range(self.n)]
-        c, fc = self._at_mid(lo, hi, L)
-        S = self.slope(z, c)
-        C = float_inverse(S) if C is None else C
+        c, fc, S, C = self._at_mid(lo, hi, C, L, slope=True)
         G = pmatmul(C, S)
         y, empty = _sweep(G, -pmatvec(C, fc), Iv(lo, hi) - c)
         return (y + c).meet(Iv(lo, hi)), empty
@@ -164,11 +161,7 @@ class System:
         D = stack([((rb[k][:, 1:] - rb[k][:, :1]) - (a[k][1:] - a[k][:1])) * 2.0 for k in range(self.p)], -1)
         g = ((arb[:, 1:] - arb[:, :1]) * 2.0 - ((self.na2[1:] + self.nb2[1:]) - (self.na2[:1] + self.nb2[:1]))) \
             + (L[:, 1:] - L[:, :1])
-        if P is None:
-            m = 0.5 * D.lo + 0.5 * D.hi
-            with np.errstate(all="ignore"):
-                P = np.linalg.pinv(np.where(np.isfinite(m), m, 0.0))
-            P = np.where(np.isfinite(P), P, 0.0).astype(np.float32).astype(np.float64)
+        P = float_inverse(D, pseudo=True) if P is None else P
         return _sweep(pmatmul(P, D), pmatvec(P, g), stack(z[:self.p], -1))
 
     def hc4(self, lo, hi, L):
@@ -247,14 +240,14 @@ class System:
         return stack(z[:p] + q, -1), empty
 
 
-def float_inverse(M: Iv):
-    """The float32 rounding of the inverse of the midpoint matrices of M (a preconditioner: any float
-    matrix is sound; the pseudo-inverse where a midpoint is singular)."""
+def float_inverse(M: Iv, pseudo=False):
+    """The float32 rounding of the inverse (``pseudo``: the pseudo-inverse) of the midpoint matrices of M
+    (a preconditioner: any float matrix is sound; the pseudo-inverse where a midpoint is singular)."""
     m = 0.5 * M.lo + 0.5 * M.hi
     m = np.where(np.isfinite(m), m, 0.0)
     with np.errstate(all="ignore"):
         try:
-            C = np.linalg.inv(m)
+            C = np.linalg.pinv(m) if pseudo else np.linalg.inv(m)
         except np.linalg.LinAlgError:
             C = np.linalg.pinv(m)
     return np.where(np.isfinite(C), C, 0.0).astype(np.float32).astype(np.float64)
