@@ -35,10 +35,6 @@ class Certificate:
     def size(self) -> int:          # bytes of the file, or of the arrays given in memory: what trees are weighed against
         return os.path.getsize(self._archive.filename) if self._archive else sum(getattr(a, "nbytes", 0) for a in self._arrays.values())
 
-    @property
-    def version(self):
-        return self.header.get("version") if isinstance(self.header, dict) else None
-
     def array(self, name: str, dtypes=None, shape_tail=None) -> np.ndarray:
         """The body array ``name`` (checked against its header entry), as stored."""
         if name not in self._read:

@@ -1,12 +1,10 @@
 """Forward-kinematics claims (``"problem": "forward-kinematics"``, docs/certificates.md).
 
-A claim is one set of leg lengths (or length ranges): a domain, regions (each
-a box X* proved to hold exactly one root by K(X*) ⊂ int X*, and a box R ⊆ X*
-proved to hold it), solutions (the regions whose R lies in the domain,
-pairwise distinct postures), clusters, and a tree whose leaves are excluded
-or attributed to a region.  The equations and operators are in ``fk_system``;
-the rules of the tree (leaf and contraction codes) are listed below and in
-docs/certificates.md.
+A claim is one set of leg lengths (or length ranges): a domain, regions (each a box X* proved to hold
+exactly one root by K(X*) ⊂ int X*, and a box R ⊆ X* proved to hold it), solutions (the regions whose R
+lies in the domain, pairwise distinct postures), clusters, and a tree whose leaves are excluded or
+attributed to a region.  The equations and operators are in ``fk_system``; the rules of the tree (leaf
+and contraction codes) are listed below and in docs/certificates.md.
 """
 from __future__ import annotations
 
@@ -149,7 +147,7 @@ def _read_claim(system, cert, raw, where):
     cl.clusters = np.array([np.stack(tree.read_box(c, system.n, f"{where}.clusters[{j}]"), -1) for j, c in enumerate(clusters)]
                            or np.zeros((0, system.n, 2)))
     cl.tree = True                    # a domain is proved only by its tree: never without one
-    if raw.get("tree") is None or (cert.version == 2 and raw.get("tree") is not True):
+    if raw.get("tree") is not True:
         raise Rejected(f"{where}.tree: expected true (the tree of the domain is in the body)")
     return cl
 
@@ -262,22 +260,15 @@ def _contraction(system, forest, code, ids, lo, hi, child, L, at):
     clo, chi = child
     stored, code = code, code % REBUILT
     n, p = system.n, system.p
-    if code in (0, 1):                   # hc4 (then, with P, one sweep on the position)
-        z, empty = system.hc4(lo, hi, L)
-        if code == 1 and p:
+    if code in (1, 2) and not p:
+        raise Rejected(at(0, "a position step needs a position"))
+    if code in (0, 1, 2):                # hc4 (0); hc4, then one sweep on the position (1); the sweep alone (2)
+        z, empty = system.hc4(lo, hi, L) if code < 2 else (Iv(lo, hi), np.zeros(len(lo), dtype=bool))
+        if code:
             x, e2 = system.gauss_seidel([z[:, k] for k in range(n)], _evidence(forest, "tree.P", ids, stored), L)
             empty |= e2
             z = Iv(np.concatenate([x.lo, z.lo[:, p:]], 1), np.concatenate([x.hi, z.hi[:, p:]], 1))
-        elif code == 1:
-            raise Rejected(at(0, "a position step needs a position"))
-    elif code == 2:                      # position: one sweep; the rotation is unchanged
-        if not p:
-            raise Rejected(at(0, "a position step needs a position"))
-        x, empty = system.gauss_seidel([Iv(lo[:, k], hi[:, k]) for k in range(n)],
-                                       _evidence(forest, "tree.P", ids, stored), L)
-        z = Iv(np.concatenate([x.lo, lo[:, p:]], 1), np.concatenate([x.hi, hi[:, p:]], 1))
-        moved = np.any((clo[:, p:] != lo[:, p:]) | (chi[:, p:] != hi[:, p:]), axis=1)
-        if moved.any():
+        if code == 2 and (moved := np.any((clo[:, p:] != lo[:, p:]) | (chi[:, p:] != hi[:, p:]), axis=1)).any():
             raise Rejected(at(np.nonzero(moved)[0][0], "a position step changes only the position"))
     elif code in (3, 4):                 # K(X) ∩ X (slope: K_S)
         K = system.krawczyk(lo, hi, _evidence(forest, "tree.C", ids, stored), L, slope=code == 4)

@@ -23,7 +23,6 @@ from .report import Rejected
 
 MAX_DEPTH, MAX_PIECES = 12, 400
 STATUSES = ("feasible", "infeasible", "undecided")
-CHARS = {"?": 0, "+": 1, "-": 2}
 # per model: (pose indices of the position, rotation angles as [(pose index, sign)], rotation axes)
 FRAMES = {"planar-3rpr/1": ((0, 1), (((2, 1),),), "z"),
           "spherical-3dof/1": ((), (((0, 1),), ((1, 1),), ((2, 1),)), "zyz"),
