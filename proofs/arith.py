@@ -165,10 +165,8 @@ def _sum_bounds(lo, hi, axis):
 
 
 def pmatmul(P, B: Iv) -> Iv:
-    """P @ B for a float matrix P (..., n, k) and an interval matrix B (..., k, m): entry (i, j) is
-    [Σ P⁺ B̲ + P⁻ B̄, Σ P⁺ B̄ + P⁻ B̲], each a dot product of length 2k computed by one float matrix
-    product, widened by the bound of its rounding error (products included, underflow covered by
-    the constant of ``_bound``; §12)."""
+    """P @ B for a float matrix P (..., n, k) and an interval matrix B (..., k, m): [Σ P⁺ B̲ + P⁻ B̄,
+    Σ P⁺ B̄ + P⁻ B̲], two float matrix products widened by the bound of their rounding error (§12)."""
     Q = np.concatenate([np.maximum(P, 0.0), np.minimum(P, 0.0)], -1)
     Qa = np.abs(Q)
     lo_ops, hi_ops = np.concatenate([B.lo, B.hi], -2), np.concatenate([B.hi, B.lo], -2)

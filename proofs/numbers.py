@@ -1,9 +1,8 @@
-"""Reading the numbers of a certificate exactly.
+"""Reading the numbers of a certificate exactly (docs/soundness.md §12, "Decimals and π").
 
 - Floats (JSON numbers, body arrays) denote their exact binary64 value.
 - Decimal strings (geometry, leg lengths, requested boxes, paths) denote their exact rational value: ``exact``
-  gives the ``Fraction``, ``enclose`` the tightest float interval (``arith.Iv.const``).  An angle may carry the
-  suffix ``deg``: q·π/180 lies between q·π₋/180 and q·π₊/180 (π₋ < π < π₊, 220 bits), each enclosed exactly.
+  gives the ``Fraction``, ``enclose`` the tightest float interval; an angle ``<decimal>deg`` is q·π/180, enclosed.
 
 Strings are limited in length and exponent, so that a hostile file cannot make the checker build gigantic integers.
 """
