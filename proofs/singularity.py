@@ -1,12 +1,10 @@
 """Singularity claims (``"problem": "singularity"``, docs/certificates.md "Singularity claims").
 
-- ``singularity-free`` with ``sign`` s: the leaves of the claim's tree tile its ``box``, and every
-  leaf's rule (``RULES``; monotone: one ``tree.flags`` row) re-proves sign(det A) = s on the leaf.
-  When the checker's own enclosure does not decide a leaf, it bisects it (up to ``MAX_DEPTH`` levels)
-  and proves the rule on every piece; a rule proving −s refutes it.
-- ``singular``: two witness poses, inside ``box`` and the exact ``requested`` box, with det(A) proved
-  > 0 and < 0: det vanishes on the segment between them (intermediate value theorem).
-- ``undecided``: nothing is claimed.
+``singularity-free``: the leaves of the claim's tree tile its ``box`` and each leaf's rule (``RULES``)
+re-proves sign(det A) = ``sign`` on it (bisected up to ``MAX_DEPTH`` levels when the checker's own enclosure
+does not decide it; a rule proving −sign refutes it).  ``singular``: two witness poses in the box and the
+exact ``requested`` box, det(A) proved > 0 at one and < 0 at the other, so that it vanishes between them
+(intermediate value theorem).  ``undecided``: nothing is claimed.
 """
 from __future__ import annotations
 

@@ -1,12 +1,9 @@
 """Trajectory claims (``"problem": "trajectory"``, docs/certificates.md "Trajectory claims").
 
-A claim is one path, a polyline of exact poses; its constraint instances are rebuilt from the robot's
-``limits``, in the canonical order.  The checker checks that the leaves of every segment tile [0, 1]
-exactly; re-proves every ``+``/``-`` leaf state on batches of t-intervals, each quantity enclosed by
-monotonicity or the mean-value form (docs/soundness.md §9), a leaf its enclosure does not decide being
-bisected (up to ``MAX_DEPTH`` levels, ``MAX_PIECES`` pieces: a statement proved on pieces covering it
-holds on it) and an enclosure proving the opposite refuting the claim at once; then checks the verdict
-and the ``violations``.  Interference is proved by the tests of docs/certificates.md "Re-verification".
+The leaves of every segment of a path must tile [0, 1] exactly, and every ``+``/``-`` leaf state is re-proved
+on its t-interval (monotone or mean-value enclosures, docs/soundness.md §9; an undecided leaf bisected up to
+``MAX_DEPTH`` levels and ``MAX_PIECES`` pieces, an enclosure proving the opposite refuting the claim at once);
+the verdict and the ``violations`` must follow from the leaf states.
 """
 from __future__ import annotations
 

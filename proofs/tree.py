@@ -1,12 +1,10 @@
 """The search trees of a certificate, stored breadth-first as arrays (docs/certificates.md "Search
 trees" and "Segments"; docs/soundness.md §13).
 
-``Forest`` derives every node's box from the roots: a split's cut lies strictly inside the side, so
-its children tile their parent, and a contraction's child (the bits of its bounds XOR those of the
-parent's) lies inside its parent, so the leaves tile each root; every evidence row must be used.  A
-continued leaf proves nothing by itself: its box is tiled by the next segment, rooted at the continued
-leaves in order.  ``Forest.walk`` rebuilds each level's boxes with a few numpy operations and hands
-leaves and contractions to the problem in batches, grouped by rule.
+``Forest`` derives every node's box from the roots so that the leaves tile each root (a cut strictly inside
+its side, a contraction's child inside its parent, every evidence row used; a continued leaf proves nothing,
+its box being tiled by the next segment), and hands leaves and contractions to the problem in batches,
+grouped by rule.
 """
 from __future__ import annotations
 

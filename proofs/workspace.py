@@ -1,12 +1,9 @@
 """Workspace claims (``"problem": "workspace-section"`` / ``"workspace-volume"``, docs/certificates.md
 "Workspace claims"; soundness: docs/soundness.md §11).
 
-A claim is one section (``z``, an exact decimal) or one slab (``slab``: [lo, hi] floats).  Its
-``domain`` is re-proved to hold every point of the section (of every section of the slab) from the
-outer disks' candidate extreme points, or to be ``"empty"``; the leaves of its tree (0 ``inside``,
-1 ``outside``, 2 ``boundary``) tile the domain and every inside and outside leaf is re-proved; its
-``area`` (a volume certificate's ``volume``: Σ (hi − lo) × area over slabs covering ``requested.z``)
-must bracket the exact sums of the inside, and of the inside and boundary, boxes.
+Each claim's ``domain`` is re-proved to hold its section (every section of its slab), or to be ``"empty"``;
+the leaves of its tree tile the domain, its inside and outside leaves are re-proved, and the claimed area
+(volume) bounds must bracket the exact sums over the inside, and the inside and boundary, boxes.
 """
 from __future__ import annotations
 
