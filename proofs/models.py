@@ -86,6 +86,13 @@ def rot(axis: str, c, s, v):
     return (c * x + s * z, y, c * z - s * x) if axis == "y" else (x, c * y - s * z, s * y + c * z)
 
 
+def rotate(axes: str, cs, v):
+    """R v for R the product of the rotations about ``axes`` (``"zxz"``: Rz Rx Rz), ``cs`` their (sin, cos)."""
+    for axis, (s, c) in zip(reversed(axes), reversed(cs)):
+        v = rot(axis, c, s, v)
+    return v
+
+
 def cross(a, b):
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 

@@ -14,7 +14,7 @@ from fractions import Fraction
 import numpy as np
 
 from .arith import PI, Iv
-from .models import MODELS, Dual, cross, det, det_interval, header_model, lift, points, rot, sincos
+from .models import MODELS, Dual, cross, det, det_interval, header_model, lift, points, rotate, sincos
 from .numbers import angle, enclose, exact, real
 from .report import Rejected
 
@@ -181,15 +181,9 @@ class Frame:
             self.turned = [(c * px - s * py, s * px + c * py, Iv(0.0)) for px, py in geo.platform]
             self.legs = [((x + r[0]) - bx, (y + r[1]) - by, Iv(0.0)) for (bx, by, _), r in zip(geo.base, self.turned)]
         else:
-            centre, self.turned = [pose[i] for i in geo.position], [self.rot(b) for b in geo.platform]
+            centre, self.turned = [pose[i] for i in geo.position], [rotate(geo.axes, self.cs, b) for b in geo.platform]
             self.legs = [tuple((centre[k] + r[k] if centre else r[k]) - a[k] for k in range(3)) for a, r in zip(geo.base, self.turned)]
         self._sq = {}
-
-    def rot(self, v):
-        """R v for a vector of the platform frame."""
-        for axis, (s, c) in zip(reversed(self.geo.axes), reversed(self.cs)):
-            v = rot(axis, c, s, v)
-        return v
 
     def leg_sq(self, i):
         return self._sq[i] if i in self._sq else self._sq.setdefault(i, _norm2(self.legs[i]))
@@ -223,7 +217,7 @@ class Instance:
 
         def fn(fr):
             l = fr.legs[i]
-            g = -_dot(fr.rot(vec), l) if side == "platform" else _dot(l, vec)
+            g = -_dot(rotate(fr.geo.axes, fr.cs, vec), l) if side == "platform" else _dot(l, vec)
             return [g] if kind == "facet" else [g, g * g - fr.leg_sq(i) * c2]
 
         vals = sp.enclose(fn)

@@ -13,7 +13,7 @@ import numpy as np
 
 from . import tree
 from .arith import Iv, sincos
-from .models import header_model, points, rot
+from .models import header_model, points, rotate
 from .numbers import enclose, exact, real
 from .report import Rejected
 
@@ -32,14 +32,9 @@ class Legs:
         if not isinstance(orientation, dict) or sorted(orientation) != sorted(angles):
             raise Rejected(f"orientation: expected the angles {', '.join(angles)}")
         cs = [sincos(enclose(orientation[name], f"orientation.{name}", True)) for name in angles]
-        zero = Iv(0.0)
-        rb = []
-        for p in b:
-            v = tuple(p) + (zero,) * (3 - dim)
-            for axis, (s, c) in zip(reversed("zxz" if not self.planar else "z"), reversed(cs)):
-                v = rot(axis, c, s, v)
-            rb.append(v)
-        u = [[(tuple(p) + (zero,) * (3 - dim))[k] - q[k] for k in range(3)] for p, q in zip(a, rb)]
+        a, b = ([tuple(p) + (Iv(0.0),) * (3 - dim) for p in pts] for pts in (a, b))     # in space (z = 0 in the plane)
+        rb = [rotate("zxz" if not self.planar else "z", cs, p) for p in b]
+        u = [[p[k] - q[k] for k in range(3)] for p, q in zip(a, rb)]
         self.u = [Iv(np.array([r[k].lo for r in u]), np.array([r[k].hi for r in u])) for k in range(3)]
         limits = robot.get("limits")
         pairs = limits.get("leg_length") if isinstance(limits, dict) else None
