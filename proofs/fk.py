@@ -299,11 +299,8 @@ def _root_free_outside(system, zlo, zhi, clo, chi, L, scale, depth=6):
     for _ in range(depth + 1):
         _, empty = system.slope_gauss_seidel(plo, phi, None, L[row])
         row, plo, phi = row[~empty], plo[~empty], phi[~empty]
-        j, r = np.argmax((phi - plo) / scale[row], axis=1), np.arange(len(row))
-        mid = 0.5 * plo[r, j] + 0.5 * phi[r, j]
-        upper_lo, lower_hi = plo.copy(), phi.copy()
-        upper_lo[r, j], lower_hi[r, j] = mid, mid
-        row, plo, phi = np.concatenate([row, row]), np.concatenate([plo, upper_lo]), np.concatenate([lower_hi, phi])
+        plo, phi, _ = tree.halves(plo, phi, scale[row])
+        row = np.concatenate([row, row])
     return ~np.isin(np.arange(len(zlo)), row) & np.all(np.isfinite(zlo) & np.isfinite(zhi), axis=1)   # NaN: no
 
 

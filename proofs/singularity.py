@@ -180,18 +180,12 @@ def _prove(robot, code, ids, lo, hi, s, flags, scale, claim):
             break
         lo, hi, s, owner = lo[open_], hi[open_], s[open_], owner[open_]
         flags = None if flags is None else flags[open_]
-        sc = scale[owner]
-        dim = np.argmax((hi - lo) / sc, axis=1)
-        r = np.arange(len(lo))
-        mid = 0.5 * lo[r, dim] + 0.5 * hi[r, dim]
-        if not np.all((lo[r, dim] < mid) & (mid < hi[r, dim])):
+        halves_lo, halves_hi, strictly_inside = tree.halves(lo, hi, scale[owner])
+        if not strictly_inside:
             depth = MAX_DEPTH
             continue
-        lo2, hi2 = lo.copy(), hi.copy()
-        hi[r, dim], lo2[r, dim] = mid, mid
-        lo, hi = np.concatenate([lo, lo2]), np.concatenate([hi, hi2])
-        s, owner = np.concatenate([s, s]), np.concatenate([owner, owner])
+        pieces += len(lo)
+        lo, hi, s, owner = halves_lo, halves_hi, np.concatenate([s, s]), np.concatenate([owner, owner])
         flags = None if flags is None else np.concatenate([flags, flags])
-        pieces += len(r)
         depth += 1
     return pieces

@@ -159,6 +159,16 @@ class Forest:
                 visit(kd, cd, *c[:4], (c[4], c[5]) if kd == CONTRACT else None)
 
 
+def halves(lo, hi, scale):
+    """The boxes (N, d) cut at the midpoint of the side widest relative to ``scale``: (lo, hi) of the lower
+    halves then of the upper halves, and whether every cut lies strictly inside its side."""
+    dim, r = np.argmax((hi - lo) / scale, axis=1), np.arange(len(lo))
+    mid = 0.5 * lo[r, dim] + 0.5 * hi[r, dim]
+    upper_lo, lower_hi = lo.copy(), hi.copy()
+    upper_lo[r, dim], lower_hi[r, dim] = mid, mid
+    return np.concatenate([lo, upper_lo]), np.concatenate([lower_hi, hi]), bool(np.all((lo[r, dim] < mid) & (mid < hi[r, dim])))
+
+
 def read_box(value, d, where):
     """A box of the header: ``d`` pairs [lo, hi] of exact finite floats, lo <= hi; returns (lo, hi) arrays."""
     if not isinstance(value, list) or len(value) != d or not all(isinstance(p, list) and len(p) == 2 for p in value):
