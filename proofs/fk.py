@@ -14,7 +14,7 @@ from mpmath import iv
 from . import tree
 from .arith import Iv
 from .fk_system import MODELS, System
-from .models import header_model
+from .models import each_claim, header_model
 from .numbers import exact
 from .report import Rejected
 
@@ -53,7 +53,7 @@ def check(cert, report) -> None:
     header_model(h, MODELS, lambda m: m[0], "unknowns", lambda m: m[1])
     system = System(h["model"], h["robot"])
     n, counts = system.n, report.checked
-    claims = [_read_claim(system, cert, c, f"claims[{k}]") for k, c in enumerate(h["claims"])]
+    claims = [_read_claim(system, cert, c, where) for where, c in each_claim(h["claims"])]
     for k, cl in enumerate(claims):
         _regions(system, cl, f"claims[{k}]")
         counts["solutions"] = counts.get("solutions", 0) + cl.solutions
@@ -93,8 +93,6 @@ def check(cert, report) -> None:
 
 
 def _read_claim(system, cert, raw, where):
-    if not isinstance(raw, dict):
-        raise Rejected(f"{where}: expected an object")
     cl = _Claim()
     cl.raw, cl.index, cl.rules = raw, int(where[7:-1]), {}
     if "length_ranges" in raw:

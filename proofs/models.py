@@ -155,6 +155,14 @@ def header_model(h, table, kind, names_key=None, names=None):
     return table[name]
 
 
+def each_claim(claims):
+    """(``claims[k]``, claim) for each claim in turn, rejected unless it is an object."""
+    for k, claim in enumerate(claims):
+        if not isinstance(claim, dict):
+            raise Rejected(f"claims[{k}]: expected an object")
+        yield f"claims[{k}]", claim
+
+
 def points(robot: dict, key: str, count: int, dim: int):
     """The exact decimal points robot[key] as lists of scalar enclosures."""
     pts = robot.get(key)

@@ -12,7 +12,7 @@ import numpy as np
 
 from . import tree
 from .arith import Iv
-from .models import MODELS, Robot, header_model
+from .models import MODELS, Robot, each_claim, header_model
 from .numbers import angle, enclose, inside, real
 from .report import Rejected
 
@@ -25,10 +25,7 @@ def check(cert, report) -> None:
     model = header_model(h, MODELS, lambda m: m.kind, "pose", lambda m: m.pose)
     robot, d, counts = Robot(model, h["robot"]), len(model.pose), report.checked
     roots, signs, status_count, witnesses = [], [], {}, []
-    for k, claim in enumerate(h["claims"]):
-        where = f"claims[{k}]"
-        if not isinstance(claim, dict):
-            raise Rejected(f"{where}: expected an object")
+    for k, (where, claim) in enumerate(each_claim(h["claims"])):
         status = claim.get("status")
         if status not in ("singularity-free", "singular", "undecided"):
             raise Rejected(f"{where}.status: unknown status {status!r}")

@@ -14,7 +14,7 @@ from fractions import Fraction
 import numpy as np
 
 from .arith import PI, Iv
-from .models import MODELS, Dual, cross, det, det_interval, header_model, lift, points, rotate, sincos
+from .models import MODELS, Dual, cross, det, det_interval, each_claim, header_model, lift, points, rotate, sincos
 from .numbers import angle, enclose, exact, real
 from .report import Rejected
 
@@ -308,10 +308,7 @@ def check(cert, report) -> None:
     h = cert.header
     model = header_model(h, MODELS, lambda m: m.kind, "pose", lambda m: m.pose)
     geo, counts, verdicts, groups = Geometry(model, h["robot"]), report.checked, {}, {}
-    for c, claim in enumerate(h["claims"]):
-        where = f"claims[{c}]"
-        if not isinstance(claim, dict):
-            raise Rejected(f"{where}: expected an object")
+    for c, (where, claim) in enumerate(each_claim(h["claims"])):
         status = claim.get("status")
         if status not in STATUSES:
             raise Rejected(f"{where}.status: unknown status {status!r:.60} (known: {', '.join(STATUSES)})")

@@ -13,7 +13,7 @@ import numpy as np
 
 from . import tree
 from .arith import Iv, sincos
-from .models import header_model, points, rotate
+from .models import each_claim, header_model, points, rotate
 from .numbers import enclose, exact, real
 from .report import Rejected
 
@@ -127,10 +127,7 @@ _SHIFT = 2 * 1100       # areas are integers times 2^-_SHIFT (products of float 
 def _heights(legs, claims, volume):
     """z of each claim as an interval: the exact decimal ``z``, or the float ``slab`` (contiguous slabs)."""
     Z = []
-    for k, claim in enumerate(claims):
-        where = f"claims[{k}]"
-        if not isinstance(claim, dict):
-            raise Rejected(f"{where}: expected an object")
+    for where, claim in each_claim(claims):
         if volume:
             slab = claim.get("slab")
             if not isinstance(slab, list) or len(slab) != 2:
