@@ -1,7 +1,6 @@
-"""python -m proofs CERT [--robot ROBOT.toml] [--json] [--progress] (the same as ``certkin check``).
+"""python -m proofs CERT [--robot ROBOT.toml] [--json] [--progress]: the same as ``certkin check`` (docs/certificates.md).
 
-Prints the robot (name, geometry SHA-256), the question, what was proved and ``OK: ...`` — or ``REJECTED:
-<the failing step>``.  Exit code 0 valid, 1 rejected, 2 unreadable (one line on stderr, no traceback).
+Exit code 0 valid, 1 rejected (``REJECTED: <the failing step>``), 2 unreadable (one line on stderr, no traceback).
 """
 from __future__ import annotations
 
