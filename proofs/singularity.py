@@ -1,4 +1,4 @@
-"""Singularity claims (``"problem": "singularity"``, docs/certificates.md "Singularity claims").
+"""Singularity claims (``"problem": "singularity"``, docs/certificates.md "Singularity claims"; docs/soundness.md §7).
 
 ``singularity-free``: the leaves of the claim's tree tile its ``box`` and each leaf's rule (``RULES``)
 re-proves sign(det A) = ``sign`` on it (bisected up to ``MAX_DEPTH`` levels when the checker's own enclosure
