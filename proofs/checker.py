@@ -126,9 +126,7 @@ class UnreadableRobot(Unreadable):      # the robot file given to confirm the ge
 def read_robot(path) -> dict:
     """A robot file (TOML, decimals read exactly); raises ``UnreadableRobot``."""
     try:
-        if os.path.exists(path) and not (os.path.isfile(path) or os.path.isdir(path)):     # (a FIFO would block)
-            raise OSError(0, "not a regular file (a device, a pipe or a socket)")
-        with open(path, "rb") as fh:
+        with container.open_regular(path) as fh:
             raw = fh.read(MAX_ROBOT + 1)          # /dev/zero or a huge file: never read whole
         data = tomllib.loads(raw.decode("utf-8"), parse_float=Decimal) if len(raw) <= MAX_ROBOT else {}
     except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError, RecursionError) as exc:

@@ -135,12 +135,17 @@ def _object(pairs):        # a JSON object's keys all differ (which of two value
     return dict(pairs)
 
 
+def open_regular(path):
+    """``open(path, "rb")``; an ``OSError`` for a device, a pipe or a socket (a FIFO would block)."""
+    if os.path.exists(path) and not (os.path.isfile(path) or os.path.isdir(path)):
+        raise OSError(0, "not a regular file (a device, a pipe or a socket)")
+    return open(path, "rb")
+
+
 def read(path) -> Certificate:
     """Open a certificate file (a ZIP archive; a JSON document is read for its version); raises ``Unreadable``."""
-    if os.path.exists(path) and not (os.path.isfile(path) or os.path.isdir(path)):     # (a FIFO would block)
-        raise Unreadable("not a regular file (a device, a pipe or a socket)")
     try:
-        with open(path, "rb") as fh:
+        with open_regular(path) as fh:
             magic = fh.read(4)
             text = b"" if magic.startswith(b"PK") else magic + fh.read(MAX_JSON - 3)
             end = (fh.seek(max(fh.seek(0, 2) - 22, 0)), fh.read(22))[1]     # a ZIP's end record, if nothing follows
