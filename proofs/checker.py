@@ -164,7 +164,7 @@ def run(path, robot=None, as_json=False, progress=False) -> int:
         print(f"{what}: {exc or type(exc).__name__}", file=sys.stderr)
         return 2
     if progress:                                  # the bar completed (also for a certificate without trees)
-        print(f"\r[{'#' * 40}] checked" + " " * 20, file=sys.stderr)
+        _bar(1, 1, f"\r[{'#' * 40}] checked" + " " * 20 + "\n")
         _bar.shown = -1
     try:
         print(json.dumps(report.to_json(), indent=1) if as_json else "\n".join(report.lines()), flush=True)
@@ -174,11 +174,16 @@ def run(path, robot=None, as_json=False, progress=False) -> int:
     return 0 if report.ok else 1
 
 
-def _bar(done, total):
+def _bar(done, total, text=None):
+    """The progress bar on stderr: a courtesy, so a full or closed stderr stops it, never the check."""
     k = 40 * done // max(total, 1)
-    if k != _bar.shown:
+    if k != _bar.shown or text:
         _bar.shown = k
-        print(f"\r[{'#' * k}{'.' * (40 - k)}] {done}/{total} tree nodes", end="", file=sys.stderr, flush=True)
+        try:
+            sys.stderr.write(text or f"\r[{'#' * k}{'.' * (40 - k)}] {done}/{total} tree nodes")
+            sys.stderr.flush()
+        except (OSError, ValueError, AttributeError):       # (AttributeError: stderr closed at start, None)
+            pass
 
 
 _bar.shown = -1

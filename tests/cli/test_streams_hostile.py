@@ -41,3 +41,19 @@ def test_a_closed_stdout_is_refused_before_anything_is_solved_or_written(tmp_pat
     assert run.returncode == 2, run.stderr
     assert run.stderr == "certkin: error: standard output is closed: nowhere to print the answer\n"
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("redirect", ["2>/dev/full", "2>&-"])
+def test_the_checker_s_progress_bar_on_a_full_or_closed_stderr_does_not_stop_the_check(tmp_path, redirect):
+    """``certkin check --progress`` with stderr full or closed: the bar's write raised (exit 1, no account
+    printed); a certificate that checks now gives its account and exit 0."""
+    if redirect == "2>/dev/full" and not Path("/dev/full").exists():
+        pytest.skip("needs /dev/full")
+    made = certkin(Z + ["--certificate", "c.cert"], tmp_path)
+    assert made.returncode == 0, made.stderr
+    run = certkin(["check", "c.cert", "--progress"], tmp_path, redirect)
+    assert run.returncode == 0 and "OK:" in run.stdout, (run.returncode, run.stdout[-300:])
+    run = subprocess.run(["sh", "-c", f'"$0" -m proofs c.cert --progress {redirect}', sys.executable],
+                         capture_output=True, text=True, cwd=tmp_path, timeout=120,
+                         env={**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])})
+    assert run.returncode == 0 and "OK:" in run.stdout
