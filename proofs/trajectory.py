@@ -20,6 +20,7 @@ from .report import Rejected
 
 MAX_DEPTH, MAX_PIECES = 12, 400
 STATUSES = ("feasible", "infeasible", "undecided")
+SHOWN = 20           # a path's failing ranges listed in the account (the certificate holds them all)
 # per model: (pose indices of the position, rotation angles as [(pose index, sign)], rotation axes)
 FRAMES = {"planar-3rpr/1": ((0, 1), (((2, 1),),), "z"),
           "spherical-3dof/1": ((), (((0, 1),), ((1, 1),), ((2, 1),)), "zyz"),
@@ -348,11 +349,12 @@ def check(cert, report) -> None:
             raise Rejected("route: the paths must be feasible for the same constraints and join its from to its to")
         report.proved.append(f"a route from {','.join(r['from'])} to {','.join(r['to'])}: the {len(paths)} paths, end to "
                              f"end, for {', '.join(sorted({i['constraint'] for i in first['instances']}))}")
-    for c, claim in list(enumerate(h["claims"]))[:5]:
+    for c, claim in list(enumerate(h["claims"]))[:5]:      # (at most SHOWN ranges a path: they are in the certificate)
+        more = len(claim["violations"]) - SHOWN
         report.proved.append(f"path {c + 1}: {claim['status']}" + "".join(
             f"; {v['constraint']} (legs {', '.join(map(str, v.get('legs', [])))}) "
             f"{'fails' if v['certain'] else 'not proved'} for s in [{v['s'][0]}, {v['s'][1]}]"
-            for v in claim["violations"]))
+            for v in claim["violations"][:SHOWN]) + (f"; and {more} more range{'s' * (more > 1)}" if more > 0 else ""))
 
 
 def _path(geo, path, where):

@@ -99,3 +99,16 @@ def test_a_question_names_the_box_where_requested_leaves_a_variable_out():
     assert report.ok, report.step
     question = report.about["question"]
     assert "x in [-20, -10]" in question and "y in [" in question and "phi in [" in question
+
+
+def test_a_path_s_failing_ranges_are_listed_up_to_a_count_then_counted(monkeypatch):
+    """A trajectory cut by its time at the floats' resolution has thousands of ranges: the account printed
+    them all on one line (700 KB).  At most ``SHOWN`` are listed, the others counted."""
+    import proofs.trajectory
+    r = verify_trajectory(load_robot(MEL), "-69,-50,500,85deg,10deg,0", "84,92,500,85deg,10deg,0")
+    assert len(r.violations) == 2
+    monkeypatch.setattr(proofs.trajectory, "SHOWN", 1)
+    report = proofs.check(r.certificate())
+    assert report.ok
+    [line] = [ln for ln in report.lines() if ln.startswith("proved: path 1:")]
+    assert line.count(" for s in [") == 1 and line.endswith("; and 1 more range")
