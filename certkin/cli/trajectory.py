@@ -36,7 +36,7 @@ def run(args):
     return run_answer(args, compute, OPTIONS)
 
 
-SHOWN = 20      # undecided ranges listed on the terminal (all of them in --json)
+SHOWN = 20      # ranges of each kind (violated, may fail, undecided) listed on the terminal (all of them in --json)
 
 
 def describe(robot, r):
@@ -54,12 +54,17 @@ def describe(robot, r):
         lines.append(f"  {m['constraint']} {'-'.join(map(str, m['legs']))}{' ' + m['detail'] if 'detail' in m else ''}: "
                      f"min margin in {display.pair(m['margin'])}{extra}")
     polyline = r.path.segments > 1        # there, s = k + t on segment k (0-based), as for undecided ranges
-    for v in j["violations"]:          # an enclosure of the failing instants, not a range failing throughout
-        where = f"s in {display.outward(*v['s'], 12)}" if polyline or "t" not in v else \
-            f"t in {display.outward(*v['t'], 12)}"
-        lines.append(f"  {'VIOLATED' if v['certain'] else 'may fail'}: {v['constraint']} "
-                     f"{'-'.join(map(str, v['legs']))}{' ' + v['detail'] if 'detail' in v else ''}"
-                     f"{' (proved)' if v['certain'] else ''}, failing instants within {where}")
+    for certain in (True, False):     # each an enclosure of the failing instants, not a range failing throughout
+        kind = [v for v in j["violations"] if v["certain"] == certain]
+        for v in kind[:SHOWN]:
+            where = f"s in {display.outward(*v['s'], 12)}" if polyline or "t" not in v else \
+                f"t in {display.outward(*v['t'], 12)}"
+            lines.append(f"  {'VIOLATED' if certain else 'may fail'}: {v['constraint']} "
+                         f"{'-'.join(map(str, v['legs']))}{' ' + v['detail'] if 'detail' in v else ''}"
+                         f"{' (proved)' if certain else ''}, failing instants within {where}")
+        if len(kind) > SHOWN:
+            lines.append(f"  ... {len(kind) - SHOWN} more {'VIOLATED' if certain else 'may fail'} ranges "
+                         "(all of them in --json)")
     for u in j["undecided"][:SHOWN]:        # one segment: s = t
         lines.append(f"  undecided for {'s' if polyline else 't'} in {display.outward(*u['s'], 12)}")
     if len(j["undecided"]) > SHOWN:

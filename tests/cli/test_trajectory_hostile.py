@@ -66,6 +66,19 @@ def test_printed_violations_enclose_the_proved_ones(cli):
         assert lo <= v["t"][0] and v["t"][1] <= hi
 
 
+def test_ranges_past_a_count_are_counted_not_listed(cli, monkeypatch):
+    """A search cut at the floats' resolution left about 6000 'may fail' lines on the terminal: each kind
+    of range (violated, may fail, undecided) is listed up to ``SHOWN``, the others counted (all in --json)."""
+    import certkin.cli.trajectory
+    doc = json.loads(cli(*T, "--constraints", "interference", "--json").out)
+    violated = [v for v in doc["violations"] if v["certain"]]
+    assert len(violated) == 2
+    monkeypatch.setattr(certkin.cli.trajectory, "SHOWN", 1)
+    lines = cli(*T, "--constraints", "interference").out.splitlines()
+    assert sum(ln.startswith("  VIOLATED: ") for ln in lines) == 1
+    assert "  ... 1 more VIOLATED ranges (all of them in --json)" in lines
+
+
 def test_an_absurd_height_ends_within_the_time_budget(cli):
     """A pose 1e11 mm away (issue #18: 1e300 ran 15 s under --max-seconds 5, then crashed)."""
     run = cli("trajectory", MEL, "--from", "-69,-50,1e11,85deg,10deg,0", "--to", B, "--max-seconds", "2")
