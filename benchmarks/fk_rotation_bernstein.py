@@ -68,7 +68,7 @@ import sympy as sp
 from sympy import QQ
 from sympy.polys.rings import ring
 
-from fk_cayley_menger import QUADS, ROBOTS      # (the robots, lengths and quadruples of that study)
+from fk_cayley_menger import D_SYMBOLS, QUADS, R_SYMBOLS, ROBOTS, cayley_menger_symbolic   # (that study's robots, quadruples, determinant)
 
 DEG = 8                                               # degree of CM·|q|^8 in each chart variable
 N1 = DEG + 1
@@ -79,16 +79,7 @@ U = 2.0 ** -53                                        # unit roundoff
 
 def cayley_menger_terms():
     """Expanded CM determinant of 4 points and p: [(integer coefficient, exponents of D01..D23, r0..r3)]."""
-    D = sp.symbols("D01 D02 D03 D12 D13 D23")
-    r = sp.symbols("r0 r1 r2 r3")
-    M = sp.zeros(6, 6)
-    for i in range(1, 6):
-        M[0, i] = M[i, 0] = 1
-    for (m, n), s in zip(itertools.combinations(range(4), 2), D):
-        M[1 + m, 1 + n] = M[1 + n, 1 + m] = s
-    for m in range(4):
-        M[1 + m, 5] = M[5, 1 + m] = r[m]
-    poly = sp.Poly(sp.expand(M.det(method="berkowitz")), *D, *r)
+    poly = sp.Poly(cayley_menger_symbolic(), *D_SYMBOLS, *R_SYMBOLS)
     return [(int(c), e) for e, c in poly.terms()]
 
 
