@@ -176,8 +176,8 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
 
 
 def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter, deadline=math.inf):
-    """Results per instance from the search tree (solutions merged, undecided boxes clustered; the
-    later the ``deadline`` is near, as ``time.perf_counter()``, the fewer and larger the unresolved regions)."""
+    """Results per instance from the search tree (solutions merged, undecided boxes clustered; the nearer
+    the ``deadline``, a ``time.perf_counter()`` value, the fewer and larger the unresolved regions)."""
     M = len(texts)
     results = [FKResult(robot, system, texts[i], (lo[i], hi[i]), user_domain=angle_filter is not None) for i in range(M)]
     for i in np.nonzero(~feasible)[0]:
@@ -430,8 +430,8 @@ def _cluster_note(result) -> str:
 
 
 ROW_SECONDS = 1.5e-3          # to answer one row after the search (its poses, boxes and merging; measured: 0.7 to
-                              # 1.0 ms a planar row on a slow machine; a spatial row left incomplete groups its open
-                              # boxes into clusters on top, up to about 0.2 s)
+                              # 1.0 ms a planar row on a slow machine; a row left incomplete describes its
+                              # unresolved regions on top, in the seconds kept by UNRESOLVED_SHARE)
 SEARCH_SHARE = 0.65           # of max_memory, for the search's record and working memory: the answer built
                               # from its leaves took up to 17 % of the budget more (2 000 unresolved regions)
 MAX_UNRESOLVED = 2000        # unresolved regions of one answer at most (its open boxes grouped: ``_clusters``)
