@@ -2,14 +2,15 @@
 
 A budget that runs out gives ``undecided`` (never a guess).  The FK default lets Dietmaier's
 40-posture robot finish (~2.5 M boxes); past ``FK_RECORD_NODES`` tree nodes the search forgets
-its excluded leaves, so memory stays below 1 GiB.  The
-workspace's ``min_width`` is relative to the size of the section (``workspace.paving``).
+its excluded leaves, so memory stays below 1 GiB.  The workspace's ``min_width`` is relative to
+the size of the section (``workspace.paving``).
 
 ``max_seconds`` bounds the solving of a whole call (a command, an API function), whatever number
 of searches it runs; loading a robot's model comes on top.  ``max_memory`` bounds what the
 solvers allocate for their records (the search tree, the cells of a classification): a search
 that reaches it stops with ``undecided``, and work that would need more is refused before it
-starts; it may not exceed this machine's memory (the default is 2 GiB, or the machine's memory if less).  Every value is checked: a bad one raises ``InputError`` naming the parameter (so is a
+starts; it may not exceed this machine's memory (the default: 2 GiB, or the machine's memory if
+less).  Every value is checked: a bad one raises ``InputError`` naming the parameter (so is a
 ``progress`` that is neither None nor callable: ``progress_callback``).
 """
 from __future__ import annotations
