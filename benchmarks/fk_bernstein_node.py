@@ -58,7 +58,7 @@ import numba
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from fk_cayley_menger import ROBOTS, Geometry, holding_a_posture, pruned_below, sample_unit_quaternions  # noqa: E402
+from fk_cayley_menger import ROBOTS, Geometry, holding_a_posture, pruned_below, recorded_search, sample_unit_quaternions  # noqa: E402
 from fk_rotation_bernstein import bernstein_eval, chart_power, homogeneous_cm, read_robot   # noqa: E402
 
 DEG = 8
@@ -335,15 +335,8 @@ def record(name, cache=None):
         cols = {c: z[c] for c in ("lo", "hi", "kind", "parent")}
         return cols, z["postures"], float(z["rec"][0]), int(z["rec"][1]), True
     from certkin.fk import forward_kinematics
-    path, lengths = ROBOTS[name]
     forward_kinematics(*ROBOTS["seed002"])          # load certkin's kernels first
-    t0 = time.process_time()
-    res = forward_kinematics(path, lengths, record="whole")
-    seconds = time.process_time() - t0
-    tree = res.tree
-    cols = {c: np.asarray(getattr(tree, c)) for c in ("lo", "hi", "kind", "parent")}
-    assert np.all(cols["parent"] < np.arange(len(cols["parent"]))), "replay needs parents before children"
-    postures = np.array([(np.asarray(s["box"].lo, float) + np.asarray(s["box"].hi, float)) / 2 for s in res.solutions])
+    res, cols, postures, seconds = recorded_search(*ROBOTS[name])
     if cache:
         Path(cache).mkdir(parents=True, exist_ok=True)
         np.savez(Path(cache) / f"{name}.npz", **cols, postures=postures, rec=[seconds, res.boxes])

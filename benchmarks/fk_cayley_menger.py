@@ -384,19 +384,25 @@ class Taylor2CM(TaylorCM):
 
 # ---------------------------------------------------------------- the search and the check at its postures
 
-def run_search(robot):
-    """certkin's FK search with the whole tree recorded; the tree's columns, postures and geometry."""
+def recorded_search(path, lengths):
+    """certkin's FK search with the whole tree recorded: (result, the tree's columns lo, hi, kind,
+    parent, the postures' box centres, CPU seconds of the search)."""
     from certkin.fk import forward_kinematics
-    from certkin.fk.system import fk_system
-    from certkin.robots import as_robot
-    path, lengths = ROBOTS[robot]
     t0 = time.process_time()
     res = forward_kinematics(path, lengths, record="whole")
     seconds = time.process_time() - t0
-    tree = res.tree
-    cols = {name: np.asarray(getattr(tree, name)) for name in ("lo", "hi", "kind", "parent")}
+    cols = {name: np.asarray(getattr(res.tree, name)) for name in ("lo", "hi", "kind", "parent")}
     assert np.all(cols["parent"] < np.arange(len(cols["parent"]))), "replay needs parents before children"
     postures = np.array([(np.asarray(s["box"].lo, float) + np.asarray(s["box"].hi, float)) / 2 for s in res.solutions])
+    return res, cols, postures, seconds
+
+
+def run_search(robot):
+    """certkin's FK search with the whole tree recorded; the tree's columns, postures and geometry."""
+    from certkin.fk.system import fk_system
+    from certkin.robots import as_robot
+    path, lengths = ROBOTS[robot]
+    res, cols, postures, seconds = recorded_search(path, lengths)
     system = fk_system(as_robot(path))
     G = Geometry(system.a.mid(), system.b.mid(), [float(x) for x in lengths.split(",")])
     print(f"{robot}: {len(postures)} postures, complete {res.complete}, {res.boxes} boxes, {len(cols['kind'])} nodes, "
