@@ -26,7 +26,7 @@ from .writing import Array, Document, box_json, header, one, outward_boxes
 REBUILT = 64
 LEAVES = {"equation": 0, "hc4-empty": 1, "position-empty": 2 + REBUILT, "krawczyk-empty": 3 + REBUILT,
           "slope-empty": 4 + REBUILT, "slope-gs-empty": 5 + REBUILT,
-          "krawczyk-empty, C kept": 3, "slope-gs-empty, C kept": 5}
+          "krawczyk-empty, C kept": 3, "slope-gs-empty, C kept": 5, "cm-bernstein-empty": 11}
 CONTRACTIONS = {"hc4": 0, "position": 2 + REBUILT, "krawczyk": 3 + REBUILT, "slope": 4 + REBUILT,
                 "slope-gs": 5 + REBUILT, "krawczyk, C kept": 3, "slope-gs, C kept": 5}
 KEPT_C = (3, 4, 5)           # rules whose C the certificate holds (their + REBUILT twins: the checker's own)
@@ -116,11 +116,14 @@ def _rules(tree, proved, n, cluster_of=None):
 
     def index(t, ids, c):
         eq, uq, cl = leaves(t, ids, c, 0), leaves(t, ids, c, UNIQUE), leaves(t, ids, c, IN_CLUSTER)
-        out, first = rows(eq * 1 + uq * 2 + cl * 1, np.int32, ())
+        cm = leaves(t, ids, c, LEAVES["cm-bernstein-empty"])
+        out, first = rows(eq * 1 + uq * 2 + cl * 1 + cm * 1, np.int32, ())
         if cl.any():
             out[first[cl]] = cluster[np.searchsorted(in_cluster, ids[cl])]
         if eq.any():
             out[first[eq]] = t.evidence_values("equation", ids[eq])
+        if cm.any():
+            out[first[cm]] = t.evidence_values("cm", ids[cm])
         k = proved.at(ids[uq])
         out[first[uq]], out[first[uq] + 1] = proved.index[k, 0], proved.index[k, 1]
         return out

@@ -46,6 +46,7 @@ import numpy as np
 from intervals import Interval, linalg
 
 from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
+from . import cayley_menger
 from .contract import gap_splits, hc4
 from .step import SMALL_BATCH, contract_position, for_batch, fragile, krawczyk_boxes, room, shrink, \
     slope_boxes, unique_in
@@ -159,8 +160,10 @@ class FKProblem:
 
     reasons = ("equation", "krawczyk-empty", "krawczyk-unique", "krawczyk", "position-empty", "position",
                "hc4-empty", "hc4", "slope-empty", "slope", "slope-gs-empty", "slope-gs", "cluster",
-               "krawczyk-empty, C kept", "krawczyk, C kept", "slope-gs-empty, C kept", "slope-gs, C kept")
+               "krawczyk-empty, C kept", "krawczyk, C kept", "slope-gs-empty, C kept", "slope-gs, C kept",
+               "cm-bernstein-empty")
     CLUSTER = 12             # given up: within a root's spread over uncertain lengths, no uniqueness box
+    CAYLEY_MENGER = 17       # no rotation of the box fits 4 legs (``fk.cayley_menger``)
 
     def __init__(self, system, L: Interval, scale, slopes: bool = False):
         self.system = system
@@ -173,6 +176,8 @@ class FKProblem:
         self.uncertain = bool(self.uncertain_rows.any())
         self.scale = scale                  # (n,), or (M, n): one row per instance
         self._stacked = None
+        # the chart polynomials of each instance with exact lengths, computed when first needed
+        self._charts = {} if system.kind == "gough-stewart" and system.legs == 6 else None
 
     def _system(self, n_box):
         if n_box > SMALL_BATCH:
@@ -193,6 +198,8 @@ class FKProblem:
         left open; every contraction is a stage of the tree with its reason and evidence."""
         system = self._system(len(lo))
         b = _Batch(lo, hi, self._L(roots))
+        if self._charts is not None:
+            self._cayley_menger(b, roots)
         kept, hc4_moved = self._hc4(system, b)
         # steps 1 and 2 evaluate only the boxes HC4 left (``live``): the others are decided
         live = np.nonzero(b.status == OPEN)[0]
@@ -205,6 +212,25 @@ class FKProblem:
         self._krawczyk(system, b, live, rb, parts, roots)
         self._gaps(system, b)
         return b.decisions(self.slopes)
+
+    def _cayley_menger(self, b: _Batch, roots):
+        """Step 0 for a 6-6 Gough-Stewart robot: the boxes whose rotation fits no four legs
+        (``fk.cayley_menger``) are excluded, with the evidence 4·quad + chart.  Instances with length
+        ranges are left to the other steps (the rule holds for them, but seldom concludes)."""
+        p = self.system.n_pos
+        found = np.full(len(b.lo), -1, np.int64)
+        for r in np.unique(roots):
+            if self.uncertain_rows[r]:
+                continue
+            if r not in self._charts:
+                self._charts[r] = cayley_menger.charts(self.system.a, self.system.b,
+                                                       Interval.from_bounds(self.L.lo[r], self.L.hi[r]))
+            sel = np.nonzero(roots == r)[0]
+            found[sel] = cayley_menger.excluded(*self._charts[r], np.ascontiguousarray(b.lo[sel, p:p + 4]),
+                                                np.ascontiguousarray(b.hi[sel, p:p + 4]))
+        out = found >= 0
+        b.status[out], b.reason[out] = EXCLUDED, self.CAYLEY_MENGER
+        b.evidence["cm"] = (out, found[out].astype(np.int8))
 
     def _gaps(self, system, b: _Batch):
         """Open boxes split in the widest gap of HC4's two-branch square roots (``contract.gap_splits``)."""
@@ -226,16 +252,21 @@ class FKProblem:
         lo, hi = b.lo, b.hi
         p = system.n_pos
         form = over = None
-        rows = np.arange(len(lo))
+        rows = np.nonzero(b.status == OPEN)[0]
         moved = np.zeros(len(lo), dtype=bool)
         for k in range(HC4_PASSES if self.slopes else 1):
-            L = b.L if k == 0 else Interval.from_bounds(b.L.lo[rows], b.L.hi[rows])
+            if not len(rows):
+                break
+            L = Interval.from_bounds(b.L.lo[rows], b.L.hi[rows])
             plo, phi = lo[rows], hi[rows]
             kept = {}
             hlo, hhi, hempty = hc4(system, plo, phi, L, keep=kept)
             if "form" in kept:      # the form over the pass's given box: depends on its rotation sides only
-                if form is None:
-                    form, over = list(kept["form"]), (plo[:, p:], phi[:, p:])
+                if form is None:    # (full-length arrays: the first pass may see only some boxes)
+                    form = [np.zeros((len(lo),) + w.shape[1:], dtype=w.dtype) for w in kept["form"]]
+                    for v, w in zip(form, kept["form"]):
+                        v[rows] = w
+                    over = (lo[:, p:].copy(), hi[:, p:].copy())
                 else:
                     for v, w in zip(form, kept["form"]):
                         v[rows] = w
@@ -250,8 +281,6 @@ class FKProblem:
             if self.slopes:
                 b.hc4_boxes.append((lo.copy(), hi.copy()))
             rows = rows[step & (cut >= HC4_AGAIN)]
-            if not len(rows):
-                break
         b.creason[moved] = 7
         return (form, over), moved
 

@@ -1,0 +1,318 @@
+"""The Cayley-Menger rule of the FK search (6-6 Gough-Stewart robots): a box whose rotation no
+posture can have, proved by the sign of one polynomial in the quaternion alone.
+
+At a posture (p, q), the centres C_m = a_m − R(q) b_m of four legs m and the position p satisfy
+|p − C_m|² = L_m, so the Cayley-Menger determinant of these five points vanishes (they lie in R³).
+Its entries |C_m − C_n|² and L_m are, once multiplied by |q|², quadratic forms in q, so
+
+    F(q) = CM(q) · |q|^8
+
+is a form of degree 8 in q (165 coefficients), one per quadruple of legs (15).  On a box Q of
+quaternions whose component q_k keeps one sign (chart k), every q in Q has q/q_k in the chart box
+Y = (Q_i / Q_k)_{i≠k}, and F(q) = q_k^8 F(q/q_k): if the tensor Bernstein coefficients of the chart
+polynomial F(·, q_k = 1) (degree 8 in each of its 3 variables) on a box containing Y all have one
+strict sign, no q in Q is the rotation of a posture (Garloff 1986; Ratschek and Rokne 1984: the
+range of a polynomial on a box lies in the hull of its Bernstein coefficients).  Leaf reason
+``cm-bernstein-empty``, evidence 4·quad + chart (docs/certificates.md, leaf 11).
+
+- ``forms``: the 15 forms' coefficients in midpoint-radius float, enclosing the exact ones for every
+  geometry and squared lengths in the given enclosures (``intervals.midrad``'s a-priori bound, Higham
+  2002 eq. 3.5; Rump 1999), by a Horner scheme over the determinant's 130 terms;
+- ``charts``: those coefficients as dense (4, 15, 9, 9, 9) chart polynomials;
+- ``excluded``: the test of a batch of boxes (compiled, box by box), with the rounding-error bound
+  of docs/soundness.md §8 "The Cayley-Menger rule": a coefficient counts only beyond twice that bound.
+
+The issue-16 studies measured the rule (docs/benchmarks.md, "the Bernstein test as a node rule").
+"""
+from __future__ import annotations
+
+import itertools
+from math import comb
+
+import numpy as np
+from numba import njit
+
+from intervals.midrad import ETA, U, midrad, product_midrad, upper
+
+QUADS = tuple(itertools.combinations(range(6), 4))      # the evidence's quad: an index in this tuple
+DEG, N1 = 8, 9
+SLACK = 2.0 ** -40       # the relative part of the bound (docs/soundness.md §8: at least 10 times too large)
+TINY = 2.0 ** -1000      # its absolute part (underflow)
+COMB = np.array([[comb(j, m) for m in range(N1)] for j in range(N1)], float)           # C(j, m)
+RATIO = np.array([[comb(i, m) / comb(DEG, m) for m in range(N1)] for i in range(N1)])   # C(i, m)/C(8, m)
+
+
+def determinant_terms():
+    """The Cayley-Menger determinant of 4 centres and a point, expanded (Leibniz, 720 permutations):
+    [(integer coefficient, exponents of d01, d02, d03, d12, d13, d23, L0, L1, L2, L3)]."""
+    pairs = list(itertools.combinations(range(4), 2))
+
+    def entry(r, c):         # 0 / 1 constants, or the variable's index (a point's row/column is 1..4)
+        if r == c:
+            return "0"
+        if r == 0 or c == 0:
+            return "1"
+        if r == 5 or c == 5:
+            return 6 + min(r, c) - 1
+        return pairs.index((min(r, c) - 1, max(r, c) - 1))
+    terms = {}
+    for perm in itertools.permutations(range(6)):
+        factors = [entry(r, c) for r, c in enumerate(perm)]
+        if "0" in factors:
+            continue
+        sign = 1
+        for i, j in itertools.combinations(range(6), 2):
+            sign = -sign if perm[i] > perm[j] else sign
+        e = [0] * 10
+        for f in factors:
+            if f != "1":
+                e[f] += 1
+        terms[tuple(e)] = terms.get(tuple(e), 0) + sign
+    return [(c, e) for e, c in sorted(terms.items()) if c]
+
+
+def _monomials(d):
+    out = [e for e in itertools.product(range(d + 1), repeat=4) if sum(e) == d]
+    return out, {e: i for i, e in enumerate(out)}
+
+
+MONO = {d: _monomials(d) for d in (2, 4, 6, 8)}
+
+
+def _pair_map(d1, d2):
+    """Pairs of monomials of degrees d1, d2 sorted by their product: (order, run starts, longest run)."""
+    (m1, _), (m2, _), (_, idx) = MONO[d1], MONO[d2], MONO[d1 + d2]
+    target = np.array([idx[tuple(x + y for x, y in zip(e1, e2))] for e1 in m1 for e2 in m2])
+    order = np.argsort(target, kind="stable")
+    return order, np.searchsorted(target[order], np.arange(len(idx))), int(np.max(np.bincount(target)))
+
+
+def _quadratic(terms):
+    _, idx = MONO[2]
+    v = np.zeros(len(idx))
+    for c, (i, j) in terms:
+        e = [0, 0, 0, 0]
+        e[i] += 1
+        e[j] += 1
+        v[idx[tuple(e)]] += c
+    return v
+
+
+TERMS = determinant_terms()
+T4, T6, T8 = _pair_map(2, 2), _pair_map(4, 2), _pair_map(6, 2)
+N2 = _quadratic([(1, (i, i)) for i in range(4)])                   # |q|²
+RT = np.array([[_quadratic(t) for t in row] for row in (           # R̃(q) = |q|² R(q), entrywise
+    ([(1, (0, 0)), (1, (1, 1)), (-1, (2, 2)), (-1, (3, 3))], [(2, (1, 2)), (-2, (0, 3))], [(2, (1, 3)), (2, (0, 2))]),
+    ([(2, (1, 2)), (2, (0, 3))], [(1, (0, 0)), (-1, (1, 1)), (1, (2, 2)), (-1, (3, 3))], [(2, (2, 3)), (-2, (0, 1))]),
+    ([(2, (1, 3)), (-2, (0, 2))], [(2, (2, 3)), (2, (0, 1))], [(1, (0, 0)), (-1, (1, 1)), (-1, (2, 2)), (1, (3, 3))]))])
+
+
+def _entries(a, b, L):
+    """Midpoint-radius coefficients (15, 10, 10) of each quad's 10 entries times |q|²: the six
+    |C_m − C_n|²|q|² = (|Δa|² + |Δb|²)|q|² − 2 Δaᵀ R̃(q) Δb, then the four L_m |q|².
+    ``a``, ``b``: (mid, rad) of (6, 3); ``L``: (mid, rad) of (6,)."""
+    (am, ar), (bm, br), (lm, lr) = a, b, L
+    mid, rad = np.zeros((15, 10, 10)), np.zeros((15, 10, 10))
+    for k, quad in enumerate(QUADS):
+        for e, (m, n) in enumerate(itertools.combinations(quad, 2)):
+            dam, dbm = am[m] - am[n], bm[m] - bm[n]            # a rounding each: within one spacing
+            dar = ar[m] + ar[n] + np.spacing(np.abs(dam))
+            dbr = br[m] + br[n] + np.spacing(np.abs(dbm))
+            v, vr = np.concatenate([dam, dbm]), np.concatenate([dar, dbr])
+            s, sr = product_midrad(v[None], vr[None], v[:, None], vr[:, None])
+            o, orad = product_midrad(dam[:, None], dar[:, None], dbm[None], dbr[None])
+            lin, lrad = product_midrad(o.reshape(1, 9), orad.reshape(1, 9), RT.reshape(9, 10), None)
+            mid[k, e] = s[0, 0] * N2 - 2.0 * lin[0]            # (N2: 0 or 1; 2·: exact)
+            rad[k, e] = upper(N2 * sr[0, 0] + 2.0 * lrad[0] + np.spacing(np.abs(mid[k, e])), 4)
+        for e, m in enumerate(quad):
+            mid[k, 6 + e], rad[k, 6 + e] = lm[m] * N2, lr[m] * N2
+    return mid, rad
+
+
+def _times(am, ar, bm, br, T):
+    """Products of forms (batched over the leading axes), midpoint-radius: every pair's product, then
+    the sums per monomial (at most ``longest`` terms): |error| <= the radii's part + γ Σ|am bm|
+    (Higham 2002, eq. 3.5), bounded by ``upper``."""
+    order, starts, longest = T
+    shape = am.shape[:-1]
+    flat = lambda x: x.reshape(*shape, -1)[..., order]  # noqa: E731
+    aa, ab = np.abs(am), np.abs(bm)
+    pm = flat(am[..., :, None] * bm[..., None, :])
+    pa = flat(aa[..., :, None] * ab[..., None, :])
+    pr = flat(aa[..., :, None] * br[..., None, :] + ar[..., :, None] * (ab + br)[..., None, :])
+    bound = np.add.reduceat(pr, starts, axis=-1) + (longest + 2) * U * np.add.reduceat(pa, starts, axis=-1)
+    return np.add.reduceat(pm, starts, axis=-1), upper(bound, 4 * longest + 8) + longest * ETA
+
+
+def _grouped_sum(m, r, keys):
+    """Midpoint-radius sums of the rows (axis 1) with equal sorted ``keys``: (unique keys, sums)."""
+    starts = np.concatenate([[0], np.nonzero(keys[1:] != keys[:-1])[0] + 1])
+    n = int(np.max(np.diff(np.concatenate([starts, [len(keys)]]))))
+    bound = np.add.reduceat(r, starts, axis=1) + (n + 1) * U * np.add.reduceat(np.abs(m), starts, axis=1)
+    return keys[starts], np.add.reduceat(m, starts, axis=1), upper(bound, 2 * n + 2) + n * ETA
+
+
+def forms(a, b, L):
+    """Midpoint-radius coefficients (15, 165) (monomials ``MONO[8]``) of F = CM·|q|^8 per quad, for
+    every base ``a`` and platform ``b`` (Intervals (6, 3)) and squared lengths ``L`` (Interval (6,)) in
+    the enclosures: Horner over the terms c e_v1 e_v2 e_v3 e_v4 (v1 <= v2 <= v3 <= v4)."""
+    em, er = _entries(midrad(a.lo, a.hi), midrad(b.lo, b.hi), midrad(L.lo, L.hi))
+    rows = sorted((tuple(v for v, ev in enumerate(e) for _ in range(ev)), float(c)) for c, e in TERMS)
+    f = np.array([v for v, _ in rows])
+    coef = np.array([c for _, c in rows])                          # ±1, ±2, ±4: exact products
+    keys3 = f[:, 0] * 100 + f[:, 1] * 10 + f[:, 2]
+    k3, Lm, Lr = _grouped_sum(coef[None, :, None] * em[:, f[:, 3]], np.abs(coef)[None, :, None] * er[:, f[:, 3]], keys3)
+    pm, pr = _times(em[:, k3 % 10], er[:, k3 % 10], Lm, Lr, T4)
+    k2, Sm, Sr = _grouped_sum(pm, pr, k3 // 10)
+    pm, pr = _times(Sm, Sr, em[:, k2 % 10], er[:, k2 % 10], T6)
+    k1, Tm, Tr = _grouped_sum(pm, pr, k2 // 10)
+    pm, pr = _times(Tm, Tr, em[:, k1], er[:, k1], T8)
+    _, m, r = _grouped_sum(pm, pr, np.zeros(len(k1), dtype=int))
+    return m[:, 0], r[:, 0]
+
+
+CHART = np.array([[[e[i] for i in range(4) if i != k] for e in MONO[8][0]] for k in range(4)])   # (4, 165, 3)
+
+
+def charts(a, b, L):
+    """(mid, rad) of the chart polynomials, each (4, 15, 9, 9, 9): chart k, quad, exponents of the
+    other three components in increasing order (F with q_k = 1; zero past total degree 8)."""
+    m, r = forms(a, b, L)
+    out = []
+    for v in (m, r):
+        A = np.zeros((4, 15, N1, N1, N1))
+        for k in range(4):
+            A[k][:, CHART[k, :, 0], CHART[k, :, 1], CHART[k, :, 2]] = v
+        out.append(np.ascontiguousarray(A))
+    return tuple(out)
+
+
+# ------------------------------------------------------------------ the test of a box (compiled)
+
+@njit(cache=True, error_model="numpy")
+def chart_box(qlo, qhi, lo, w):
+    """Chart k (the component with the largest smallest |q_k| over the box; −1 if every side holds 0)
+    and a box [lo, lo + w] containing Q_i / Q_k (i ≠ k, increasing): each quotient's rounding is
+    covered by the next float outward, and w is rounded up."""
+    best, k = 0.0, -1
+    for c in range(4):
+        m = qlo[c] if qlo[c] > 0.0 else -qhi[c] if qhi[c] < 0.0 else 0.0
+        if m > best:
+            best, k = m, c
+    if k < 0:
+        return -1
+    v = 0
+    for c in range(4):
+        if c != k:
+            r0, r1, r2, r3 = qlo[c] / qlo[k], qlo[c] / qhi[k], qhi[c] / qlo[k], qhi[c] / qhi[k]
+            lo[v] = np.nextafter(min(min(r0, r1), min(r2, r3)), -np.inf)
+            top = np.nextafter(max(max(r0, r1), max(r2, r3)), np.inf)
+            w[v] = np.nextafter(top - lo[v], np.inf)
+            v += 1
+    return k
+
+
+@njit(cache=True, error_model="numpy")
+def _axis_matrices(lo, w, M, S):
+    """M[v, i, j]: Bernstein coefficient i (degree 8, on [lo_v, lo_v + w_v]) of x^j; S[v, e]: an upper
+    bound of (|lo_v| + w_v)^e, which bounds |M[v, i, e]| (docs/soundness.md §8)."""
+    for v in range(3):
+        ap, wp = np.empty(N1), np.empty(N1)
+        ap[0], wp[0], S[v, 0] = 1.0, 1.0, 1.0
+        s = (abs(lo[v]) + w[v]) * (1.0 + 4 * U)
+        for e in range(1, N1):
+            ap[e], wp[e] = ap[e - 1] * lo[v], wp[e - 1] * w[v]
+            S[v, e] = S[v, e - 1] * s * (1.0 + 4 * U)
+        for i in range(N1):
+            for j in range(N1):
+                t = 0.0
+                for m in range(min(i, j) + 1):
+                    t += COMB[j, m] * ap[j - m] * wp[m] * RATIO[i, m]
+                M[v, i, j] = t
+
+
+@njit(cache=True, error_model="numpy")
+def _bound(Am, Ar, S):
+    """Twice the bound on |computed − exact| of every Bernstein coefficient (docs/soundness.md §8):
+    2 ((SLACK Σ|Am_J| + Σ Ar_J) S^J (1 + SLACK) + TINY)."""
+    c, r = 0.0, 0.0
+    for i in range(N1):
+        for j in range(N1 - i):
+            for l in range(N1 - i - j):
+                s = S[0, i] * S[1, j] * S[2, l]
+                c += abs(Am[i, j, l]) * s
+                r += Ar[i, j, l] * s
+    return 2.0 * ((SLACK * c + r) * (1.0 + SLACK) + TINY)
+
+
+@njit(cache=True, error_model="numpy")
+def _coefficient(A, M, i0, j0, l0):
+    """Bernstein coefficient (i0, j0, l0) of A (float)."""
+    total = 0.0
+    for l in range(N1):
+        for j in range(N1 - l):
+            s = 0.0
+            for i in range(N1 - j - l):
+                s += A[i, j, l] * M[0, i0, i]
+            total += s * M[1, j0, j] * M[2, l0, l]
+    return total
+
+
+@njit(cache=True, error_model="numpy")
+def _all_beyond(A, M, T0, T1, sign, E):
+    """True when sign · (every Bernstein coefficient of A) > E."""
+    for j in range(N1):
+        for l in range(N1 - j):
+            for ii in range(N1):
+                s = 0.0
+                for i in range(N1 - j - l):
+                    s += M[0, ii, i] * A[i, j, l]
+                T0[ii, j, l] = s
+    for ii in range(N1):
+        for l in range(N1):
+            for jj in range(N1):
+                s = 0.0
+                for j in range(N1 - l):
+                    s += M[1, jj, j] * T0[ii, j, l]
+                T1[ii, jj, l] = s
+    for ii in range(N1):
+        for jj in range(N1):
+            for ll in range(N1):
+                s = 0.0
+                for l in range(N1):
+                    s += M[2, ll, l] * T1[ii, jj, l]
+                if not s * sign > E:
+                    return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def excluded(Am, Ar, qlo, qhi):
+    """Per box (quaternion sides (N, 4)): the evidence 4·quad + chart of the first quad whose chart
+    polynomial (``charts``: ``Am`` ± ``Ar``) is proved of one sign on the chart box, or −1."""
+    n = qlo.shape[0]
+    out = np.full(n, -1, np.int64)
+    M, S = np.empty((3, N1, N1)), np.empty((3, N1))
+    T0, T1 = np.zeros((N1, N1, N1)), np.zeros((N1, N1, N1))
+    lo, w = np.empty(3), np.empty(3)
+    for b in range(n):
+        k = chart_box(qlo[b], qhi[b], lo, w)
+        if k < 0:
+            continue
+        _axis_matrices(lo, w, M, S)
+        for p in range(15):
+            A = Am[k, p]
+            E = _bound(A, Ar[k, p], S)
+            v = _coefficient(A, M, 0, 0, 0)
+            sign = 1.0 if v > 0.0 else -1.0
+            if not v * sign > E:
+                continue
+            ok = True
+            for c in range(1, 8):       # the other vertices first: they fail most often
+                if not _coefficient(A, M, 8 * (c & 1), 8 * ((c >> 1) & 1), 8 * (c >> 2)) * sign > E:
+                    ok = False
+                    break
+            if ok and _all_beyond(A, M, T0, T1, sign, E):
+                out[b] = 4 * p + k
+                break
+    return out

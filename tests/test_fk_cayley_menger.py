@@ -1,0 +1,176 @@
+"""The Cayley-Menger rule of the FK search (``certkin.fk.cayley_menger``), against exact rationals.
+
+The forms are checked by evaluation: at random rational quaternions, F(q) = CM·|q|^8 computed
+exactly (the 6×6 determinant by Fraction elimination, not by the expansion the solver uses) lies
+within the enclosure Σ (m_J ± r_J) q^J.  The test of a box is checked against exact values of F
+inside excluded boxes, and never excludes a box around an exact rational posture.
+"""
+from __future__ import annotations
+
+import itertools
+import random
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from certkin.fk import cayley_menger as cm
+from intervals import Interval
+
+ROBOT_A = [[Fraction(x) for x in row] for row in (
+    ("1.5", "0.2", "0"), ("0.9", "1.3", "0.05"), ("-0.7", "1.1", "0"), ("-1.4", "-0.3", "0.1"),
+    ("-0.4", "-1.2", "0"), ("0.8", "-0.9", "-0.05"))]
+ROBOT_B = [[Fraction(x) for x in row] for row in (
+    ("0.6", "0.1", "0"), ("0.2", "0.7", "0.02"), ("-0.5", "0.45", "0"), ("-0.55", "-0.2", "0"),
+    ("-0.1", "-0.6", "0.03"), ("0.45", "-0.35", "0"))]
+
+
+def rotation_tilde(q):
+    """|q|² R(q), exact."""
+    q0, q1, q2, q3 = q
+    return [[q0 * q0 + q1 * q1 - q2 * q2 - q3 * q3, 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
+            [2 * (q1 * q2 + q0 * q3), q0 * q0 - q1 * q1 + q2 * q2 - q3 * q3, 2 * (q2 * q3 - q0 * q1)],
+            [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3]]
+
+
+def det(M):
+    """Exact determinant by Fraction elimination."""
+    M = [row[:] for row in M]
+    n, out = len(M), Fraction(1)
+    for c in range(n):
+        r = next((r for r in range(c, n) if M[r][c] != 0), None)
+        if r is None:
+            return Fraction(0)
+        if r != c:
+            M[c], M[r], out = M[r], M[c], -out
+        out *= M[c][c]
+        for r in range(c + 1, n):
+            f = M[r][c] / M[c][c]
+            M[r] = [x - f * y for x, y in zip(M[r], M[c])]
+    return out
+
+
+def exact_form(a, b, L, quad, q):
+    """F(q) = CM·|q|^8 for the legs ``quad``, exact: centres a − R b (R = R̃/|q|²)."""
+    n2 = sum(x * x for x in q)
+    Rt = rotation_tilde(q)
+    centres = [[a[m][i] - sum(Rt[i][j] * b[m][j] for j in range(3)) / n2 for i in range(3)] for m in quad]
+    d = lambda u, v: sum((x - y) ** 2 for x, y in zip(u, v))  # noqa: E731
+    M = [[Fraction(0)] + [Fraction(1)] * 5]
+    for m in range(4):
+        M.append([Fraction(1)] + [d(centres[m], centres[n]) for n in range(4)] + [L[quad[m]]])
+    M.append([Fraction(1)] + [L[m] for m in quad] + [Fraction(0)])
+    return det(M) * n2 ** 4
+
+
+def intervals_of(a, b, L):
+    def iv(rows):
+        lo = np.array([[float(x) for x in r] for r in rows], float)
+        return Interval.from_bounds(np.nextafter(lo, -np.inf), np.nextafter(lo, np.inf))
+    Ls = np.array([float(x) for x in L])
+    return iv(a), iv(b), Interval.from_bounds(np.nextafter(Ls, -np.inf), np.nextafter(Ls, np.inf))
+
+
+def posture_lengths(a, b, q, p):
+    """Squared leg lengths (exact) of the posture (p, q/|q|)."""
+    n2 = sum(x * x for x in q)
+    Rt = rotation_tilde(q)
+    return [sum((p[i] + sum(Rt[i][j] * b[m][j] for j in range(3)) / n2 - a[m][i]) ** 2 for i in range(3))
+            for m in range(6)]
+
+
+Q_POSE = (Fraction(1), Fraction(1, 3), Fraction(-1, 5), Fraction(2, 7))
+P_POSE = (Fraction(1, 10), Fraction(-1, 20), Fraction(3, 2))
+L_POSE = posture_lengths(ROBOT_A, ROBOT_B, Q_POSE, P_POSE)
+
+
+def test_determinant_terms_are_the_cayley_menger_expansion():
+    """130 terms of degree 4; at random rational entries their sum equals the exact determinant."""
+    rng = random.Random(3)
+    assert len(cm.TERMS) == 130 and all(sum(e) == 4 for _, e in cm.TERMS)
+    pairs = list(itertools.combinations(range(4), 2))
+    for _ in range(5):
+        v = [Fraction(rng.randint(-50, 50), rng.randint(1, 9)) for _ in range(10)]
+        D = lambda m, n: v[pairs.index((min(m, n), max(m, n)))] if m != n else Fraction(0)  # noqa: E731
+        M = [[Fraction(0)] + [Fraction(1)] * 5] + \
+            [[Fraction(1)] + [D(m, n) for n in range(4)] + [v[6 + m]] for m in range(4)] + \
+            [[Fraction(1)] + v[6:] + [Fraction(0)]]
+        total = sum(c * np.prod([v[i] ** e[i] for i in range(10)]) for c, e in cm.TERMS)
+        assert total == det(M)
+
+
+def test_forms_enclose_the_exact_polynomials_at_rational_points():
+    rng = random.Random(7)
+    a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
+    m, r = cm.forms(a, b, L)
+    assert m.shape == r.shape == (15, 165) and np.all(r >= 0)
+    monos = cm.MONO[8][0]
+    for _ in range(12):
+        q = [Fraction(rng.randint(-20, 20), rng.randint(1, 7)) for _ in range(4)]
+        k = rng.randrange(15)
+        exact = exact_form(ROBOT_A, ROBOT_B, L_POSE, cm.QUADS[k], q)
+        powers = [np.prod([q[i] ** e[i] for i in range(4)]) for e in monos]
+        centre = sum(Fraction(float(c)) * t for c, t in zip(m[k], powers))
+        radius = sum(Fraction(float(c)) * abs(t) for c, t in zip(r[k], powers))
+        scale = sum(abs(Fraction(float(c))) * abs(t) for c, t in zip(m[k], powers))
+        assert abs(centre - exact) <= radius
+        assert radius <= Fraction(1, 10 ** 10) * scale           # and tight
+
+
+def test_the_posture_zeroes_every_form():
+    """F(q) = 0 at the posture's rotation for all 15 quads (the rule's premise), exactly."""
+    for quad in cm.QUADS:
+        assert exact_form(ROBOT_A, ROBOT_B, L_POSE, quad, list(Q_POSE)) == 0
+
+
+def test_chart_box_contains_every_quotient():
+    rng = np.random.default_rng(5)
+    lo, w = np.empty(3), np.empty(3)
+    for _ in range(300):
+        c = rng.uniform(-1, 1, 4)
+        h = 10.0 ** rng.uniform(-9, -0.5, 4)
+        qlo, qhi = c - h, c + h
+        k = cm.chart_box(qlo, qhi, lo, w)
+        if k < 0:
+            assert all(qlo[i] <= 0 <= qhi[i] for i in range(4))
+            continue
+        assert qlo[k] > 0 or qhi[k] < 0
+        others = [i for i in range(4) if i != k]
+        for _ in range(20):
+            q = [Fraction(float(x)) for x in rng.uniform(qlo, qhi)]
+            for v, i in enumerate(others):
+                assert Fraction(float(lo[v])) <= q[i] / q[k] <= Fraction(float(lo[v])) + Fraction(float(w[v]))
+
+
+def test_excluded_boxes_hold_no_zero_and_a_posture_is_never_excluded():
+    rng = np.random.default_rng(11)
+    a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
+    Am, Ar = cm.charts(a, b, L)
+    q = np.array([float(x) for x in Q_POSE])
+    q /= np.linalg.norm(q)
+    # boxes around the posture's rotation (and its negation), from wide to tight: never excluded
+    for h in (0.3, 0.05, 1e-3, 1e-6, 1e-9):
+        for s in (1.0, -1.0):
+            assert cm.excluded(Am, Ar, (s * q - h)[None], (s * q + h)[None])[0] == -1
+    # random boxes: an excluded one names a quad whose form keeps one strict sign at exact samples
+    c = rng.normal(size=(400, 4))
+    c /= np.linalg.norm(c, axis=1, keepdims=True)
+    h = 10.0 ** rng.uniform(-3, -0.7, (400, 1))
+    got = cm.excluded(Am, Ar, c - h, c + h)
+    assert 0.2 < np.mean(got >= 0) < 1.0                 # the rule concludes often, not always
+    for i in np.nonzero(got >= 0)[0][:25]:
+        quad, chart = divmod(int(got[i]), 4)
+        assert (c[i, chart] - h[i, 0]) * (c[i, chart] + h[i, 0]) > 0
+        values = [exact_form(ROBOT_A, ROBOT_B, L_POSE, cm.QUADS[quad],
+                             [Fraction(float(x)) for x in rng.uniform(c[i] - h[i], c[i] + h[i])]) for _ in range(8)]
+        assert all(v > 0 for v in values) or all(v < 0 for v in values)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf])
+def test_non_finite_sides_are_never_excluded(bad):
+    a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
+    Am, Ar = cm.charts(a, b, L)
+    lo = np.array([[0.5, 0.1, 0.1, 0.1]])
+    hi = lo + 0.01
+    lo[0, 1] = bad if bad != np.inf else -np.inf
+    assert cm.excluded(Am, Ar, lo, hi)[0] == -1
