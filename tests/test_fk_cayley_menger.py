@@ -82,6 +82,7 @@ def posture_lengths(a, b, q, p):
 Q_POSE = (Fraction(1), Fraction(1, 3), Fraction(-1, 5), Fraction(2, 7))
 P_POSE = (Fraction(1, 10), Fraction(-1, 20), Fraction(3, 2))
 L_POSE = posture_lengths(ROBOT_A, ROBOT_B, Q_POSE, P_POSE)
+ORDER = np.arange(15)
 
 
 def test_determinant_terms_are_the_cayley_menger_expansion():
@@ -145,18 +146,18 @@ def test_chart_box_contains_every_quotient():
 def test_excluded_boxes_hold_no_zero_and_a_posture_is_never_excluded():
     rng = np.random.default_rng(11)
     a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
-    Am, Ar = cm.charts(a, b, L)
+    Am, Ar, P = cm.charts(a, b, L)
     q = np.array([float(x) for x in Q_POSE])
     q /= np.linalg.norm(q)
     # boxes around the posture's rotation (and its negation), from wide to tight: never excluded
     for h in (0.3, 0.05, 1e-3, 1e-6, 1e-9):
         for s in (1.0, -1.0):
-            assert cm.excluded(Am, Ar, (s * q - h)[None], (s * q + h)[None])[0] == -1
+            assert cm.excluded(Am, Ar, P, (s * q - h)[None], (s * q + h)[None], ORDER)[0] == -1
     # random boxes: an excluded one names a quad whose form keeps one strict sign at exact samples
     c = rng.normal(size=(400, 4))
     c /= np.linalg.norm(c, axis=1, keepdims=True)
     h = 10.0 ** rng.uniform(-3, -0.7, (400, 1))
-    got = cm.excluded(Am, Ar, c - h, c + h)
+    got = cm.excluded(Am, Ar, P, c - h, c + h, ORDER)
     assert 0.2 < np.mean(got >= 0) < 1.0                 # the rule concludes often, not always
     for i in np.nonzero(got >= 0)[0][:25]:
         quad, chart = divmod(int(got[i]), 4)
@@ -169,8 +170,8 @@ def test_excluded_boxes_hold_no_zero_and_a_posture_is_never_excluded():
 @pytest.mark.parametrize("bad", [np.nan, np.inf])
 def test_non_finite_sides_are_never_excluded(bad):
     a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
-    Am, Ar = cm.charts(a, b, L)
+    Am, Ar, P = cm.charts(a, b, L)
     lo = np.array([[0.5, 0.1, 0.1, 0.1]])
     hi = lo + 0.01
     lo[0, 1] = bad if bad != np.inf else -np.inf
-    assert cm.excluded(Am, Ar, lo, hi)[0] == -1
+    assert cm.excluded(Am, Ar, P, lo, hi, ORDER)[0] == -1

@@ -39,6 +39,9 @@ DEG, N1 = 8, 9
 SLACK = 2.0 ** -40       # the relative part of the bound (docs/soundness.md §8: at least 10 times too large)
 TINY = 2.0 ** -1000      # its absolute part (underflow)
 COMB = np.array([[comb(j, m) for m in range(N1)] for j in range(N1)], float)           # C(j, m)
+VERTEX_ORDER = np.array([0, 7, 1, 6, 2, 5, 4, 3])      # opposite vertices first: they differ most often
+MONO3 = np.array([(i, j, l) for i in range(N1) for j in range(N1 - i) for l in range(N1 - i - j)])   # (165, 3)
+PACKED = 168             # the 165 monomials, padded with zeros to a multiple of 4
 RATIO = np.array([[comb(i, m) / comb(DEG, m) for m in range(N1)] for i in range(N1)])   # C(i, m)/C(8, m)
 
 
@@ -175,8 +178,9 @@ CHART = np.array([[[e[i] for i in range(4) if i != k] for e in MONO[8][0]] for k
 
 
 def charts(a, b, L):
-    """(mid, rad) of the chart polynomials, each (4, 15, 9, 9, 9): chart k, quad, exponents of the
-    other three components in increasing order (F with q_k = 1; zero past total degree 8)."""
+    """(mid, rad, packed) of the chart polynomials: mid and rad (4, 15, 9, 9, 9): chart k, quad,
+    exponents of the other three components in increasing order (F with q_k = 1; zero past total
+    degree 8); packed (4, 15, ``PACKED``): the midpoints by quad and monomial (``MONO3``, then 0)."""
     m, r = forms(a, b, L)
     out = []
     for v in (m, r):
@@ -184,7 +188,9 @@ def charts(a, b, L):
         for k in range(4):
             A[k][:, CHART[k, :, 0], CHART[k, :, 1], CHART[k, :, 2]] = v
         out.append(np.ascontiguousarray(A))
-    return tuple(out)
+    packed = np.zeros((4, 15, PACKED))
+    packed[:, :, :len(MONO3)] = out[0][:, :, MONO3[:, 0], MONO3[:, 1], MONO3[:, 2]]
+    return out[0], out[1], packed
 
 
 # ------------------------------------------------------------------ the test of a box (compiled)
@@ -246,16 +252,35 @@ def _bound(Am, Ar, S):
 
 
 @njit(cache=True, error_model="numpy")
-def _coefficient(A, M, i0, j0, l0):
-    """Bernstein coefficient (i0, j0, l0) of A (float)."""
-    total = 0.0
-    for l in range(N1):
-        for j in range(N1 - l):
-            s = 0.0
-            for i in range(N1 - j - l):
-                s += A[i, j, l] * M[0, i0, i]
-            total += s * M[1, j0, j] * M[2, l0, l]
-    return total
+def _vertex_monomials(M, V):
+    """V[t, m]: monomial m (``MONO3``) at the box's vertex ``VERTEX_ORDER[t]`` (its Bernstein
+    coefficient (8 c0, 8 c1, 8 c2), c = c0 + 2 c1 + 4 c2)."""
+    for t in range(8):
+        c = VERTEX_ORDER[t]
+        s0, s1, s2 = 8 * (c & 1), 8 * ((c >> 1) & 1), 8 * (c >> 2)
+        for m in range(MONO3.shape[0]):
+            V[t, m] = M[0, s0, MONO3[m, 0]] * M[1, s1, MONO3[m, 1]] * M[2, s2, MONO3[m, 2]]
+
+
+@njit(cache=True, error_model="numpy")
+def _vertex_sign(P, V):
+    """The sign (±1) shared by the float values of a polynomial (``P``: packed) at the 8 vertices,
+    0 if they differ or vanish: a box where it changes sign holds a zero of it.  A filter only, in
+    float (the proof is ``_all_beyond``); opposite vertices first, stopping at the first change."""
+    sign = 0.0
+    for t in range(8):
+        v0, v1, v2, v3 = 0.0, 0.0, 0.0, 0.0      # four chains: the sum is not latency-bound
+        for m in range(0, PACKED, 4):
+            v0 += V[t, m] * P[m]
+            v1 += V[t, m + 1] * P[m + 1]
+            v2 += V[t, m + 2] * P[m + 2]
+            v3 += V[t, m + 3] * P[m + 3]
+        v = (v0 + v1) + (v2 + v3)
+        if t == 0:
+            sign = 1.0 if v > 0.0 else -1.0
+        if not v * sign > 0.0:
+            return 0.0
+    return sign
 
 
 @njit(cache=True, error_model="numpy")
@@ -287,32 +312,26 @@ def _all_beyond(A, M, T0, T1, sign, E):
 
 
 @njit(cache=True, error_model="numpy")
-def excluded(Am, Ar, qlo, qhi):
-    """Per box (quaternion sides (N, 4)): the evidence 4·quad + chart of the first quad whose chart
-    polynomial (``charts``: ``Am`` ± ``Ar``) is proved of one sign on the chart box, or −1."""
+def excluded(Am, Ar, P, qlo, qhi, order):
+    """Per box (quaternion sides (N, 4)): the evidence 4·quad + chart of the first quad (tried in
+    ``order``) whose chart polynomial (``charts``: ``Am`` ± ``Ar``; ``P``: ``Am`` packed) is proved
+    of one sign on the chart box, or −1."""
     n = qlo.shape[0]
     out = np.full(n, -1, np.int64)
     M, S = np.empty((3, N1, N1)), np.empty((3, N1))
     T0, T1 = np.zeros((N1, N1, N1)), np.zeros((N1, N1, N1))
+    V = np.zeros((8, PACKED))
     lo, w = np.empty(3), np.empty(3)
     for b in range(n):
         k = chart_box(qlo[b], qhi[b], lo, w)
         if k < 0:
             continue
         _axis_matrices(lo, w, M, S)
-        for p in range(15):
-            A = Am[k, p]
-            E = _bound(A, Ar[k, p], S)
-            v = _coefficient(A, M, 0, 0, 0)
-            sign = 1.0 if v > 0.0 else -1.0
-            if not v * sign > E:
-                continue
-            ok = True
-            for c in range(1, 8):       # the other vertices first: they fail most often
-                if not _coefficient(A, M, 8 * (c & 1), 8 * ((c >> 1) & 1), 8 * (c >> 2)) * sign > E:
-                    ok = False
-                    break
-            if ok and _all_beyond(A, M, T0, T1, sign, E):
+        _vertex_monomials(M, V)
+        for t in range(order.shape[0]):
+            p = order[t]
+            sign = _vertex_sign(P[k, p], V)
+            if sign != 0.0 and _all_beyond(Am[k, p], M, T0, T1, sign, _bound(Am[k, p], Ar[k, p], S)):
                 out[b] = 4 * p + k
                 break
     return out

@@ -223,11 +223,13 @@ class FKProblem:
             if self.uncertain_rows[r]:
                 continue
             if r not in self._charts:
-                self._charts[r] = cayley_menger.charts(self.system.a, self.system.b,
-                                                       Interval.from_bounds(self.L.lo[r], self.L.hi[r]))
+                self._charts[r] = (cayley_menger.charts(self.system.a, self.system.b,
+                                                        Interval.from_bounds(self.L.lo[r], self.L.hi[r])), np.zeros(15, np.int64))
             sel = np.nonzero(roots == r)[0]
-            found[sel] = cayley_menger.excluded(*self._charts[r], np.ascontiguousarray(b.lo[sel, p:p + 4]),
-                                                np.ascontiguousarray(b.hi[sel, p:p + 4]))
+            charts, wins = self._charts[r]
+            found[sel] = got = cayley_menger.excluded(*charts, np.ascontiguousarray(b.lo[sel, p:p + 4]),
+                                                      np.ascontiguousarray(b.hi[sel, p:p + 4]), np.argsort(-wins, kind="stable"))
+            wins += np.bincount(got[got >= 0] // 4, minlength=15)
         out = found >= 0
         b.status[out], b.reason[out] = EXCLUDED, self.CAYLEY_MENGER
         b.evidence["cm"] = (out, found[out].astype(np.int8))
