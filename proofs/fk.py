@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from mpmath import iv
 
-from . import tree
+from . import cayley_menger, tree
 from .arith import Iv
 from .fk_system import MODELS, System
 from .models import each_claim, header_model
@@ -22,7 +22,8 @@ LEAVES = {0: ("equation", {"tree.index": 1}), 1: ("hc4-empty", {}), 2: ("positio
           3: ("krawczyk-empty", {"tree.C": 1}), 4: ("slope-empty", {"tree.C": 1}),
           5: ("slope-gs-empty", {"tree.C": 1}), 6: ("krawczyk-unique", {"tree.star": 1, "tree.C": 1, "tree.index": 2}),
           7: ("krawczyk-outside", {"tree.star": 1, "tree.C": 2, "tree.rootbox": 1}),
-          8: ("in-region", {"tree.index": 1}), 9: ("in-cluster", {"tree.index": 1}), 10: ("undecided", {})}
+          8: ("in-region", {"tree.index": 1}), 9: ("in-cluster", {"tree.index": 1}), 10: ("undecided", {}),
+          11: ("cm-bernstein-empty", {"tree.index": 1})}
 CONTRACTIONS = {0: ("hc4", {}), 1: ("hc4-position", {"tree.P": 1}), 2: ("position", {"tree.P": 1}),
                 3: ("krawczyk", {"tree.C": 1}), 4: ("slope", {"tree.C": 1}), 5: ("slope-gs", {"tree.C": 1})}
 REBUILT = 64     # code + 64: the same rule, its C or P not stored but rebuilt by the checker (fk_system)
@@ -33,7 +34,7 @@ class _Claim:
     """One set of leg lengths: its squared lengths, domain, regions (X*, R, C*, C_R) and clusters."""
 
     EXCLUDED = ("equation", "hc4-empty", "position-empty", "krawczyk-empty", "slope-empty", "slope-gs-empty",
-                "krawczyk-outside")
+                "krawczyk-outside", "cm-bernstein-empty")
 
     def figures(self):
         return {"solutions": self.solutions, "regions": len(self.regions[0]), "leaves": self.rules}
@@ -313,6 +314,17 @@ def _leaf(system, forest, code, ids, lo, hi, L, claims, at):
 
     if code == 10:
         fail(np.array([c.complete for c in claims]), "undecided leaf in a claim that says complete")
+    elif code == 11:                 # e = 4·quad + chart: the quad's form has no zero on the chart box (cayley_menger)
+        e = forest.rows("tree.index", ids)
+        fail((e < 0) | (e >= 60), "the Cayley-Menger evidence 4·quad + chart must lie in 0..59")
+        if system.legs != 6 or system.p != 3:
+            raise Rejected(at(0, "the Cayley-Menger rule needs a 6-6 Gough-Stewart robot"))
+        for c in {id(c): c for c in claims}.values():      # the 15 forms, once per claim
+            c.cm = getattr(c, "cm", None) or cayley_menger.forms(system, c.L)
+        F = Iv(*(np.array([getattr(c.cm, s)[q] for c, q in zip(claims, e // 4)]) for s in ("lo", "hi")))
+        proved, away = cayley_menger.proved_empty(F, e % 4, lo[:, 3:], hi[:, 3:])
+        fail(~away, "the chart's quaternion side contains 0")
+        fail(~proved, "no Cayley-Menger polynomial of the quad is proved sign-definite on the chart box")
     elif code == 0:
         k = forest.rows("tree.index", ids)
         fail((k < 0) | (k > system.legs), f"the equation index must be below {n}")
