@@ -121,8 +121,8 @@ def bernstein(F: Iv, chart, Y: Iv) -> Iv:
 
 def proved_empty(F: Iv, chart, qlo, qhi):
     """(proved: F (N, 165) has no zero on the quaternion boxes [qlo, qhi] (N, 4); mask: Q_k misses 0)."""
-    Y, away = chart_box(qlo, qhi, chart)
     with np.errstate(all="ignore"):
+        Y, away = chart_box(qlo, qhi, chart)
         b = bernstein(F, chart, Y)
     finite = np.all(np.isfinite(np.concatenate([Y.lo, Y.hi, b.lo, b.hi], 1)), 1)
     return away & finite & (np.all(b.lo > 0, 1) | np.all(b.hi < 0, 1)), away
