@@ -10,11 +10,15 @@ from __future__ import annotations
 import itertools
 import random
 from fractions import Fraction
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from certfile import Doc
+from certkin import load_robot
 from certkin.fk import cayley_menger as cm
+from certkin.fk import forward_kinematics
 from intervals import Interval
 
 ROBOT_A = [[Fraction(x) for x in row] for row in (
@@ -175,3 +179,49 @@ def test_non_finite_sides_are_never_excluded(bad):
     hi = lo + 0.01
     lo[0, 1] = bad if bad != np.inf else -np.inf
     assert cm.excluded(Am, Ar, P, lo, hi, ORDER)[0] == -1
+
+
+# ------------------------------------------------------------------ the rule in a certificate
+
+SEED002 = Path(__file__).resolve().parent.parent / "examples" / "robots" / "seed002-general-6-6-24-solutions.toml"
+
+
+@pytest.fixture(scope="module")
+def seed002_certificate():
+    result = forward_kinematics(load_robot(SEED002), "1.093,2.280,2.031,2.524,3.136,1.845")
+    assert result.complete and len(result.solutions) == 24
+    doc = Doc(result.certificate())
+    assert doc.check().ok
+    return doc
+
+
+def test_the_rule_decides_most_leaves_and_the_checker_agrees(seed002_certificate):
+    doc = seed002_certificate
+    leaves = doc.nodes(3)
+    cm_leaves = doc.nodes(3, 11)
+    assert len(cm_leaves) > 0.5 * len(leaves)
+    assert doc.claim()["figures"]["leaves"]["cm-bernstein-empty"] == len(cm_leaves)
+
+
+def test_tampered_evidence_is_rejected(seed002_certificate):
+    doc = seed002_certificate
+    node = int(doc.nodes(3, 11)[0])
+    row = doc.row("tree.index", node)
+    e = int(doc.arrays["tree.index"][row])
+    out_of_range = doc.copy()
+    out_of_range.arrays["tree.index"][row] = 60
+    assert f"node {node}" in out_of_range.check().step
+    quad, chart = divmod(e, 4)
+    for j in range(1, 15):                   # the other quads on the same chart, until one proves nothing
+        edited = doc.copy()
+        edited.arrays["tree.index"][row] = 4 * ((quad + j) % 15) + chart
+        step = edited.check().step
+        if step:
+            break
+    assert f"node {node}" in step and "Cayley-Menger" in step
+
+
+def test_other_lengths_undo_the_rule(seed002_certificate):
+    edited = seed002_certificate.copy()
+    edited.claim()["lengths"][0] = "1.193"
+    assert not edited.check().ok

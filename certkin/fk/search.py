@@ -4,6 +4,9 @@ The equations (``fk.system``: platform origin and frame axes as
 unknowns, quadratic, covering every real posture) are solved by the shared
 engine; each box is decided by
 
+−1. ``cm-bernstein-empty`` (6-6 Gough-Stewart robots, exact lengths): no rotation of the box fits
+   four legs — a Cayley-Menger polynomial in the quaternion alone keeps one sign on the box
+   (``fk.cayley_menger``);
 0. ``hc4``: one forward-backward pass over every equation (``fk.contract``; spatial robots: a
    second pass on the boxes the first shrank by ``HC4_AGAIN``), then
    ``position``: a Gauss-Seidel sweep on the position, which is linear given
@@ -46,7 +49,6 @@ import numpy as np
 from intervals import Interval, linalg
 
 from ..engine import EXCLUDED, OPEN, PROVED, UNDECIDED, Budget, Decisions, search
-from . import cayley_menger
 from .contract import gap_splits, hc4
 from .step import SMALL_BATCH, contract_position, for_batch, fragile, krawczyk_boxes, room, shrink, \
     slope_boxes, unique_in
@@ -217,6 +219,7 @@ class FKProblem:
         """Step 0 for a 6-6 Gough-Stewart robot: the boxes whose rotation fits no four legs
         (``fk.cayley_menger``) are excluded, with the evidence 4·quad + chart.  Instances with length
         ranges are left to the other steps (the rule holds for them, but seldom concludes)."""
+        from . import cayley_menger         # (machine code: numba is imported by spatial searches only)
         p = self.system.n_pos
         found = np.full(len(b.lo), -1, np.int64)
         for r in np.unique(roots):
