@@ -27,7 +27,8 @@ OPTIONAL = ("matplotlib", "dask", "distributed")      # optional dependencies: i
 DEFERRED = ("mpmath",                 # huge arguments of sin, cos, tan only (intervals.elementary)
             "proofs",                 # the checker: a batch that resumes, ``certkin check``
             "importlib.metadata",     # the version in a compiled model's cache key
-            "certkin.fk.kernels", "certkin.fk.centred", "intervals.native",   # numba: spatial searches only
+            "certkin.fk.kernels", "certkin.fk.centred", "certkin.fk.cayley_menger",   # numba: spatial searches only
+            "intervals.native",
             "certkin.report", "tqdm")  # reports and progress bars: only with --report, --progress
 MAX_LINES = 620
 MAX_FUNCTION = 100

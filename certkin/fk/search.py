@@ -222,13 +222,14 @@ class FKProblem:
         from . import cayley_menger         # (machine code: numba is imported by spatial searches only)
         p = self.system.n_pos
         found = np.full(len(b.lo), -1, np.int64)
+        open_ = b.status == OPEN
         for r in np.unique(roots):
             if self.uncertain_rows[r]:
                 continue
             if r not in self._charts:
                 self._charts[r] = (cayley_menger.charts(self.system.a, self.system.b,
                                                         Interval.from_bounds(self.L.lo[r], self.L.hi[r])), np.zeros(15, np.int64))
-            sel = np.nonzero(roots == r)[0]
+            sel = np.nonzero((roots == r) & open_)[0]
             charts, wins = self._charts[r]
             found[sel] = got = cayley_menger.excluded(*charts, np.ascontiguousarray(b.lo[sel, p:p + 4]),
                                                       np.ascontiguousarray(b.hi[sel, p:p + 4]), np.argsort(-wins, kind="stable"))
