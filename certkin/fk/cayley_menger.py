@@ -35,6 +35,7 @@ from numba import njit
 from intervals.midrad import ETA, U, midrad, product_midrad, upper
 
 QUADS = tuple(itertools.combinations(range(6), 4))      # the evidence's quad: an index in this tuple
+PAIR_LEGS = np.array([p for quad in QUADS for p in itertools.combinations(quad, 2)])    # (90, 2)
 DEG, N1 = 8, 9
 SLACK = 2.0 ** -40       # the relative part of the bound (docs/soundness.md §8: at least 10 times too large)
 TINY = 2.0 ** -1000      # its absolute part (underflow)
@@ -115,21 +116,18 @@ def _entries(a, b, L):
     |C_m − C_n|²|q|² = (|Δa|² + |Δb|²)|q|² − 2 Δaᵀ R̃(q) Δb, then the four L_m |q|².
     ``a``, ``b``: (mid, rad) of (6, 3); ``L``: (mid, rad) of (6,)."""
     (am, ar), (bm, br), (lm, lr) = a, b, L
-    mid, rad = np.zeros((15, 10, 10)), np.zeros((15, 10, 10))
-    for k, quad in enumerate(QUADS):
-        for e, (m, n) in enumerate(itertools.combinations(quad, 2)):
-            dam, dbm = am[m] - am[n], bm[m] - bm[n]            # a rounding each: within one spacing
-            dar = ar[m] + ar[n] + np.spacing(np.abs(dam))
-            dbr = br[m] + br[n] + np.spacing(np.abs(dbm))
-            v, vr = np.concatenate([dam, dbm]), np.concatenate([dar, dbr])
-            s, sr = product_midrad(v[None], vr[None], v[:, None], vr[:, None])
-            o, orad = product_midrad(dam[:, None], dar[:, None], dbm[None], dbr[None])
-            lin, lrad = product_midrad(o.reshape(1, 9), orad.reshape(1, 9), RT.reshape(9, 10), None)
-            mid[k, e] = s[0, 0] * N2 - 2.0 * lin[0]            # (N2: 0 or 1; 2·: exact)
-            rad[k, e] = upper(N2 * sr[0, 0] + 2.0 * lrad[0] + np.spacing(np.abs(mid[k, e])), 4)
-        for e, m in enumerate(quad):
-            mid[k, 6 + e], rad[k, 6 + e] = lm[m] * N2, lr[m] * N2
-    return mid, rad
+    m, n = PAIR_LEGS.T                                     # the 90 pairs of legs, quad by quad
+    dam, dbm = am[m] - am[n], bm[m] - bm[n]                # a rounding each: within one spacing
+    dar, dbr = ar[m] + ar[n] + np.spacing(np.abs(dam)), br[m] + br[n] + np.spacing(np.abs(dbm))
+    v, vr = np.concatenate([dam, dbm], 1), np.concatenate([dar, dbr], 1)
+    s, sr = product_midrad(v[:, None], vr[:, None], v[:, :, None], vr[:, :, None])
+    o, orad = product_midrad(dam[:, :, None], dar[:, :, None], dbm[:, None], dbr[:, None])
+    lin, lrad = product_midrad(o.reshape(-1, 1, 9), orad.reshape(-1, 1, 9), RT.reshape(9, 10), None)
+    mid = s[:, 0] * N2 - 2.0 * lin[:, 0]                   # (N2: 0 or 1; 2·: exact)
+    rad = upper(N2 * sr[:, 0] + 2.0 * lrad[:, 0] + np.spacing(np.abs(mid)), 4)
+    quads = np.array(QUADS)
+    return (np.concatenate([mid.reshape(15, 6, 10), lm[quads][..., None] * N2], 1),
+            np.concatenate([rad.reshape(15, 6, 10), lr[quads][..., None] * N2], 1))
 
 
 def _times(am, ar, bm, br, T):
