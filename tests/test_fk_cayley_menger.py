@@ -150,7 +150,7 @@ def test_chart_box_contains_every_quotient():
 def test_excluded_boxes_hold_no_zero_and_a_posture_is_never_excluded():
     rng = np.random.default_rng(11)
     a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
-    Am, Ar, P = cm.charts(a, b, L)
+    Am, Ar, P = cm.charts(*cm.forms(a, b, L))
     q = np.array([float(x) for x in Q_POSE])
     q /= np.linalg.norm(q)
     # boxes around the posture's rotation (and its negation), from wide to tight: never excluded
@@ -174,7 +174,7 @@ def test_excluded_boxes_hold_no_zero_and_a_posture_is_never_excluded():
 @pytest.mark.parametrize("bad", [np.nan, np.inf])
 def test_non_finite_sides_are_never_excluded(bad):
     a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
-    Am, Ar, P = cm.charts(a, b, L)
+    Am, Ar, P = cm.charts(*cm.forms(a, b, L))
     lo = np.array([[0.5, 0.1, 0.1, 0.1]])
     hi = lo + 0.01
     lo[0, 1] = bad if bad != np.inf else -np.inf
@@ -225,3 +225,20 @@ def test_other_lengths_undo_the_rule(seed002_certificate):
     edited = seed002_certificate.copy()
     edited.claim()["lengths"][0] = "1.193"
     assert not edited.check().ok
+
+
+def test_forms_dropped_and_computed_again_change_nothing(monkeypatch):
+    """Past ``FORMS_KEPT`` instances the oldest forms are dropped: time, not the answer, depends on it."""
+    from certkin.fk import search
+    robot = load_robot(SEED002)
+    rows = [["1.093", "2.280", "2.031", "2.524", "3.136", "1.845"], ["1.1", "2.28", "2.031", "2.524", "3.136", "1.845"]]
+
+    def run():
+        results = forward_kinematics(robot, rows, max_boxes=6000, independent=True)
+        doc = Doc(results[0].certificate() if isinstance(results, list) else results.certificate())
+        return doc.arrays["tree.code"], doc.arrays["tree.index"]
+    kept = run()
+    monkeypatch.setattr(search, "FORMS_KEPT", 1)
+    dropped = run()
+    assert len(kept[0]) > 1000 and np.sum(kept[0] == 11) > 100
+    assert all(np.array_equal(x, y) for x, y in zip(kept, dropped))

@@ -177,11 +177,11 @@ def forms(a, b, L):
 CHART = np.array([[[e[i] for i in range(4) if i != k] for e in MONO[8][0]] for k in range(4)])   # (4, 165, 3)
 
 
-def charts(a, b, L):
-    """(mid, rad, packed) of the chart polynomials: mid and rad (4, 15, 9, 9, 9): chart k, quad,
-    exponents of the other three components in increasing order (F with q_k = 1; zero past total
-    degree 8); packed (4, 15, ``PACKED``): the midpoints by quad and monomial (``MONO3``, then 0)."""
-    m, r = forms(a, b, L)
+def charts(m, r):
+    """(mid, rad, packed) of the chart polynomials of the forms ``m`` ± ``r`` (``forms``): mid and
+    rad (4, 15, 9, 9, 9): chart k, quad, exponents of the other three components in increasing
+    order (F with q_k = 1; zero past total degree 8); packed (4, 15, ``PACKED``): the midpoints by
+    quad and monomial (``MONO3``, then 0)."""
     out = []
     for v in (m, r):
         A = np.zeros((4, 15, N1, N1, N1))

@@ -60,6 +60,8 @@ KRAWCZYK_BELOW = 0.1     # the Krawczyk step is tried on boxes whose rotation si
 AGAIN = 0.2              # a Krawczyk contraction this strong is followed by a second Krawczyk step,
 AGAIN_MIN = 64           # when at least this many boxes of the batch had one,
 AGAIN_SHARE = 2          # or at least half of the boxes still open did,
+FORMS_KEPT = 1024         # Cayley-Menger forms kept (instances), 40 KB each
+QUAD_ORDER = np.arange(15)  # the quads tried in this order (the first that proves a box is its evidence)
 AGAIN_STEPS = 3          # at most this many times
 INITIAL_SPLITS = 6       # every domain is halved this often before the first batch (it is never decided whole)
 ROTATION_FIRST = 16.0    # only rotation unknowns are bisected while the position is at most this much wider (scaled)
@@ -178,8 +180,9 @@ class FKProblem:
         self.uncertain = bool(self.uncertain_rows.any())
         self.scale = scale                  # (n,), or (M, n): one row per instance
         self._stacked = None
-        # the chart polynomials of each instance with exact lengths, computed when first needed
-        self._charts = {} if system.kind == "gough-stewart" and system.legs == 6 else None
+        # the Cayley-Menger forms of the instances with exact lengths, computed when first needed (the
+        # oldest dropped past FORMS_KEPT: time, not the answer, depends on it)
+        self._forms = {} if system.kind == "gough-stewart" and system.legs == 6 else None
 
     def _system(self, n_box):
         if n_box > SMALL_BATCH:
@@ -200,7 +203,7 @@ class FKProblem:
         left open; every contraction is a stage of the tree with its reason and evidence."""
         system = self._system(len(lo))
         b = _Batch(lo, hi, self._L(roots))
-        if self._charts is not None:
+        if self._forms is not None:
             self._cayley_menger(b, roots)
         kept, hc4_moved = self._hc4(system, b)
         # steps 1 and 2 evaluate only the boxes HC4 left (``live``): the others are decided
@@ -226,14 +229,14 @@ class FKProblem:
         for r in np.unique(roots):
             if self.uncertain_rows[r]:
                 continue
-            if r not in self._charts:
-                self._charts[r] = (cayley_menger.charts(self.system.a, self.system.b,
-                                                        Interval.from_bounds(self.L.lo[r], self.L.hi[r])), np.zeros(15, np.int64))
+            if r not in self._forms:          # the forms of at most FORMS_KEPT instances (40 KB each)
+                if len(self._forms) >= FORMS_KEPT:
+                    self._forms.pop(next(iter(self._forms)))
+                self._forms[r] = cayley_menger.forms(self.system.a, self.system.b,
+                                                      Interval.from_bounds(self.L.lo[r], self.L.hi[r]))
             sel = np.nonzero((roots == r) & open_)[0]
-            charts, wins = self._charts[r]
-            found[sel] = got = cayley_menger.excluded(*charts, np.ascontiguousarray(b.lo[sel, p:p + 4]),
-                                                      np.ascontiguousarray(b.hi[sel, p:p + 4]), np.argsort(-wins, kind="stable"))
-            wins += np.bincount(got[got >= 0] // 4, minlength=15)
+            found[sel] = cayley_menger.excluded(*cayley_menger.charts(*self._forms[r]), np.ascontiguousarray(b.lo[sel, p:p + 4]),
+                                                np.ascontiguousarray(b.hi[sel, p:p + 4]), QUAD_ORDER)
         out = found >= 0
         b.status[out], b.reason[out] = EXCLUDED, self.CAYLEY_MENGER
         b.evidence["cm"] = (out, found[out].astype(np.int8))
