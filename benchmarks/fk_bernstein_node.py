@@ -44,6 +44,9 @@ exact coefficients, all 15 polynomials at its 694 000 split nodes 38 s); numba c
 the first time.  ``--tree-cache DIR`` keeps the recorded trees and the chart polynomials in DIR and
 reads them from there on the next run (for work on the test; the search times are then the cached
 run's).
+
+A float study, kept as it was measured: the solver's certified form of this test (a proved rounding
+bound, the forms in midpoint-radius) is ``certkin/fk/cayley_menger.py``.
 """
 from __future__ import annotations
 
