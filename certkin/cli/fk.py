@@ -113,14 +113,18 @@ def run(args):
 
 def kernels_cached() -> bool:
     """Whether numba's disk cache holds the machine-code kernels of the spatial forward kinematics
-    (``certkin/fk/kernels.py``): in ``__pycache__`` beside it, or under ``NUMBA_CACHE_DIR``."""
-    source = Path(importlib.util.find_spec("certkin.fk.kernels").origin).resolve()   # not imported: numba
-    places = [source.parent / "__pycache__"]
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        root = Path(os.environ["NUMBA_CACHE_DIR"])
-        places.append(root / str(source.parent).lstrip(os.sep))
-        places.append(root)
-    return any(any(p.glob(f"{source.stem}.*.nbi")) for p in places if p.is_dir())
+    (``certkin/fk/kernels.py`` and ``cayley_menger.py``): in ``__pycache__`` beside them, or under
+    ``NUMBA_CACHE_DIR``."""
+    for module in ("certkin.fk.kernels", "certkin.fk.cayley_menger"):
+        source = Path(importlib.util.find_spec(module).origin).resolve()   # not imported: numba
+        places = [source.parent / "__pycache__"]
+        if os.environ.get("NUMBA_CACHE_DIR"):
+            root = Path(os.environ["NUMBA_CACHE_DIR"])
+            places.append(root / str(source.parent).lstrip(os.sep))
+            places.append(root)
+        if not any(any(p.glob(f"{source.stem}.*.nbi")) for p in places if p.is_dir()):
+            return False
+    return True
 
 
 SHOWN = 20      # clusters and unresolved regions listed on the terminal (all of them in --json)
