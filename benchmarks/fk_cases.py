@@ -74,7 +74,8 @@ def run(name):
     kind, spec, lengths = CASES[name]
     if kind == "file" and not Path(spec).exists():
         return None
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    env = dict({k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"},   # bytecode kept, as for a user
+               OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     w = time.perf_counter()
     out = subprocess.run([sys.executable, "-c", CHILD, kind, str(spec), lengths], capture_output=True, text=True,

@@ -66,7 +66,8 @@ def run_process(cmd, timeout=None, cpu=None):
 
     The command runs under GNU time (``/usr/bin/time``), which reports its child's peak RSS: a child
     forked from this Python process directly would count this process's memory in its peak."""
-    env = {**os.environ, **ONE_THREAD}
+    # as on a user's machine, Python keeps the modules' bytecode (the warm-up run writes it)
+    env = {**{k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}, **ONE_THREAD}
     preexec = (lambda: os.sched_setaffinity(0, {cpu})) if cpu is not None else None
     with tempfile.TemporaryDirectory(prefix="fk_peers_run_") as tmp:
         usage = Path(tmp, "usage")
