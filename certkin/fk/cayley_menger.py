@@ -20,7 +20,8 @@ range of a polynomial on a box lies in the hull of its Bernstein coefficients). 
   2002 eq. 3.5; Rump 1999), by a Horner scheme over the determinant's 130 terms;
 - ``charts``: those coefficients as dense (4, 15, 9, 9, 9) chart polynomials;
 - ``excluded``: the test of a batch of boxes (compiled, box by box), with the rounding-error bound
-  of docs/soundness.md §8 "The Cayley-Menger rule": a coefficient counts only beyond twice that bound.
+  of docs/soundness.md §8 "The Cayley-Menger rule": a coefficient counts only beyond twice that
+  bound, its radii's part taken ``ROOM`` times.
 
 The issue-16 studies measured the rule (docs/benchmarks.md, "the Bernstein test as a node rule").
 """
@@ -38,7 +39,7 @@ QUADS = tuple(itertools.combinations(range(6), 4))      # the evidence's quad: a
 PAIR_LEGS = np.array([p for quad in QUADS for p in itertools.combinations(quad, 2)])    # (90, 2)
 DEG, N1 = 8, 9
 SLACK = 2.0 ** -40       # the relative part of the bound (docs/soundness.md §8: at least 10 times too large)
-TINY = 2.0 ** -1000      # its absolute part (underflow)
+TINY = 2.0 ** -1000      # its absolute part (underflow), per unit of Σ|coefficients| and S^8
 ROOM = 64.0              # room for a checker's wider enclosures of the coefficients (proofs/ encloses them
                          # up to 13 times wider: seen on Dietmaier's robot, where 1 leaf in 110 000 failed it)
 COMB = np.array([[comb(j, m) for m in range(N1)] for j in range(N1)], float)           # C(j, m)
@@ -241,15 +242,19 @@ def _axis_matrices(lo, w, M, S):
 def _bound(Am, Ar, S):
     """The margin a coefficient must pass: twice the bound on |computed − exact| of every Bernstein
     coefficient (docs/soundness.md §8), its radii's part taken ``ROOM`` times:
-    2 ((SLACK Σ|Am_J| + ROOM Σ Ar_J) S^J (1 + SLACK) + TINY)."""
-    c, r = 0.0, 0.0
+    2 ((SLACK Σ|Am_J| S^J + ROOM Σ Ar_J S^J)(1 + SLACK) + TINY (1 + Σ|Am_J|) Π_v max(1, S_v^8)),
+    the last term for the underflows (each within 2⁻¹⁰⁷⁵, amplified by at most one |Am_J| and the
+    S factors)."""
+    a, c, r = 0.0, 0.0, 0.0
     for i in range(N1):
         for j in range(N1 - i):
             for l in range(N1 - i - j):
                 s = S[0, i] * S[1, j] * S[2, l]
+                a += abs(Am[i, j, l])
                 c += abs(Am[i, j, l]) * s
                 r += Ar[i, j, l] * s
-    return 2.0 * ((SLACK * c + ROOM * r) * (1.0 + SLACK) + TINY)
+    big = max(1.0, S[0, DEG]) * max(1.0, S[1, DEG]) * max(1.0, S[2, DEG])
+    return 2.0 * ((SLACK * c + ROOM * r) * (1.0 + SLACK) + TINY * (1.0 + a) * big * (1.0 + SLACK))
 
 
 @njit(cache=True, error_model="numpy")
