@@ -5,6 +5,7 @@ from pathlib import Path
 import re
 import subprocess
 import sys
+import tomllib
 
 import numpy as np
 import pytest
@@ -403,3 +404,26 @@ def test_unknown_angles_are_an_input_error_naming_angles():
     with pytest.raises(InputError, match=r"^angles: unknown angles \['zyz'\] \(zyz or tilt-torsion\)$"):
         robot.with_angles(["zyz"])
     assert robot.with_angles("tilt-torsion").with_angles("zyz").pose_names == ("phi1", "phi2", "phi3")
+
+
+def _seed002_moved(scale, shift):
+    """Seed 002's 6-6 robot with every coordinate times ``scale`` and its base moved by ``shift`` in x."""
+    data = tomllib.loads((EXAMPLES / "seed002-general-6-6-24-solutions.toml").read_text())
+    move = lambda p, dx: [str(Decimal(repr(c)) * Decimal(scale) + (Decimal(dx) if i == 0 else 0)) for i, c in enumerate(p)]  # noqa: E731
+    return {"name": "moved", "kind": "gough-stewart", "base": [move(p, shift) for p in data["base"]],
+            "platform": [move(p, 0) for p in data["platform"]]}
+
+
+@pytest.mark.parametrize("scale, shift", [("1e-3", "0"), ("1e-6", "0"), ("1", "1000"), ("1", "1e9"), ("1e6", "0")])
+def test_a_small_or_far_general_robot_is_not_called_degenerate(scale, shift):
+    """The generic det(A) check depends on the shape only, not on the unit or the origin."""
+    robot = robot_from_dict(_seed002_moved(scale, shift))
+    assert robot.n_legs == 6
+
+
+@pytest.mark.parametrize("scale", ["1", "1e-4"])
+def test_collinear_base_joints_are_degenerate_at_any_scale(scale):
+    data = _seed002_moved(scale, "0")
+    data["base"] = [[str(k), "0", "0"] for k in (0, 1, 2, 3, 5, 8)]
+    with pytest.raises(RobotFileError, match="Hadamard bound"):
+        robot_from_dict(data)

@@ -318,17 +318,25 @@ def _check_degenerate(robot: Robot, source: str) -> None:
                 raise RobotFileError(source, f"base[{i}]", "a base joint at the centre O makes every pose singular")
             if all(c == 0 for c in plat[i]):
                 raise RobotFileError(source, f"platform[{i}]", "a platform joint at the centre O makes every pose singular")
-    # generic check: det(A) at random poses (plain floats: an input check, not a proof)
+    # generic check: det(A) at random poses (plain floats: an input check, not a proof).  Its ratio to
+    # the Hadamard bound depends on the shape only (a move of either frame's origin changes A by a
+    # unimodular factor, a change of unit scales both alike): planar and Gough-Stewart joints are taken
+    # about their centroids, in units of the robot's size, so that a small or far robot is tried alike
+    a, b = np.array(base, dtype=np.float64), np.array(plat, dtype=np.float64)
+    scale = max(1.0, float(np.max(np.abs(np.concatenate([a, b])))))
+    if robot.kind != "spherical-3dof":                     # (a spherical robot turns about O: kept)
+        a, b = a - a.mean(axis=0), b - b.mean(axis=0)
+        scale = float(np.max(np.abs(np.concatenate([a, b]))))
+        a, b, scale = a / scale, b / scale, 1.0
     rng = np.random.default_rng(0)
     d = len(robot.pose_names)
-    scale = max(1.0, max(abs(float(c)) for p in base + plat for c in p))
     poses = rng.uniform(-1, 1, size=(8, d))
     for k, name in enumerate(robot.pose_names):
         if name not in robot.angle_names:
             poses[:, k] *= scale
     if robot.kind == "gough-stewart":
         poses[:, 2] = np.abs(poses[:, 2]) + scale
-    A = _matrix_A(robot, base, plat, poses)
+    A = _matrix_A(robot, a, b, poses)
     hadamard = np.prod(np.linalg.norm(A, axis=-2), axis=-1)  # |det A| <= product of the column norms
     if np.all(np.abs(np.linalg.det(A)) <= 1e-9 * hadamard):
         raise RobotFileError(source, "platform", "det(A) is below 1e-9 of its Hadamard bound at every pose tried: a degenerate "
