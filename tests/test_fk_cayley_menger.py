@@ -236,6 +236,7 @@ def test_forms_dropped_and_computed_again_change_nothing(monkeypatch):
     def run():
         results = forward_kinematics(robot, rows, max_boxes=6000, independent=True)
         doc = Doc(results[0].certificate() if isinstance(results, list) else results.certificate())
+        assert doc.check().ok
         return doc.arrays["tree.code"], doc.arrays["tree.index"]
     kept = run()
     monkeypatch.setattr(search, "FORMS_KEPT", 1)
