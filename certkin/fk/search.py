@@ -514,32 +514,37 @@ class FKProblem:
 
     def _inflate(self, lo, hi, roots, within=None):
         """Try X* = Newton iterate ± r (⊇ X); returns (proved mask, X* lo, X* hi, C).  With uncertain
-        leg lengths r covers the root's spread |C| rad f (3 times, else 2 times): X* then holds the
+        leg lengths r covers the root's spread |C| rad L (3 times, else 2 times): X* then holds the
         root for every length vector, and the root box of any other leaf of the same root.  An iterate
         outside ``within`` (the box before X's contraction: a root of X lies in it) is not trusted: X*
-        would reach a root of another box.  Not so with uncertain lengths: the iterate (the root for
+        would reach a root of another box: X* is then centred on X's midpoint if the iterate lies
+        within one width of ``within`` (a root on its face), else not tried (Newton left X: in the
+        tubes around nearly singular postures, nearly every box).  Not so with uncertain lengths: the iterate (the root for
         the middle lengths) may then lie outside X's box, within the root's spread."""
         system = self._system(len(lo))
         L, sc, unc = self._L(roots), self._scales(roots), self.uncertain_rows[roots]
-        x = 0.5 * (lo + hi)
-        J = system.jacobian(Interval.from_bounds(lo, hi))
-        C, _ = linalg.float_inverse(J.mid())
+        x, L2 = 0.5 * (lo + hi), 0.5 * (L.lo + L.hi)
         with np.errstate(all="ignore"):   # near a singular root Newton may run away: a guess only
+            C, _ = linalg.float_inverse(system.float_system(x, L2)[1])
             for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
-                f = system.equations(Interval.from_bounds(x, x.copy()), L)
-                x = x - np.einsum("nij,nj->ni", C, 0.5 * (f.lo + f.hi))
+                x = x - np.einsum("nij,nj->ni", C, system.float_system(x, L2)[0])
             lost = ~np.all(np.isfinite(x), axis=1) | np.any(np.abs(x - 0.5 * (lo + hi)) > 1e3 * (hi - lo + sc), axis=1)
+            tried = np.ones(len(lo), dtype=bool)
             if within is not None:
-                lost |= ~unc & np.any((x < within[0]) | (x > within[1]), axis=1)
+                out = ~unc & np.any((x < within[0]) | (x > within[1]), axis=1)
+                w = within[1] - within[0]   # an iterate next to it (a root on its face) is tried from the midpoint
+                tried = unc | ~lost & ~np.any((x < within[0] - w) | (x > within[1] + w), axis=1)
+                lost |= out
             x[lost] = 0.5 * (lo[lost] + hi[lost])
-            f = system.equations(Interval.from_bounds(x, x.copy()), L)
-        spread = np.einsum("nij,nj->ni", np.abs(C), 0.5 * (f.hi - f.lo))
+        radL = np.zeros(lo.shape)   # how far the lengths' ranges move the root
+        radL[:, :system.legs] = 0.5 * (L.hi - L.lo)
+        spread = np.einsum("nij,nj->ni", np.abs(C), radL)
         base = np.maximum(np.abs(x - 0.5 * (lo + hi)), hi - lo) + 1e-12 * sc
         N, n = lo.shape
         best = [np.zeros(N, dtype=bool), lo.copy(), hi.copy(), np.zeros((N, n, n))]
         # exact lengths: r = base; uncertain: 3 times the spread, then 2 times where that failed
         for factor, rows in ((0.0, ~unc), (3.0, unc), (2.0, unc)):
-            rows = np.nonzero(rows & ~best[0])[0]
+            rows = np.nonzero(rows & tried & ~best[0])[0]
             if not len(rows):
                 continue
             r = np.maximum(base[rows], factor * spread[rows])
