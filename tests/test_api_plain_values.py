@@ -153,7 +153,7 @@ def test_an_incomplete_spatial_answer_describes_its_open_boxes_within_the_time_b
     assert not r.complete and r.message.startswith("the time budget ran out")
     assert time.perf_counter() - t0 < 1.25 and 16 <= len(r.unresolved) <= 2000
     monkeypatch.setattr(api, "UNRESOLVED_SECONDS", 1e6)                    # as if no time were left for them
-    r = certkin.forward_kinematics(robot, lengths, max_boxes=5000, record="whole")
+    r = certkin.forward_kinematics(robot, lengths, max_boxes=8000, record="whole")
     assert len(r.unresolved) == api.MIN_UNRESOLVED
     tree = r.tree
     open_ = tree.leaves(kind=certkin.engine.UNDECIDED)

@@ -66,6 +66,7 @@ AGAIN_STEPS = 3          # at most this many times
 INITIAL_SPLITS = 6       # every domain is halved this often before the first batch (it is never decided whole)
 ROTATION_FIRST = 16.0    # only rotation unknowns are bisected while the position is at most this much wider (scaled)
 POSITION_GEOMETRIC = 7.0  # Gough: position side k scaled by this times √(W_k max|b_i|), W_k its domain width
+CAYLEY_MENGER_ROTATION_FIRST = 16.0   # and this many times more where the Cayley-Menger rule applies
 GAP = 0.5                # a gap between the two branches of an HC4 square root spanning this much of a side splits it
 HC4_PASSES = 2           # slope systems: at most this many HC4 passes per box, each on the box the one before
 HC4_AGAIN = 0.2          # contracted, when it shrank a side by this fraction or more
@@ -87,13 +88,20 @@ def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None,
     the domain's width: a rotation moves the platform points by about max|b_i| times its change,
     and the position follows it with a lever arm that grows with the workspace (fitted on the
     seed 002, main gauche, MEL and micro-manipulator robots: main gauche at home 2.09 M -> 0.92 M
-    boxes, the others within ±2 % or fewer).  Heuristics only: any scale is sound."""
+    boxes, the others within ±2 % or fewer).  Where the Cayley-Menger rule applies (6 legs, exact
+    lengths: it excludes a box on its rotation alone) the position counts
+    ``CAYLEY_MENGER_ROTATION_FIRST`` times less again (every Gough robot of ``examples/robots`` at
+    home: 22 to 65 % fewer boxes; with length ranges, up to 8 times more: not there).  Heuristics
+    only: any scale is sound."""
     scale = hi - lo if independent else np.max(hi - lo, axis=0)     # (each instance's own, or the widest)
     scale = np.where(scale > 0, scale, 1.0)
     p = system.n_pos
     if system.kind == "gough-stewart":
         b = float(np.max(np.sqrt(np.sum(system.b.mid() ** 2, axis=1))))
-        scale[..., :p] = POSITION_GEOMETRIC * np.sqrt(scale[..., :p] * max(b, 1e-300))
+        exact = ~uncertain(L) & (system.legs == 6)       # the Cayley-Menger rule's instances
+        factor = np.where(exact, CAYLEY_MENGER_ROTATION_FIRST, 1.0)[:, None] if independent else \
+            CAYLEY_MENGER_ROTATION_FIRST if exact.all() else 1.0
+        scale[..., :p] = factor * POSITION_GEOMETRIC * np.sqrt(scale[..., :p] * max(b, 1e-300))
     else:
         scale[..., :p] *= POSITION_SCALE
     if system.kind != "planar-3rpr":
@@ -102,6 +110,12 @@ def search_instances(system, L: Interval, lo, hi, budget: Budget, progress=None,
     return search(problem, lo, hi, scale=scale, budget=budget, batch=max(8192, 256 * (1 if independent else len(lo))),
                   progress=progress, initial_splits=INITIAL_SPLITS, record_limit=record_limit, record_sink=record_sink,
                   independent=independent)
+
+
+def uncertain(L: Interval):
+    """Per instance, whether its squared leg lengths ``L`` (M, legs) are ranges, not just the
+    enclosure of a decimal: its roots then move with the lengths."""
+    return np.any(L.hi - L.lo > 2.0 ** -40 * np.maximum(np.abs(L.hi), 1.0), axis=1)
 
 
 def newton_reach(C, J: Interval):
@@ -175,8 +189,7 @@ class FKProblem:
         # working memory of a batch, per box (tracemalloc, batches of 7 000 boxes: 12.4 KB Gough, 2.2 KB planar)
         self.bytes_per_box = 16384 if slopes else 4096
         self.L = L                          # (M, legs) squared leg lengths, one row per instance
-        # leg-length ranges (not just the enclosure of a decimal): roots move with the lengths
-        self.uncertain_rows = np.any(L.hi - L.lo > 2.0 ** -40 * np.maximum(np.abs(L.hi), 1.0), axis=1)
+        self.uncertain_rows = uncertain(L)     # leg-length ranges: roots move with the lengths
         self.uncertain = bool(self.uncertain_rows.any())
         self.scale = scale                  # (n,), or (M, n): one row per instance
         self._stacked = None
