@@ -532,22 +532,24 @@ class FKProblem:
         outside ``within`` (the box before X's contraction: a root of X lies in it) is not trusted: X*
         would reach a root of another box: X* is then centred on X's midpoint if the iterate lies
         within one width of ``within`` (a root on its face), else not tried (Newton left X: in the
-        tubes around nearly singular postures, nearly every box).  Not so with uncertain lengths: the iterate (the root for
-        the middle lengths) may then lie outside X's box, within the root's spread."""
+        tubes around nearly singular postures, nearly every box: the rows whose first step leaves it so
+        take no more steps).  Not so with uncertain lengths: the iterate (the root for the middle
+        lengths) may then lie outside X's box, within the root's spread."""
         system = self._system(len(lo))
         L, sc, unc = self._L(roots), self._scales(roots), self.uncertain_rows[roots]
         x, L2 = 0.5 * (lo + hi), 0.5 * (L.lo + L.hi)
+        tried = np.ones(len(lo), dtype=bool)
         with np.errstate(all="ignore"):   # near a singular root Newton may run away: a guess only
             C, _ = linalg.float_inverse(system.float_system(x, L2)[1])
             for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
-                x = x - np.einsum("nij,nj->ni", C, system.float_system(x, L2)[0])
-            lost = ~np.all(np.isfinite(x), axis=1) | np.any(np.abs(x - 0.5 * (lo + hi)) > 1e3 * (hi - lo + sc), axis=1)
-            tried = np.ones(len(lo), dtype=bool)
+                k = np.nonzero(tried)[0]
+                x[k] = x[k] - np.einsum("nij,nj->ni", C[k], system.float_system(x[k], L2[k])[0])
+                lost = ~np.all(np.isfinite(x), axis=1) | np.any(np.abs(x - 0.5 * (lo + hi)) > 1e3 * (hi - lo + sc), axis=1)
+                if within is not None:
+                    w = within[1] - within[0]   # an iterate next to it (a root on its face): from the midpoint
+                    tried &= unc | ~lost & ~np.any((x < within[0] - w) | (x > within[1] + w), axis=1)
             if within is not None:
-                out = ~unc & np.any((x < within[0]) | (x > within[1]), axis=1)
-                w = within[1] - within[0]   # an iterate next to it (a root on its face) is tried from the midpoint
-                tried = unc | ~lost & ~np.any((x < within[0] - w) | (x > within[1] + w), axis=1)
-                lost |= out
+                lost |= ~unc & np.any((x < within[0]) | (x > within[1]), axis=1)
             x[lost] = 0.5 * (lo[lost] + hi[lost])
         radL = np.zeros(lo.shape)   # how far the lengths' ranges move the root
         radL[:, :system.legs] = 0.5 * (L.hi - L.lo)
