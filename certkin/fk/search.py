@@ -218,7 +218,7 @@ class FKProblem:
         b = _Batch(lo, hi, self._L(roots))
         if self._forms is not None:
             self._cayley_menger(b, roots)
-        kept, hc4_moved = self._hc4(system, b)
+        kept, hc4_moved = self._hc4(system, b, roots)
         # steps 1 and 2 evaluate only the boxes HC4 left (``live``): the others are decided
         live = np.nonzero(b.status == OPEN)[0]
         Xl, Ll = Interval.from_bounds(b.lo[live], b.hi[live]), Interval.from_bounds(b.L.lo[live], b.L.hi[live])
@@ -263,12 +263,13 @@ class FKProblem:
             use = dim >= 0
             b.split[open_[use]], b.split_at[open_[use]] = dim[use], at[use]
 
-    def _hc4(self, system, b: _Batch):
+    def _hc4(self, system, b: _Batch, roots):
         """Step 0: forward-backward (HC4) passes over every equation (``fk.contract``): boxes a pass
         empties are excluded, boxes it shrinks enough are replaced by the contraction, widened
         so that an independent re-computation still fits.  Slope systems: a box the pass shrank by
         ``HC4_AGAIN`` or more gets another pass on the contracted box (up to ``HC4_PASSES``), each
-        pass its own "hc4" stage of the tree.  Returns (the centred form of R b_i each box's last
+        pass its own "hc4" stage of the tree; not where the Cayley-Menger rule applies (it excludes
+        more of the boxes a second pass would shrink: Dietmaier 7 % less time, seed 002 2.5 %).  Returns (the centred form of R b_i each box's last
         pass computed, quaternion, or None; the rotation sides (lo, hi) it was computed over; the
         mask of the boxes the passes moved)."""
         lo, hi = b.lo, b.hi
@@ -276,6 +277,7 @@ class FKProblem:
         form = over = None
         rows = np.nonzero(b.status == OPEN)[0]
         moved = np.zeros(len(lo), dtype=bool)
+        once = ~self.uncertain_rows[roots] if self._forms is not None else np.zeros(len(lo), dtype=bool)
         for k in range(HC4_PASSES if self.slopes else 1):
             if not len(rows):
                 break
@@ -302,7 +304,7 @@ class FKProblem:
             moved[rows[step]] = True
             if self.slopes:
                 b.hc4_boxes.append((lo.copy(), hi.copy()))
-            rows = rows[step & (cut >= HC4_AGAIN)]
+            rows = rows[step & (cut >= HC4_AGAIN) & ~once[rows]]
         b.creason[moved] = 7
         return (form, over), moved
 
