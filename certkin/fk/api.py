@@ -71,6 +71,8 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     from its seconds: more rows than ``max_seconds`` can answer are refused (``InputError``).  The
     unresolved regions of an incomplete answer are described in a share of the seconds kept too
     (``UNRESOLVED_SHARE``): with little time left, fewer and larger ones (at least ``MIN_UNRESOLVED``).
+    Loading the machine code of a spatial search (about 1 s the first time in a process: numba's start-up)
+    is not counted in ``max_seconds``.
     """
     started = time.perf_counter()
     progress = progress_callback(progress)
@@ -108,6 +110,11 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     if domain is not None:
         lo, hi, angle_filter = _apply_domain(robot, system, domain, lo, hi)
     feasible = np.all(lo <= hi, axis=1)
+    if feasible.any() and system.kind != "planar-3rpr":   # the machine code of a spatial search, loaded
+        from . import cayley_menger                         # (about 1 s the first time in a process) as
+        loading = time.perf_counter()                       # imports are: start-up, not counted in the seconds
+        cayley_menger.load()
+        started += time.perf_counter() - loading
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
     limit = None if record == "whole" else budgets.FK_RECORD_NODES if record_limit is None else record_limit

@@ -341,6 +341,13 @@ def _all_beyond(A, M, T0, T1, sign, E):
             and _stage_three_beyond(M, T1, ALL_ROWS, OTHER_ROWS, sign, E))
 
 
+def load():
+    """numba's start-up and this kernel's machine code, on no box: about 1 s the first time in a
+    process (numba's import and registries), which ``forward_kinematics`` keeps out of its seconds."""
+    zero = np.zeros((4, 15, N1, N1, N1))
+    excluded(zero, zero, np.zeros((4, 15, PACKED)), np.zeros((0, 4)), np.zeros((0, 4)), np.arange(15))
+
+
 @njit(cache=True, error_model="numpy")
 def excluded(Am, Ar, P, qlo, qhi, order):
     """Per box (quaternion sides (N, 4)): the evidence 4·quad + chart of the first quad (tried in
