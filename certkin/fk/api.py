@@ -110,11 +110,7 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     if domain is not None:
         lo, hi, angle_filter = _apply_domain(robot, system, domain, lo, hi)
     feasible = np.all(lo <= hi, axis=1)
-    if feasible.any() and system.kind != "planar-3rpr":   # the machine code of a spatial search, loaded
-        from . import cayley_menger                         # (about 1 s the first time in a process) as
-        loading = time.perf_counter()                       # imports are: start-up, not counted in the seconds
-        cayley_menger.load()
-        started += time.perf_counter() - loading
+    started += _loading_seconds(system, feasible)    # start-up, as the imports: not counted
     t0 = time.perf_counter()
     idx = np.nonzero(feasible)[0]
     limit = None if record == "whole" else budgets.FK_RECORD_NODES if record_limit is None else record_limit
@@ -180,6 +176,17 @@ def track_sequence(robot, lengths_rows, start_pose, fallback: bool = True, budge
         if r.tracked or not fallback:
             r.seconds = seconds
     return results
+
+
+def _loading_seconds(system, feasible) -> float:
+    """Load the machine code of a spatial search (about 1 s the first time in a process: numba's
+    start-up) when there is one to run, and return the seconds it took."""
+    if not feasible.any() or system.kind == "planar-3rpr":
+        return 0.0
+    from . import cayley_menger         # (numba: spatial searches only)
+    loading = time.perf_counter()
+    cayley_menger.load()
+    return time.perf_counter() - loading
 
 
 def _collect(robot, system, texts, lo, hi, L, feasible, idx, res, angle_filter, deadline=math.inf):
