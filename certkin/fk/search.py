@@ -269,9 +269,9 @@ class FKProblem:
         so that an independent re-computation still fits.  Slope systems: a box the pass shrank by
         ``HC4_AGAIN`` or more gets another pass on the contracted box (up to ``HC4_PASSES``), each
         pass its own "hc4" stage of the tree; not where the Cayley-Menger rule applies (it excludes
-        more of the boxes a second pass would shrink: Dietmaier 7 % less time, seed 002 2.5 %).  Returns (the centred form of R b_i each box's last
-        pass computed, quaternion, or None; the rotation sides (lo, hi) it was computed over; the
-        mask of the boxes the passes moved)."""
+        more of the boxes a second pass would shrink: Dietmaier 7 % less time, seed 002 2.5 %).
+        Returns (the centred form of R b_i each box's last pass computed, quaternion, or None; the
+        rotation sides (lo, hi) it was computed over; the mask of the boxes the passes moved)."""
         lo, hi = b.lo, b.hi
         p = system.n_pos
         form = over = None
@@ -541,6 +541,8 @@ class FKProblem:
         L, sc, unc = self._L(roots), self._scales(roots), self.uncertain_rows[roots]
         x, L2 = 0.5 * (lo + hi), 0.5 * (L.lo + L.hi)
         tried = np.ones(len(lo), dtype=bool)
+        if within is not None:              # an iterate next to it (a root on its face): from the midpoint
+            near = (within[0] - (within[1] - within[0]), within[1] + (within[1] - within[0]))
         with np.errstate(all="ignore"):   # near a singular root Newton may run away: a guess only
             C, _ = linalg.float_inverse(system.float_system(x, L2)[1])
             for _ in range(3):  # float Newton steps (a guess only: the proof is the Krawczyk test below)
@@ -548,8 +550,7 @@ class FKProblem:
                 x[k] = x[k] - np.einsum("nij,nj->ni", C[k], system.float_system(x[k], L2[k])[0])
                 lost = ~np.all(np.isfinite(x), axis=1) | np.any(np.abs(x - 0.5 * (lo + hi)) > 1e3 * (hi - lo + sc), axis=1)
                 if within is not None:
-                    w = within[1] - within[0]   # an iterate next to it (a root on its face): from the midpoint
-                    tried &= unc | ~lost & ~np.any((x < within[0] - w) | (x > within[1] + w), axis=1)
+                    tried &= unc | ~lost & ~np.any((x < near[0]) | (x > near[1]), axis=1)
             if within is not None:
                 lost |= ~unc & np.any((x < within[0]) | (x > within[1]), axis=1)
             x[lost] = 0.5 * (lo[lost] + hi[lost])
