@@ -568,7 +568,7 @@ class FKProblem:
             r = np.maximum(base[rows], factor * spread[rows])
             slo, shi = np.minimum(lo[rows], x[rows] - r), np.maximum(hi[rows], x[rows] + r)
             with np.errstate(all="ignore"):    # a non-finite image proves nothing: the test fails
-                K, Cs = krawczyk_boxes(system, Interval.from_bounds(slo, shi),
+                K, Cs = krawczyk_boxes(self._system(len(rows)), Interval.from_bounds(slo, shi),
                                        Interval.from_bounds(L.lo[rows], L.hi[rows]), compact=True)
                 ok = unique_in(K, slo, shi)
             use = rows[ok]
