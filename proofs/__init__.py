@@ -1,10 +1,9 @@
 """proofs: an independent checker of certkin certificates (docs/certificates.md).
 
-It imports neither ``certkin`` nor ``intervals``: numpy with its own outward rounding, the standard
-library (exact rationals) and mpmath (only for a rigorous enclosure of π).  It rebuilds the model
-equations from the exact geometry stated in the certificate, derives every box of the search trees from
-the claimed boxes, and re-proves each leaf's rule on batches of boxes.  It is the trusted kernel, so it
-stays small:
+It imports neither ``certkin`` nor ``intervals``: numpy with its own outward rounding, the standard library (exact
+rationals) and mpmath (only for a rigorous enclosure of π).  It rebuilds the model equations from the exact geometry
+stated in the certificate, derives every box of the search trees from the claimed boxes, and re-proves each leaf's
+rule on batches of boxes.  It is the trusted kernel, so it stays small:
 
     arith.py        interval arithmetic on numpy arrays (outward rounding, sums, products, sin, cos)
     numbers.py      exact reading of floats and decimal strings

@@ -1,7 +1,6 @@
 """python -m proofs CERT [--robot ROBOT.toml] [--json] [--progress]: the same as ``certkin check`` (docs/certificates.md).
 
-Exit code 0 valid, 1 rejected (``REJECTED: <the failing step>``), 2 unreadable (one line on stderr, no traceback).
-"""
+Exit code 0 valid, 1 rejected (``REJECTED: <the failing step>``), 2 unreadable (one line on stderr, no traceback)."""
 from __future__ import annotations
 
 import argparse

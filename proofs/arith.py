@@ -1,10 +1,9 @@
 """Interval arithmetic on numpy arrays, with its own outward rounding (docs/soundness.md §12).
 
-An ``Iv`` holds two float64 arrays ``lo`` ≤ ``hi`` of any (broadcastable) shape, a batch of intervals; every
-operation returns an enclosure of the exact range of the operation over its operands (§12 argues each).  A NaN
-bound means "nothing known": every predicate that proves something (``> 0``, inside, disjoint, empty) is a
-comparison that is false on NaN, and ``np.minimum``/``np.maximum`` propagate NaN rather than drop it.
-"""
+An ``Iv`` holds two float64 arrays ``lo`` ≤ ``hi`` of any (broadcastable) shape, a batch of intervals; every operation
+returns an enclosure of the exact range of the operation over its operands (§12 argues each).  A NaN bound means
+"nothing known": every predicate that proves something (``> 0``, inside, disjoint, empty) is a comparison that is
+false on NaN, and ``np.minimum``/``np.maximum`` propagate NaN rather than drop it."""
 from __future__ import annotations
 
 from fractions import Fraction

@@ -1,10 +1,9 @@
-"""Reading a certificate file: a ZIP archive (version 2, docs/certificates.md "Version 2: the container");
-a JSON document is read only to refuse it (version 1, no longer checked).
+"""Reading a certificate file: a ZIP archive (version 2, docs/certificates.md "Version 2: the container"); a JSON
+document is read only to refuse it (version 1, no longer checked).
 
-A body array is read only when a step needs it and then checked against its header entry (dtype, shape,
-SHA-256): a flipped bit, a truncated member or an edited hash is rejected with the array named.  ``Unreadable``
-(exit code 2) is raised only when the file is not a certificate at all, ``Rejected`` (exit code 1) otherwise.
-"""
+A body array is read only when a step needs it and then checked against its header entry (dtype, shape, SHA-256): a
+flipped bit, a truncated member or an edited hash is rejected with the array named.  ``Unreadable`` (exit code 2) is
+raised only when the file is not a certificate at all, ``Rejected`` (exit code 1) otherwise."""
 from __future__ import annotations
 
 import hashlib

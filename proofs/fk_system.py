@@ -1,11 +1,10 @@
 """The forward-kinematics equations over batches of boxes, and the operators that prove things about them.
 
-The equations (leg equations, norm equation, position system D p = g), the Krawczyk operator K(X), the slope
-matrices S(X, c), the Gauss-Seidel sweep and the HC4 pass (in its fixed order) are those of docs/certificates.md
+The equations (leg equations, norm equation, position system D p = g), the Krawczyk operator K(X), the slope matrices
+S(X, c), the Gauss-Seidel sweep and the HC4 pass (in its fixed order) are those of docs/certificates.md
 "Forward-kinematics claims", rebuilt from the exact geometry and leg lengths; docs/soundness.md §8 argues their
-soundness.  R b_i over a box is the natural enclosure intersected, for a quaternion, with the centred form
-around the float midpoint (exact: R b_i is quadratic in q).
-"""
+soundness.  R b_i over a box is the natural enclosure intersected, for a quaternion, with the centred form around the
+float midpoint (exact: R b_i is quadratic in q)."""
 from __future__ import annotations
 
 import numpy as np

@@ -1,14 +1,12 @@
 """det(A) of each model (docs/certificates.md "Models"), over batches of boxes, with its gradient.
 
-The formulas use +, −, ×, sin and cos only, so the same code evaluates them on intervals (``arith.Iv``,
-one per box) and on ``Dual`` numbers (value and gradient enclosures: forward-mode differentiation, each
-operation applying the exact rule in interval arithmetic).  ``det`` is the Laplace expansion (minors
-memoised by their columns); ``det_interval`` intersects it, for n ≥ 4, with a preconditioned
-elimination (Rump, Acta Numerica 2010, §10): a float LU factorisation of the midpoint matrix gives a
-permutation P and a unit lower-triangular X whose diagonal is exactly 1, so det(X P M) = ±det(M);
-Y = X P M is enclosed and eliminated without pivoting, det Y being the product of the pivots when no
-pivot used as a divisor holds 0.
-"""
+The formulas use +, −, ×, sin and cos only, so the same code evaluates them on intervals (``arith.Iv``, one per box)
+and on ``Dual`` numbers (value and gradient enclosures: forward-mode differentiation, each operation applying the
+exact rule in interval arithmetic).  ``det`` is the Laplace expansion (minors memoised by their columns);
+``det_interval`` intersects it, for n ≥ 4, with a preconditioned elimination (Rump, Acta Numerica 2010, §10): a float
+LU factorisation of the midpoint matrix gives a permutation P and a unit lower-triangular X whose diagonal is exactly
+1, so det(X P M) = ±det(M); Y = X P M is enclosed and eliminated without pivoting, det Y being the product of the
+pivots when no pivot used as a divisor holds 0."""
 from __future__ import annotations
 
 from dataclasses import dataclass

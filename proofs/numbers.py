@@ -4,8 +4,7 @@
 - Decimal strings (geometry, leg lengths, requested boxes, paths) denote their exact rational value: ``exact``
   gives the ``Fraction``, ``enclose`` the tightest float interval; an angle ``<decimal>deg`` is q·π/180, enclosed.
 
-Strings are limited in length and exponent, so that a hostile file cannot make the checker build gigantic integers.
-"""
+Strings are limited in length and exponent, so that a hostile file cannot make the checker build gigantic integers."""
 from __future__ import annotations
 
 import math

@@ -1,11 +1,10 @@
 """Singularity claims (``"problem": "singularity"``, docs/certificates.md "Singularity claims"; docs/soundness.md §7).
 
-``singularity-free``: the leaves of the claim's tree tile its ``box`` and each leaf's rule (``RULES``)
-re-proves sign(det A) = ``sign`` on it (bisected up to ``MAX_DEPTH`` levels when the checker's own enclosure
-does not decide it; a rule proving −sign refutes it).  ``singular``: two witness poses in the box and the
-exact ``requested`` box, det(A) proved > 0 at one and < 0 at the other, so that it vanishes between them
-(intermediate value theorem).  ``undecided``: nothing is claimed.
-"""
+``singularity-free``: the leaves of the claim's tree tile its ``box`` and each leaf's rule (``RULES``) re-proves
+sign(det A) = ``sign`` on it (bisected up to ``MAX_DEPTH`` levels when the checker's own enclosure does not decide it;
+a rule proving −sign refutes it).  ``singular``: two witness poses in the box and the exact ``requested`` box, det(A)
+proved > 0 at one and < 0 at the other, so that it vanishes between them (intermediate value theorem).  ``undecided``:
+nothing is claimed."""
 from __future__ import annotations
 
 import numpy as np

@@ -1,10 +1,9 @@
 """Trajectory claims (``"problem": "trajectory"``, docs/certificates.md "Trajectory claims").
 
-The leaves of every segment of a path must tile [0, 1] exactly, and every ``+``/``-`` leaf state is re-proved
-on its t-interval (monotone or mean-value enclosures, docs/soundness.md §9; an undecided leaf bisected up to
-``MAX_DEPTH`` levels and ``MAX_PIECES`` pieces, an enclosure proving the opposite refuting the claim at once);
-the verdict and the ``violations`` must follow from the leaf states.
-"""
+The leaves of every segment of a path must tile [0, 1] exactly, and every ``+``/``-`` leaf state is re-proved on its
+t-interval (monotone or mean-value enclosures, docs/soundness.md §9; an undecided leaf bisected up to ``MAX_DEPTH``
+levels and ``MAX_PIECES`` pieces, an enclosure proving the opposite refuting the claim at once); the verdict and the
+``violations`` must follow from the leaf states."""
 from __future__ import annotations
 
 from bisect import bisect_left, bisect_right

@@ -1,11 +1,9 @@
-"""The search trees of a certificate, stored breadth-first as arrays (docs/certificates.md "Search
-trees" and "Segments"; docs/soundness.md §13).
+"""The search trees of a certificate, stored breadth-first as arrays (docs/certificates.md "Search trees" and
+"Segments"; docs/soundness.md §13).
 
-``Forest`` derives every node's box from the roots so that the leaves tile each root (a cut strictly inside
-its side, a contraction's child inside its parent, every evidence row used; a continued leaf proves nothing,
-its box being tiled by the next segment), and hands leaves and contractions to the problem in batches,
-grouped by rule.
-"""
+``Forest`` derives every node's box from the roots so that the leaves tile each root (a cut strictly inside its side,
+a contraction's child inside its parent, every evidence row used; a continued leaf proves nothing, its box being tiled
+by the next segment), and hands leaves and contractions to the problem in batches, grouped by rule."""
 from __future__ import annotations
 
 import numpy as np

@@ -1,10 +1,9 @@
-"""Workspace claims (``"problem": "workspace-section"`` / ``"workspace-volume"``, docs/certificates.md
-"Workspace claims"; soundness: docs/soundness.md §11).
+"""Workspace claims (``"problem": "workspace-section"`` / ``"workspace-volume"``, docs/certificates.md "Workspace
+claims"; soundness: docs/soundness.md §11).
 
-Each claim's ``domain`` is re-proved to hold its section (every section of its slab), or to be ``"empty"``;
-the leaves of its tree tile the domain, its inside and outside leaves are re-proved, and the claimed area
-(volume) bounds must bracket the exact sums over the inside, and the inside and boundary, boxes.
-"""
+Each claim's ``domain`` is re-proved to hold its section (every section of its slab), or to be ``"empty"``; the leaves
+of its tree tile the domain, its inside and outside leaves are re-proved, and the claimed area (volume) bounds must
+bracket the exact sums over the inside, and the inside and boundary, boxes."""
 from __future__ import annotations
 
 from fractions import Fraction
