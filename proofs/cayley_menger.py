@@ -1,10 +1,9 @@
 """The Cayley-Menger rule of forward-kinematics leaves (code 11, docs/certificates.md; docs/soundness.md §12).
 
-For four legs of a 6-6 Gough-Stewart robot (``QUADS``), F(q) = CM·|q|^8, CM the Cayley-Menger determinant of
-the centres a_m − R(q) b_m and p, is a form of degree 8 in q that vanishes at every posture; ``forms`` encloses
-its 165 coefficients.  ``proved_empty`` proves for a batch of leaves that F has no zero on the quaternion box
-Q: Q_k misses 0, Y holds q/q_k, and the 729 Bernstein coefficients of F(·/q_k) on a box holding Y have one sign.
-"""
+For four legs of a 6-6 Gough-Stewart robot (``QUADS``), F(q) = CM·|q|^8, CM the Cayley-Menger determinant of the
+centres a_m − R(q) b_m and p, is a form of degree 8 in q that vanishes at every posture; ``forms`` encloses its 165
+coefficients.  ``proved_empty`` proves for a batch of leaves that F has no zero on the quaternion box Q: Q_k misses 0,
+Y holds q/q_k, and the 729 Bernstein coefficients of F(·/q_k) on a box holding Y have one sign."""
 from __future__ import annotations
 
 import itertools
@@ -117,6 +116,14 @@ def bernstein(F: Iv, chart, Y: Iv) -> Iv:
         R = imatmul(M, Iv(X.lo.reshape(N, 9, 81), X.hi.reshape(N, 9, 81)))
         X = Iv(*(x.reshape(N, 9, 9, 9).transpose(0, 2, 3, 1).reshape(N, 729) for x in (R.lo, R.hi)))  # next variable first
     return X
+
+
+def combined(W, forms) -> Iv:
+    """Σ_q W_q F_q per leaf: W (N, 15) exact floats, ``forms`` each leaf's F (``forms``)."""
+    out = Iv(np.zeros((len(W), 165)), np.zeros((len(W), 165)))
+    for F, m in ((F, np.array([f is F for f in forms])) for F in {id(F): F for F in forms}.values()):
+        out[m] = imatmul(Iv(W[m], W[m]), F)
+    return out
 
 
 def proved_empty(F: Iv, chart, qlo, qhi):

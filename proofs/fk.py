@@ -1,11 +1,10 @@
 """Forward-kinematics claims (``"problem": "forward-kinematics"``, docs/certificates.md).
 
-A claim is one set of leg lengths (or length ranges): a domain, regions (each a box X* proved to hold
-exactly one root by K(X*) ⊂ int X*, and a box R ⊆ X* proved to hold it), solutions (the regions whose R
-lies in the domain, pairwise distinct postures), clusters, and a tree whose leaves are excluded or
-attributed to a region.  The equations and operators are in ``fk_system``; the rules of the tree (leaf
-and contraction codes) are listed below and in docs/certificates.md.
-"""
+A claim is one set of leg lengths (or length ranges): a domain, regions (each a box X* proved to hold exactly one root
+by K(X*) ⊂ int X*, and a box R ⊆ X* proved to hold it), solutions (the regions whose R lies in the domain, pairwise
+distinct postures), clusters, and a tree whose leaves are excluded or attributed to a region.  The equations and
+operators are in ``fk_system``; the rules of the tree (leaf and contraction codes) are listed below and in
+docs/certificates.md."""
 from __future__ import annotations
 
 import numpy as np
@@ -23,7 +22,7 @@ LEAVES = {0: ("equation", {"tree.index": 1}), 1: ("hc4-empty", {}), 2: ("positio
           5: ("slope-gs-empty", {"tree.C": 1}), 6: ("krawczyk-unique", {"tree.star": 1, "tree.C": 1, "tree.index": 2}),
           7: ("krawczyk-outside", {"tree.star": 1, "tree.C": 2, "tree.rootbox": 1}),
           8: ("in-region", {"tree.index": 1}), 9: ("in-cluster", {"tree.index": 1}), 10: ("undecided", {}),
-          11: ("cm-bernstein-empty", {"tree.index": 1})}
+          11: ("cm-bernstein-empty", {"tree.index": 1}), 12: ("cm-combination-empty", {"tree.index": 1, "tree.weights": 1})}
 CONTRACTIONS = {0: ("hc4", {}), 1: ("hc4-position", {"tree.P": 1}), 2: ("position", {"tree.P": 1}),
                 3: ("krawczyk", {"tree.C": 1}), 4: ("slope", {"tree.C": 1}), 5: ("slope-gs", {"tree.C": 1})}
 REBUILT = 64     # code + 64: the same rule, its C or P not stored but rebuilt by the checker (fk_system)
@@ -34,7 +33,7 @@ class _Claim:
     """One set of leg lengths: its squared lengths, domain, regions (X*, R, C*, C_R) and clusters."""
 
     EXCLUDED = ("equation", "hc4-empty", "position-empty", "krawczyk-empty", "slope-empty", "slope-gs-empty",
-                "krawczyk-outside", "cm-bernstein-empty")
+                "krawczyk-outside", "cm-bernstein-empty", "cm-combination-empty")
 
     def figures(self):
         return {"solutions": self.solutions, "regions": len(self.regions[0]), "leaves": self.rules}
@@ -60,7 +59,8 @@ def check(cert, report) -> None:
         counts["solutions"] = counts.get("solutions", 0) + cl.solutions
     roots = [cl for cl in claims if cl.tree]
     dims = {"tree.C": ((n, n), ("<f4", "<f8")), "tree.P": ((system.p, system.legs - 1), ("<f4", "<f8")),
-            "tree.index": ((), ("<i4",)), "tree.star": ((n, 2), ("<f8",)), "tree.rootbox": ((n, 2), ("<f8",))}
+            "tree.index": ((), ("<i4",)), "tree.star": ((n, 2), ("<f8",)), "tree.rootbox": ((n, 2), ("<f8",)),
+            "tree.weights": ((15,), ("<f4",))}
     forest = tree.Forest(cert, n, [c.domain[0] for c in roots], [c.domain[1] for c in roots], LEAVES, CONTRACTIONS, dims,
                          [f"claims[{c.index}].tree" for c in roots])
     L = Iv(np.array([c.L.lo for c in roots] or np.zeros((0, system.legs))),
@@ -314,17 +314,19 @@ def _leaf(system, forest, code, ids, lo, hi, L, claims, at):
 
     if code == 10:
         fail(np.array([c.complete for c in claims]), "undecided leaf in a claim that says complete")
-    elif code == 11:                 # e = 4·quad + chart: the quad's form has no zero on the chart box (cayley_menger)
+    elif code in (11, 12):    # e = 4·quad + chart (11), chart (12): F_quad, or Σ_quad w_quad F_quad, has no zero on the chart box
         e = forest.rows("tree.index", ids)
-        fail((e < 0) | (e >= 60), "the Cayley-Menger evidence 4·quad + chart must lie in 0..59")
+        fail((e < 0) | (e >= (60 if code == 11 else 4)), "the Cayley-Menger evidence must lie in 0..59 (rule 11), 0..3 (12)")
         if system.legs != 6 or system.p != 3:
             raise Rejected(at(0, "the Cayley-Menger rule needs a 6-6 Gough-Stewart robot"))
         for c in {id(c): c for c in claims}.values():      # the 15 forms, once per claim
             c.cm = getattr(c, "cm", None) or cayley_menger.forms(system, c.L)
-        F = Iv(*(np.array([getattr(c.cm, s)[q] for c, q in zip(claims, e // 4)]) for s in ("lo", "hi")))
+        F = Iv(*(np.array([getattr(c.cm, s)[q] for c, q in zip(claims, e // 4)]) for s in ("lo", "hi"))) if code == 11 \
+            else cayley_menger.combined(forest.rows("tree.weights", ids).astype(float), [c.cm for c in claims])
         proved, away = cayley_menger.proved_empty(F, e % 4, lo[:, 3:], hi[:, 3:])
         fail(~away, "the chart's quaternion side contains 0")
-        fail(~proved, "no Cayley-Menger polynomial of the quad is proved sign-definite on the chart box")
+        what = "polynomial of the quad" if code == 11 else "polynomial combination"
+        fail(~proved, f"no Cayley-Menger {what} is proved sign-definite on the chart box")
     elif code == 0:
         k = forest.rows("tree.index", ids)
         fail((k < 0) | (k > system.legs), f"the equation index must be below {n}")

@@ -1080,7 +1080,8 @@ def test_the_memory_ceiling_bounds_a_spatial_fk_search_and_its_answer(tmp_path):
     warm = (f"from certkin.cli import main; from certkin import forward_kinematics, keep_freed_memory; "
             f"keep_freed_memory(); forward_kinematics({robot!r}, {lengths!r}, max_boxes=2000)")
     rc, extra, done = beyond_start_up(
-        f"result = main(['fk', {robot!r}, '--lengths', {lengths!r}, '--max-memory', '100MiB', '--json'])", warm)
+        f"result = main(['fk', {robot!r}, '--lengths', {lengths!r}, '--max-memory', '50MiB', '--json'])", warm)
     doc = json.loads(done.stdout)
     assert rc == 0 and not doc["complete"] and doc["unresolved"]
-    assert extra <= 1.1 * 100 * 2 ** 20, extra / 2 ** 20     # (118 MiB before, 43 MiB now)
+    assert extra <= 1.1 * 50 * 2 ** 20, extra / 2 ** 20      # (100 MiB: 118 MiB before, 43 MiB after; since the
+    # Cayley-Menger combinations the search completes within 100 MiB, so 50 MiB)

@@ -87,6 +87,7 @@ Q_POSE = (Fraction(1), Fraction(1, 3), Fraction(-1, 5), Fraction(2, 7))
 P_POSE = (Fraction(1, 10), Fraction(-1, 20), Fraction(3, 2))
 L_POSE = posture_lengths(ROBOT_A, ROBOT_B, Q_POSE, P_POSE)
 ORDER = np.arange(15)
+SINGLE = np.zeros((0, 15), np.float32)      # no weights: the single quads' test only
 
 
 def test_determinant_terms_are_the_cayley_menger_expansion():
@@ -150,18 +151,18 @@ def test_chart_box_contains_every_quotient():
 def test_excluded_boxes_hold_no_zero_and_a_posture_is_never_excluded():
     rng = np.random.default_rng(11)
     a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
-    Am, Ar, P = cm.charts(*cm.forms(a, b, L))
+    Am, Ar, P, R = cm.charts(*cm.forms(a, b, L))
     q = np.array([float(x) for x in Q_POSE])
     q /= np.linalg.norm(q)
     # boxes around the posture's rotation (and its negation), from wide to tight: never excluded
     for h in (0.3, 0.05, 1e-3, 1e-6, 1e-9):
         for s in (1.0, -1.0):
-            assert cm.excluded(Am, Ar, P, (s * q - h)[None], (s * q + h)[None], ORDER)[0] == -1
+            assert cm.excluded(Am, Ar, P, R, (s * q - h)[None], (s * q + h)[None], ORDER, SINGLE)[0] == -1
     # random boxes: an excluded one names a quad whose form keeps one strict sign at exact samples
     c = rng.normal(size=(400, 4))
     c /= np.linalg.norm(c, axis=1, keepdims=True)
     h = 10.0 ** rng.uniform(-3, -0.7, (400, 1))
-    got = cm.excluded(Am, Ar, P, c - h, c + h, ORDER)
+    got = cm.excluded(Am, Ar, P, R, c - h, c + h, ORDER, SINGLE)
     assert 0.2 < np.mean(got >= 0) < 1.0                 # the rule concludes often, not always
     for i in np.nonzero(got >= 0)[0][:25]:
         quad, chart = divmod(int(got[i]), 4)
@@ -171,14 +172,53 @@ def test_excluded_boxes_hold_no_zero_and_a_posture_is_never_excluded():
         assert all(v > 0 for v in values) or all(v < 0 for v in values)
 
 
+def exact_combination(weights, q):
+    """Σ_quad w_quad F_quad(q), exact (the weights: floats, exactly)."""
+    return sum(Fraction(float(w)) * exact_form(ROBOT_A, ROBOT_B, L_POSE, quad, q) for w, quad in zip(weights, cm.QUADS)
+               if w != 0)
+
+
+def test_combinations_exclude_only_where_the_weighted_sum_keeps_one_sign():
+    """Boxes the single quads leave are tried with a combination of the 15 forms: an excluded box
+    (60 + chart) has weights whose exact combination keeps one strict sign at exact samples in it,
+    and no box around the posture is excluded, however tight."""
+    rng = np.random.default_rng(12)
+    a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
+    Am, Ar, P, R = cm.charts(*cm.forms(a, b, L))
+    q = np.array([float(x) for x in Q_POSE])
+    q /= np.linalg.norm(q)
+    for h in (0.3, 0.05, 1e-3, 1e-6, 1e-9):
+        for s in (1.0, -1.0):
+            w = np.zeros((1, 15), np.float32)
+            assert cm.excluded(Am, Ar, P, R, (s * q - h)[None], (s * q + h)[None], ORDER, w)[0] == -1
+    # boxes beside the posture's rotation, where every form has a zero surface close by
+    d = rng.normal(size=(600, 4))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    h = 10.0 ** rng.uniform(-5, -2, (600, 1))
+    c = q + d * h * rng.uniform(1.5, 4.0, (600, 1))
+    weights = np.zeros((600, 15), np.float32)
+    got = cm.excluded(Am, Ar, P, R, c - h, c + h, ORDER, weights)
+    single = cm.excluded(Am, Ar, P, R, c - h, c + h, ORDER, SINGLE)
+    combined = np.nonzero(got >= 60)[0]
+    assert np.array_equal(got < 60, single == got)           # the single quads' verdicts are unchanged
+    assert len(combined) >= 10 and np.all(single[combined] == -1)
+    assert not np.any(weights[got < 60])                      # weights only where a combination proved
+    for i in combined[:6]:
+        chart = int(got[i]) - 60
+        assert (c[i, chart] - h[i, 0]) * (c[i, chart] + h[i, 0]) > 0
+        values = [exact_combination(weights[i], [Fraction(float(x)) for x in rng.uniform(c[i] - h[i], c[i] + h[i])])
+                  for _ in range(3)]
+        assert all(v > 0 for v in values) or all(v < 0 for v in values)
+
+
 @pytest.mark.parametrize("bad", [np.nan, np.inf])
 def test_non_finite_sides_are_never_excluded(bad):
     a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
-    Am, Ar, P = cm.charts(*cm.forms(a, b, L))
+    Am, Ar, P, R = cm.charts(*cm.forms(a, b, L))
     lo = np.array([[0.5, 0.1, 0.1, 0.1]])
     hi = lo + 0.01
     lo[0, 1] = bad if bad != np.inf else -np.inf
-    assert cm.excluded(Am, Ar, P, lo, hi, ORDER)[0] == -1
+    assert cm.excluded(Am, Ar, P, R, lo, hi, ORDER, SINGLE)[0] == -1
 
 
 # ------------------------------------------------------------------ the rule in a certificate
@@ -201,6 +241,21 @@ def test_the_rule_decides_most_leaves_and_the_checker_agrees(seed002_certificate
     cm_leaves = doc.nodes(3, 11)
     assert len(cm_leaves) > 0.5 * len(leaves)
     assert doc.claim()["figures"]["leaves"]["cm-bernstein-empty"] == len(cm_leaves)
+    combined = doc.nodes(3, 12)
+    assert len(combined) > 0.02 * len(leaves)
+    assert doc.claim()["figures"]["leaves"]["cm-combination-empty"] == len(combined)
+
+
+def test_tampered_weights_are_rejected(seed002_certificate):
+    doc = seed002_certificate
+    node = int(doc.nodes(3, 12)[0])
+    row, index = doc.row("tree.weights", node), doc.row("tree.index", node)
+    for name, at, value in (("tree.weights", row, 0.0), ("tree.weights", (row, 3), np.nan),
+                            ("tree.weights", (row, 5), 1e30), ("tree.index", index, 4), ("tree.index", index, -1)):
+        edited = doc.copy()
+        edited.arrays[name][at] = value
+        step = edited.check().step
+        assert f"node {node}" in step and "Cayley-Menger" in step, (name, value, step)
 
 
 def test_tampered_evidence_is_rejected(seed002_certificate):

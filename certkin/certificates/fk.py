@@ -26,7 +26,8 @@ from .writing import Array, Document, box_json, header, one, outward_boxes
 REBUILT = 64
 LEAVES = {"equation": 0, "hc4-empty": 1, "position-empty": 2 + REBUILT, "krawczyk-empty": 3 + REBUILT,
           "slope-empty": 4 + REBUILT, "slope-gs-empty": 5 + REBUILT,
-          "krawczyk-empty, C kept": 3, "slope-gs-empty, C kept": 5, "cm-bernstein-empty": 11}
+          "krawczyk-empty, C kept": 3, "slope-gs-empty, C kept": 5, "cm-bernstein-empty": 11,
+          "cm-combination-empty": 12}
 CONTRACTIONS = {"hc4": 0, "position": 2 + REBUILT, "krawczyk": 3 + REBUILT, "slope": 4 + REBUILT,
                 "slope-gs": 5 + REBUILT, "krawczyk, C kept": 3, "slope-gs, C kept": 5}
 KEPT_C = (3, 4, 5)           # rules whose C the certificate holds (their + REBUILT twins: the checker's own)
@@ -116,7 +117,7 @@ def _rules(tree, proved, n, cluster_of=None):
 
     def index(t, ids, c):
         eq, uq, cl = leaves(t, ids, c, 0), leaves(t, ids, c, UNIQUE), leaves(t, ids, c, IN_CLUSTER)
-        cm = leaves(t, ids, c, LEAVES["cm-bernstein-empty"])
+        cm = leaves(t, ids, c, LEAVES["cm-bernstein-empty"], LEAVES["cm-combination-empty"])
         out, first = rows(eq * 1 + uq * 2 + cl * 1 + cm * 1, np.int32, ())
         if cl.any():
             out[first[cl]] = cluster[np.searchsorted(in_cluster, ids[cl])]
@@ -139,6 +140,10 @@ def _rules(tree, proved, n, cluster_of=None):
             out[first[kept]] = t.evidence_values("C", ids[kept])
         return out
 
+    def weights(t, ids, c):
+        sel = leaves(t, ids, c, LEAVES["cm-combination-empty"])
+        return t.evidence_values("weights", ids[sel]) if sel.any() else np.zeros((0, 15), np.float32)
+
     def boxes(which):
         def get(t, ids, c):
             sel = leaves(t, ids, c, UNIQUE, OUTSIDE) if which == "star" else leaves(t, ids, c, OUTSIDE)
@@ -147,7 +152,8 @@ def _rules(tree, proved, n, cluster_of=None):
         return get
 
     return Rules(code, {"tree.index": ("<i4", (), index), "tree.C": ("<f4", (n, n), matrices),
-                        "tree.star": ("<f8", (n, 2), boxes("star")), "tree.rootbox": ("<f8", (n, 2), boxes("root"))})
+                        "tree.star": ("<f8", (n, 2), boxes("star")), "tree.rootbox": ("<f8", (n, 2), boxes("root")),
+                        "tree.weights": ("<f4", (15,), weights)})
 
 
 def record_sink(n: int, reasons) -> Segments:

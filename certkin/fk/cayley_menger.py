@@ -13,13 +13,17 @@ Y = (Q_i / Q_k)_{i≠k}, and F(q) = q_k^8 F(q/q_k): if the tensor Bernstein coef
 polynomial F(·, q_k = 1) (degree 8 in each of its 3 variables) on a box containing Y all have one
 strict sign, no q in Q is the rotation of a posture (Garloff 1986; Ratschek and Rokne 1984: the
 range of a polynomial on a box lies in the hull of its Bernstein coefficients).  Leaf reason
-``cm-bernstein-empty``, evidence 4·quad + chart (docs/certificates.md, leaf 11).
+``cm-bernstein-empty``, evidence 4·quad + chart (docs/certificates.md, leaf 11).  A box no single
+quad excludes is tried with G = Σ λ_quad F_quad, which vanishes at every posture too: the weights λ
+cancel G's first-order part at the box's centre (``_weights``), so that G keeps one sign on boxes
+beside a curve where every F_quad nearly vanishes (leaf ``cm-combination-empty``, evidence chart
+and λ; leaf 12).
 
 - ``forms``: the 15 forms' coefficients in midpoint-radius float, enclosing the exact ones for every
   geometry and squared lengths in the given enclosures (``intervals.midrad``'s a-priori bound, Higham
   2002 eq. 3.5; Rump 1999), by a Horner scheme over the determinant's 130 terms;
 - ``charts``: those coefficients as dense (4, 15, 9, 9, 9) chart polynomials;
-- ``excluded``: the test of a batch of boxes (compiled, box by box), with the rounding-error bound
+- ``excluded``: the tests of a batch of boxes (compiled, box by box), with the rounding-error bound
   of docs/soundness.md §8 "The Cayley-Menger rule": a coefficient counts only beyond twice that
   bound, its radii's part taken ``ROOM`` times.
 
@@ -183,19 +187,21 @@ CHART = np.array([[[e[i] for i in range(4) if i != k] for e in MONO[8][0]] for k
 
 
 def charts(m, r):
-    """(mid, rad, packed) of the chart polynomials of the forms ``m`` ± ``r`` (``forms``): mid and
-    rad (4, 15, 9, 9, 9): chart k, quad, exponents of the other three components in increasing
-    order (F with q_k = 1; zero past total degree 8); packed (4, 15, ``PACKED``): the midpoints by
-    quad and monomial (``MONO3``, then 0)."""
+    """(mid, rad, packed, packed_rad) of the chart polynomials of the forms ``m`` ± ``r`` (``forms``):
+    mid and rad (4, 15, 9, 9, 9): chart k, quad, exponents of the other three components in
+    increasing order (F with q_k = 1; zero past total degree 8); packed and packed_rad
+    (4, 15, ``PACKED``): the same by quad and monomial (``MONO3``, then 0)."""
     out = []
     for v in (m, r):
         A = np.zeros((4, 15, N1, N1, N1))
         for k in range(4):
             A[k][:, CHART[k, :, 0], CHART[k, :, 1], CHART[k, :, 2]] = v
         out.append(np.ascontiguousarray(A))
-    packed = np.zeros((4, 15, PACKED))
-    packed[:, :, :len(MONO3)] = out[0][:, :, MONO3[:, 0], MONO3[:, 1], MONO3[:, 2]]
-    return out[0], out[1], packed
+    for A in out[:2]:
+        packed = np.zeros((4, 15, PACKED))
+        packed[:, :, :len(MONO3)] = A[:, :, MONO3[:, 0], MONO3[:, 1], MONO3[:, 2]]
+        out.append(packed)
+    return tuple(out)
 
 
 # ------------------------------------------------------------------ the test of a box (compiled)
@@ -341,24 +347,116 @@ def _all_beyond(A, M, T0, T1, sign, E):
             and _stage_three_beyond(M, T1, ALL_ROWS, OTHER_ROWS, sign, E))
 
 
+@njit(cache=True, error_model="numpy")
+def _centre(P, lo, w, mono, vals, grads):
+    """The 15 chart polynomials (``P``: packed, of one chart) at the chart box's centre c, and their
+    gradients there times the box's sides: ``vals`` (15,), ``grads`` (15, 3) (floats: the weights'
+    guess, not a proof); ``mono`` (4, ``PACKED``): the monomials and their scaled derivatives at c."""
+    pw, dw = np.empty((3, N1)), np.empty((3, N1))
+    for v in range(3):
+        c = lo[v] + 0.5 * w[v]
+        pw[v, 0], dw[v, 0] = 1.0, 0.0
+        for e in range(1, N1):
+            pw[v, e], dw[v, e] = pw[v, e - 1] * c, e * pw[v, e - 1] * w[v]
+    for m in range(MONO3.shape[0]):
+        i, j, l = MONO3[m, 0], MONO3[m, 1], MONO3[m, 2]
+        a, b, c = pw[0, i], pw[1, j], pw[2, l]
+        mono[0, m], mono[1, m], mono[2, m], mono[3, m] = a * b * c, dw[0, i] * b * c, a * dw[1, j] * c, a * b * dw[2, l]
+    for q in range(15):
+        s, g0, g1, g2 = 0.0, 0.0, 0.0, 0.0
+        for m in range(PACKED):
+            a = P[q, m]
+            s += a * mono[0, m]
+            g0 += a * mono[1, m]
+            g1 += a * mono[2, m]
+            g2 += a * mono[3, m]
+        vals[q], grads[q, 0], grads[q, 1], grads[q, 2] = s, g0, g1, g2
+
+
+@njit(cache=True, error_model="numpy")
+def _weights(vals, grads, out):
+    """Weights λ (float32 values, largest 1) with Σ λ_q ∇F_q ≈ 0 at the centre and Σ λ_q F_q > 0
+    there: the values projected off the span of the (scaled) gradients (modified Gram-Schmidt).
+    Any weights are sound; these cancel the first-order part of the combination on the box, which
+    a single polynomial cannot (in the tubes along nearly self-moving postures every F_q has a
+    zero surface near the box, their combination none).  False when the projection vanishes."""
+    r = vals.copy()
+    G = grads.copy()
+    for a in range(3):
+        n = 0.0
+        for q in range(15):
+            n += G[q, a] * G[q, a]
+        if not n > 0.0:
+            continue
+        n = np.sqrt(n)
+        for q in range(15):
+            G[q, a] /= n
+        for b in range(a + 1, 3):
+            d = 0.0
+            for q in range(15):
+                d += G[q, a] * G[q, b]
+            for q in range(15):
+                G[q, b] -= d * G[q, a]
+        d = 0.0
+        for q in range(15):
+            d += G[q, a] * r[q]
+        for q in range(15):
+            r[q] -= d * G[q, a]
+    big = 0.0
+    for q in range(15):
+        big = max(big, abs(r[q]))
+    if not (big > 0.0 and np.isfinite(big)):
+        return False
+    for q in range(15):
+        out[q] = np.float32(r[q] / big)
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _combination(P, R, wq, gm, gr, Gm, Gr):
+    """Gm ± Gr (dense) holding the coefficients of Σ_q wq_q F_q (``P`` ± ``R``: packed, of one chart;
+    docs/soundness.md §8): the float sum, whose error is within 32 U Σ|wq_q P_q| (γ_15 with room),
+    plus Σ|wq_q| R_q rounded up, plus the underflows (below 15 · 2⁻¹⁰⁷⁴: 2⁻¹⁰⁰⁰ covers them).
+    ``gm``, ``gr`` (2, ``PACKED``): scratch."""
+    gm[:] = 0.0
+    gr[:] = 0.0
+    for q in range(15):
+        a = wq[q]
+        for m in range(PACKED):
+            t = a * P[q, m]
+            gm[0, m] += t
+            gm[1, m] += abs(t)
+            gr[0, m] += abs(a) * R[q, m]
+    for m in range(MONO3.shape[0]):
+        i, j, l = MONO3[m, 0], MONO3[m, 1], MONO3[m, 2]
+        Gm[i, j, l] = gm[0, m]
+        Gr[i, j, l] = (gr[0, m] + 32.0 * U * gm[1, m]) * (1.0 + 64.0 * U) + TINY
+
+
 def load():
     """numba's start-up and this kernel's machine code, on no box: about 1 s the first time in a
     process (numba's import and registries), which ``forward_kinematics`` keeps out of its seconds."""
     zero = np.zeros((4, 15, N1, N1, N1))
-    excluded(zero, zero, np.zeros((4, 15, PACKED)), np.zeros((0, 4)), np.zeros((0, 4)), np.arange(15))
+    excluded(zero, zero, np.zeros((4, 15, PACKED)), np.zeros((4, 15, PACKED)), np.zeros((0, 4)), np.zeros((0, 4)), np.arange(15),
+             np.zeros((0, 15), np.float32))
 
 
 @njit(cache=True, error_model="numpy")
-def excluded(Am, Ar, P, qlo, qhi, order):
+def excluded(Am, Ar, P, R, qlo, qhi, order, weights):
     """Per box (quaternion sides (N, 4)): the evidence 4·quad + chart of the first quad (tried in
-    ``order``) whose chart polynomial (``charts``: ``Am`` ± ``Ar``; ``P``: ``Am`` packed) is proved
-    of one sign on the chart box, or −1."""
+    ``order``) whose chart polynomial (``charts``: ``Am`` ± ``Ar``; ``P`` ± ``R``: packed) is proved
+    of one sign on the chart box; else, when ``weights`` has a row per box, 60 + chart if the
+    combination Σ λ_q F_q (λ: ``_weights``, written to that row) is; else −1."""
     n = qlo.shape[0]
     out = np.full(n, -1, np.int64)
     M, S = np.empty((3, N1, N1)), np.empty((3, N1))
     T0, T1 = np.zeros((N1, N1, N1)), np.zeros((N1, N1, N1))
+    Gm, Gr = np.zeros((N1, N1, N1)), np.zeros((N1, N1, N1))
     V = np.zeros((8, PACKED))
+    vals, grads, wq, mono = np.empty(15), np.empty((15, 3)), np.empty(15), np.zeros((4, PACKED))
+    gm, gr = np.zeros((2, PACKED)), np.zeros((2, PACKED))
     lo, w = np.empty(3), np.empty(3)
+    combine = weights.shape[0] == n
     for b in range(n):
         k = chart_box(qlo[b], qhi[b], lo, w)
         if k < 0:
@@ -377,4 +475,18 @@ def excluded(Am, Ar, P, qlo, qhi, order):
             if _all_beyond(Am[k, p], M, T0, T1, sign, _bound(Am[k, p], Ar[k, p], S)):
                 out[b] = 4 * p + k
                 break
+        if out[b] >= 0 or not combine:
+            continue
+        _centre(P[k], lo, w, mono, vals, grads)
+        if not _weights(vals, grads, wq):
+            continue
+        _combination(P[k], R[k], wq, gm, gr, Gm, Gr)
+        centre = 0.0
+        for q in range(15):
+            centre += wq[q] * vals[q]
+        if not inner:
+            _axis_matrices(lo, w, M, S, INNER_ROWS)
+        if _all_beyond(Gm, M, T0, T1, 1.0 if centre > 0.0 else -1.0, _bound(Gm, Gr, S)):
+            out[b] = 60 + k
+            weights[b] = wq
     return out
