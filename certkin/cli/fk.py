@@ -42,7 +42,7 @@ def compute(args, robot=None) -> Answer:
         if args.track is not None:
             parse_pose(args.track, robot, "track")     # checked as every pose (the search only starts near it)
         if robot.kind != "planar-3rpr" and not kernels_cached():
-            sys.stderr.write("certkin: compiling kernels, once (about 15 s; cached on disk afterwards)\n")
+            sys.stderr.write("certkin: compiling kernels, once (about 40 s; cached on disk afterwards)\n")
         result = forward_kinematics(robot, args.lengths, domain=args.domain, budget=budget(args),
                                     progress=progress(args.progress), track=args.track,
                                     record=bool(getattr(args, "certificate", None)))

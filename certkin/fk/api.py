@@ -71,8 +71,8 @@ def forward_kinematics(robot, lengths, domain=None, budget: Budget | None = None
     from its seconds: more rows than ``max_seconds`` can answer are refused (``InputError``).  The
     unresolved regions of an incomplete answer are described in a share of the seconds kept too
     (``UNRESOLVED_SHARE``): with little time left, fewer and larger ones (at least ``MIN_UNRESOLVED``).
-    Loading the machine code of a spatial search (about 1 s the first time in a process: numba's start-up)
-    is not counted in ``max_seconds``.
+    numba's start-up in a spatial search (about 1 s the first time in a process) is not counted in
+    ``max_seconds``; compiling the kernels (once per machine) and loading the last of them are.
     """
     started = time.perf_counter()
     progress = progress_callback(progress)
