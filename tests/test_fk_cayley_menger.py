@@ -148,16 +148,25 @@ def test_chart_box_contains_every_quotient():
                 assert Fraction(float(lo[v])) <= q[i] / q[k] <= Fraction(float(lo[v])) + Fraction(float(w[v]))
 
 
-def test_excluded_boxes_hold_no_zero_and_a_posture_is_never_excluded():
-    rng = np.random.default_rng(11)
+def posture_charts():
+    """The chart polynomials of the test robot at the posture's lengths, and the posture's unit quaternion."""
     a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
-    Am, Ar, P, R = cm.charts(*cm.forms(a, b, L))
     q = np.array([float(x) for x in Q_POSE])
-    q /= np.linalg.norm(q)
-    # boxes around the posture's rotation (and its negation), from wide to tight: never excluded
+    return cm.charts(*cm.forms(a, b, L)), q / np.linalg.norm(q)
+
+
+def never_excluded_around(charts, q, combine: bool):
+    """Boxes around the posture's rotation (and its negation), from wide to tight, are never excluded."""
     for h in (0.3, 0.05, 1e-3, 1e-6, 1e-9):
         for s in (1.0, -1.0):
-            assert cm.excluded(Am, Ar, P, R, (s * q - h)[None], (s * q + h)[None], ORDER, SINGLE)[0] == -1
+            w = np.zeros((1, 15), np.float32) if combine else SINGLE
+            assert cm.excluded(*charts, (s * q - h)[None], (s * q + h)[None], ORDER, w)[0] == -1
+
+
+def test_excluded_boxes_hold_no_zero_and_a_posture_is_never_excluded():
+    rng = np.random.default_rng(11)
+    (Am, Ar, P, R), q = posture_charts()
+    never_excluded_around((Am, Ar, P, R), q, combine=False)
     # random boxes: an excluded one names a quad whose form keeps one strict sign at exact samples
     c = rng.normal(size=(400, 4))
     c /= np.linalg.norm(c, axis=1, keepdims=True)
@@ -183,14 +192,8 @@ def test_combinations_exclude_only_where_the_weighted_sum_keeps_one_sign():
     (60 + chart) has weights whose exact combination keeps one strict sign at exact samples in it,
     and no box around the posture is excluded, however tight."""
     rng = np.random.default_rng(12)
-    a, b, L = intervals_of(ROBOT_A, ROBOT_B, L_POSE)
-    Am, Ar, P, R = cm.charts(*cm.forms(a, b, L))
-    q = np.array([float(x) for x in Q_POSE])
-    q /= np.linalg.norm(q)
-    for h in (0.3, 0.05, 1e-3, 1e-6, 1e-9):
-        for s in (1.0, -1.0):
-            w = np.zeros((1, 15), np.float32)
-            assert cm.excluded(Am, Ar, P, R, (s * q - h)[None], (s * q + h)[None], ORDER, w)[0] == -1
+    (Am, Ar, P, R), q = posture_charts()
+    never_excluded_around((Am, Ar, P, R), q, combine=True)
     # boxes beside the posture's rotation, where every form has a zero surface close by
     d = rng.normal(size=(600, 4))
     d /= np.linalg.norm(d, axis=1, keepdims=True)
