@@ -301,3 +301,13 @@ def test_forms_dropped_and_computed_again_change_nothing(monkeypatch):
     dropped = run()
     assert len(kept[0]) > 1000 and np.sum(kept[0] == 11) > 100
     assert all(np.array_equal(x, y) for x, y in zip(kept, dropped))
+
+
+def test_a_certificate_in_segments_keeps_the_weights():
+    """A search past its record limit writes its tree in segments: the weights of the combinations
+    go with their leaves, and the checker accepts the whole."""
+    result = forward_kinematics(load_robot(SEED002), "1.093,2.280,2.031,2.524,3.136,1.845", record=True, record_limit=2000)
+    cert = result.certificate()
+    assert cert.header["segments"] > 2
+    assert cert.header["claims"][0]["figures"]["leaves"]["cm-combination-empty"] > 100
+    assert Doc(cert).check().ok
