@@ -175,10 +175,16 @@ def test_excluded_boxes_hold_no_zero_and_a_posture_is_never_excluded():
     assert 0.2 < np.mean(got >= 0) < 1.0                 # the rule concludes often, not always
     for i in np.nonzero(got >= 0)[0][:25]:
         quad, chart = divmod(int(got[i]), 4)
-        assert (c[i, chart] - h[i, 0]) * (c[i, chart] + h[i, 0]) > 0
-        values = [exact_form(ROBOT_A, ROBOT_B, L_POSE, cm.QUADS[quad],
-                             [Fraction(float(x)) for x in rng.uniform(c[i] - h[i], c[i] + h[i])]) for _ in range(8)]
-        assert all(v > 0 for v in values) or all(v < 0 for v in values)
+        one_sign_in_box(rng, c[i] - h[i], c[i] + h[i], chart, 8,
+                        lambda q: exact_form(ROBOT_A, ROBOT_B, L_POSE, cm.QUADS[quad], q))
+
+
+def one_sign_in_box(rng, lo, hi, chart, samples, exact):
+    """The chart's side of the box [lo, hi] misses 0, and ``exact`` keeps one strict sign at random
+    rational points of the box."""
+    assert lo[chart] * hi[chart] > 0
+    values = [exact([Fraction(float(x)) for x in rng.uniform(lo, hi)]) for _ in range(samples)]
+    assert all(v > 0 for v in values) or all(v < 0 for v in values)
 
 
 def exact_combination(weights, q):
@@ -207,11 +213,7 @@ def test_combinations_exclude_only_where_the_weighted_sum_keeps_one_sign():
     assert len(combined) >= 10 and np.all(single[combined] == -1)
     assert not np.any(weights[got < 60])                      # weights only where a combination proved
     for i in combined[:6]:
-        chart = int(got[i]) - 60
-        assert (c[i, chart] - h[i, 0]) * (c[i, chart] + h[i, 0]) > 0
-        values = [exact_combination(weights[i], [Fraction(float(x)) for x in rng.uniform(c[i] - h[i], c[i] + h[i])])
-                  for _ in range(3)]
-        assert all(v > 0 for v in values) or all(v < 0 for v in values)
+        one_sign_in_box(rng, c[i] - h[i], c[i] + h[i], int(got[i]) - 60, 3, lambda q: exact_combination(weights[i], q))
 
 
 @pytest.mark.parametrize("bad", [np.nan, np.inf])

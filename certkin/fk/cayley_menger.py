@@ -22,7 +22,7 @@ and λ; leaf 12).
 - ``forms``: the 15 forms' coefficients in midpoint-radius float, enclosing the exact ones for every
   geometry and squared lengths in the given enclosures (``intervals.midrad``'s a-priori bound, Higham
   2002 eq. 3.5; Rump 1999), by a Horner scheme over the determinant's 130 terms;
-- ``charts``: those coefficients as dense (4, 15, 9, 9, 9) chart polynomials;
+- ``charts``: those coefficients as dense (4, 15, 9, 9, 9) chart polynomials, and packed by monomial;
 - ``excluded``: the tests of a batch of boxes (compiled, box by box), with the rounding-error bound
   of docs/soundness.md §8 "The Cayley-Menger rule": a coefficient counts only beyond twice that
   bound, its radii's part taken ``ROOM`` times.
